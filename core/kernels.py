@@ -1,0 +1,181 @@
+"""Influence kernels of the tangential problem on a uniform world-fixed grid.
+
+Piecewise-constant tractions on elements of width ``dx``; displacement
+collocated at element centres; every element integral in closed form. Both
+kernels are Toeplitz (they depend on ``i - j`` only), so one function builds
+the matrix from a vector of element influences, and the two kernels differ in
+nothing but that vector.
+
+Normalised units: lengths in the half-width ``a``, tractions in ``mu p0``,
+displacements in ``mu P / E*`` (``P = Fn / L``), so that a traction ``q`` gives
+the displacement ``u = K @ q``.
+
+* ``"plane"``: plane strain (2D) with the log kernel,
+  ``u(x) = -(2 / (pi E*)) integral q(xi) ln(|x - xi| / l) dxi``; a rigid
+  displacement in 2D is defined only up to a constant, fixed here by the
+  reference length ``l = PLANE_REFERENCE_LENGTH`` (in ``a``).
+* ``"strip"``: the truncated 3D model of the paper and of CONTACT: the Cerruti
+  solution integrated over each element's rectangle ``dx`` by ``L``,
+  ``u_x = (1/(2 pi)) integral [A / rho + B (x - xi)^2 / rho^3] q dxi deta``
+  with ``A = sum (1 - nu_i)/G_i = 2/E*`` and ``B = sum nu_i / G_i``. Its
+  displacements are absolute (relative to a remote point).
+
+References
+----------
+.. [1] K. L. Johnson, *Contact Mechanics*, CUP 1985, sections 2.2 and 3.2.
+.. [2] R. Wetter, Physical Mesomechanics 18 (2015), eq 31.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import toeplitz
+
+from ._validate import check_int, check_scalar
+
+__all__ = [
+    "KERNELS",
+    "PLANE_REFERENCE_LENGTH",
+    "plane_strain_influence",
+    "strip_influence",
+    "influence_matrix",
+    "strip_b_coefficient",
+    "strip_u0",
+]
+
+#: Reference length [a] of the plane-strain kernel (displacement zero at that distance).
+#: It also keeps the log kernel positive definite for contacts narrower than 4 l.
+PLANE_REFERENCE_LENGTH = 4.0
+
+
+def _xlogx(t):
+    """t ln|t| with the limit 0 at t = 0."""
+    t = np.asarray(t, dtype=float)
+    at = np.abs(t)
+    return np.where(at > 0, t * np.log(np.where(at > 0, at, 1.0)), 0.0)
+
+
+def plane_strain_influence(offsets, dx, reference_length=PLANE_REFERENCE_LENGTH):
+    """Plane-strain displacement at distance ``offsets`` from a unit element of width ``dx``.
+
+    ``(4/pi^2) integral over |t - d| < dx/2 of ln(l / |t|) dt`` [mu P/E* per mu p0],
+    the factor ``4/pi^2 = (2/pi) * (2/pi)`` coming from ``2/(pi E*)`` and
+    ``mu p0 a = 2 mu P / pi``.
+
+    Parameters
+    ----------
+    offsets : array_like
+        Collocation point minus element centre [a].
+    dx : float
+        Element width [a], > 0.
+    reference_length : float
+        Distance [a] at which the displacement is zero.
+    """
+    dx = check_scalar("dx", dx, 0.0, None, lo_closed=False)
+    ell = check_scalar("reference_length", reference_length, 0.0, None, lo_closed=False)
+    d = np.asarray(offsets, dtype=float)
+    h = 0.5 * dx
+    # integral of -ln|t| dt = -(t ln|t| - t)
+    val = -(_xlogx(d + h) - _xlogx(d - h)) + 2.0 * h + dx * np.log(ell)
+    return (4.0 / np.pi**2) * val
+
+
+def _strip_primitive(t, S, bE):
+    """G(t) = int_0^t int_0^S (A/rho + B t^2/rho^3) ds dt, times E*, for t >= 0 (odd extension)."""
+    at = np.abs(t)
+    rho = np.hypot(at, S)
+    aE = 2.0  # E* A = E* sum (1 - nu_i)/G_i = 2 for every pair of materials
+    g = (aE * (at * np.log(S + rho) - _xlogx(at))
+         + (aE + bE) * S * (np.log(at + rho) - np.log(S)))
+    return np.sign(t) * g
+
+
+def strip_influence(offsets, dx, L_over_a, b_coefficient):
+    """Truncated-3D (strip) displacement at ``offsets`` from a unit element of width ``dx`` and length ``L``.
+
+    Parameters
+    ----------
+    offsets : array_like
+        Collocation point minus element centre [a].
+    dx : float
+        Element width [a], > 0.
+    L_over_a : float
+        Strip length over the half-width, > 0.
+    b_coefficient : float
+        ``E* sum nu_i / G_i`` (``2 nu / (1 - nu)`` for a rigid cylinder on a
+        substrate of Poisson ratio ``nu``), >= 0; see :func:`strip_b_coefficient`.
+
+    Returns
+    -------
+    ndarray
+        Displacement [mu P/E*] per unit traction [mu p0]: ``(1/pi^2) * 2 * (G(d + dx/2) - G(d - dx/2))``.
+    """
+    dx = check_scalar("dx", dx, 0.0, None, lo_closed=False)
+    L = check_scalar("L_over_a", L_over_a, 0.0, None, lo_closed=False)
+    bE = check_scalar("b_coefficient", b_coefficient, 0.0, None)
+    d = np.asarray(offsets, dtype=float)
+    S = 0.5 * L
+    h = 0.5 * dx
+    return (2.0 / np.pi**2) * (_strip_primitive(d + h, S, bE) - _strip_primitive(d - h, S, bE))
+
+
+def strip_b_coefficient(nu):
+    """``E* B = 2 nu / (1 - nu)`` for a rigid cylinder on a substrate with Poisson ratio ``nu`` (or equal bodies)."""
+    nu = check_scalar("nu", nu, 0.0, 0.5)
+    return 2.0 * nu / (1.0 - nu)
+
+
+#: The kernels, by name: each maps (offsets, dx, **options) to element influences.
+KERNELS = {
+    "plane": plane_strain_influence,
+    "strip": strip_influence,
+}
+
+
+def influence_matrix(n, dx, kernel="plane", **options):
+    """Dense influence matrix ``K`` of ``n`` uniform elements: ``u = K @ q``.
+
+    Parameters
+    ----------
+    n : int
+        Number of elements, >= 1.
+    dx : float
+        Element width [a].
+    kernel : {"plane", "strip"}
+        Which kernel (see the module docstring).
+    **options
+        Passed to the kernel (``reference_length`` for ``"plane"``;
+        ``L_over_a`` and ``b_coefficient`` for ``"strip"``).
+
+    Returns
+    -------
+    ndarray, shape (n, n)
+        Symmetric Toeplitz matrix [mu P/E* per mu p0].
+    """
+    n = check_int("n", n, 1, 100_000)
+    if kernel not in KERNELS:
+        raise ValueError(f"kernel must be one of {sorted(KERNELS)}, got {kernel!r}")
+    column = KERNELS[kernel](np.arange(n) * float(dx), dx, **options)
+    return np.ascontiguousarray(toeplitz(column))
+
+
+def strip_u0(L_over_a, b_coefficient, n=4000):
+    """``U0``: displacement at ``ft = 1`` of the strip, at the contact centre [mu P/E*].
+
+    The full-slip traction ``q = mu p`` (Hertz) loads the strip; ``U0`` is the
+    displacement it gives at ``x = 0``, the limit of the stick displacement as
+    ``ft -> 1``. Computed with the exact element integrals of
+    :func:`strip_influence` on ``n`` elements across the contact (the
+    element-mean Hertz traction), which converges like ``dx^2``.
+
+    Compare with the paper's reconstructed eq 14,
+    :func:`core.approximations.u0_approx`.
+    """
+    n = check_int("n", n, 2, 10**6)
+    edges = np.linspace(-1.0, 1.0, n + 1)
+    dx = edges[1] - edges[0]
+    t = np.clip(edges, -1, 1)
+    F = 0.5 * (t * np.sqrt(1 - t * t) + np.arcsin(t))
+    q = np.diff(F) / dx
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    return float(strip_influence(0.0 - centres, dx, L_over_a, b_coefficient) @ q)

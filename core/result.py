@@ -1,0 +1,238 @@
+"""The result of a cycle simulation: a frozen record with its diagnostics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from .analytical import hertz_pressure_element_mean
+
+__all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
+           "STATE_NAMES", "SolverError"]
+
+#: Element states recorded per step (``CycleResult.state``).
+STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = 0, 1, 2, 3
+STATE_NAMES = ("released", "stick", "slip forward", "slip backward")
+
+
+class SolverError(RuntimeError):
+    """A step of the incremental tangential problem could not be solved.
+
+    Attributes
+    ----------
+    step : int
+        Index of the failed step in the schedule.
+    xc : float
+        Contact centre at that step, in units of ``a``.
+    residual : float
+        Worst KKT residual reached.
+    """
+
+    def __init__(self, step: int, xc: float, residual: float, reason: str = ""):
+        self.step, self.xc, self.residual = int(step), float(xc), float(residual)
+        super().__init__(
+            f"tangential increment not solved at step {self.step} (xc = {self.xc:.6g} a): "
+            f"KKT residual {self.residual:.3g}{'; ' + reason if reason else ''}"
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class CycleResult:
+    """The transient of the rocking contact: per step, per period, and its verdict.
+
+    Normalised units throughout: lengths in the nominal half-width ``a``,
+    pressure in the nominal ``p0``, tractions in ``mu p0``, loads ``Q`` in
+    ``mu P`` (so ``Q = ft`` at constant load), displacements in ``mu P / E*``
+    (``P = Fn / L``), positive in the direction of ``Ft``.
+
+    Attributes
+    ----------
+    edges : ndarray, shape (n + 1,)
+        Edges of the world-fixed elements.
+    xc, P, Q : ndarray, shape (steps,)
+        The schedule: contact centre, normal load (in nominal ``P``) and
+        tangential load (in ``mu P``) at each step.
+    period : ndarray of int, shape (steps,)
+        Period index of each step; -1 for the initial loading.
+    traction : ndarray, shape (steps, n)
+        Element tractions at the end of each step.
+    state : ndarray of int8, shape (steps, n)
+        Element state per step: :data:`STATE_RELEASED` (out of contact),
+        :data:`STATE_STICK`, :data:`STATE_SLIP_FORWARD` (slip increment in
+        +x), :data:`STATE_SLIP_BACKWARD`.
+    displacement : ndarray, shape (steps,)
+        Rigid-body displacement of the cylinder after each step. For the
+        plane-strain kernel only differences are meaningful (a 2D rigid
+        displacement is defined up to a constant).
+    dissipation : ndarray, shape (steps,)
+        Frictional work of each step, ``sum q s dx`` (>= 0).
+    iterations : ndarray of int, shape (steps,)
+        Active-set iterations of each step (0: nothing slipped).
+    kkt_residual : ndarray, shape (steps,)
+        Worst KKT residual of each step (stick, sign, bound, load balance).
+    kernel : str
+        ``"plane"`` (plane strain) or ``"strip"`` (truncated 3D strip).
+    u0 : float or None
+        Strip kernel only: ``U0``, the displacement at ``ft = 1``, in ``mu P/E*``.
+    periodic_from : int or None
+        Period from which the state repeated and later periods were copied
+        instead of recomputed (exact to the solver tolerance), or None.
+    params : dict
+        The inputs of the run.
+    tol : float
+        KKT tolerance the steps were solved to.
+    shakedown_rtol : float
+        Relative tolerance on the increment per period for the verdict.
+    runtime : float
+        Wall time of the solve [s].
+    """
+
+    edges: np.ndarray
+    xc: np.ndarray
+    P: np.ndarray
+    Q: np.ndarray
+    period: np.ndarray
+    traction: np.ndarray
+    state: np.ndarray
+    displacement: np.ndarray
+    dissipation: np.ndarray
+    iterations: np.ndarray
+    kkt_residual: np.ndarray
+    kernel: str
+    u0: float | None
+    periodic_from: int | None
+    params: dict = field(default_factory=dict)
+    tol: float = 1e-10
+    shakedown_rtol: float = 1e-3
+    runtime: float = 0.0
+
+    # ---- grid ------------------------------------------------------------
+    @property
+    def x(self) -> np.ndarray:
+        """Element centres [a]."""
+        return 0.5 * (self.edges[1:] + self.edges[:-1])
+
+    @property
+    def dx(self) -> float:
+        """Element width [a]."""
+        return float(self.edges[1] - self.edges[0])
+
+    @property
+    def periods(self) -> int:
+        """Number of rocking periods."""
+        return int(self.period.max()) + 1 if self.period.size else 0
+
+    # ---- per step ----------------------------------------------------------
+    @cached_property
+    def pressure(self) -> np.ndarray:
+        """Element-mean Hertz pressure per step, shape (steps, n) [p0]."""
+        return np.stack([hertz_pressure_element_mean(self.edges, xc, np.sqrt(P), np.sqrt(P))
+                         for xc, P in zip(self.xc, self.P)])
+
+    @property
+    def u(self) -> np.ndarray | None:
+        """``U / U0`` per step (strip kernel only, else None)."""
+        return None if self.u0 is None else self.displacement / self.u0
+
+    # ---- per period --------------------------------------------------------
+    def _period_ends(self) -> np.ndarray:
+        ends = np.flatnonzero(np.diff(self.period) != 0)  # last step of each block
+        return np.append(ends, self.period.size - 1)
+
+    @cached_property
+    def increment_per_period(self) -> np.ndarray:
+        """Rigid-body displacement increment of each period [mu P/E*], positive along Ft."""
+        ends = self._period_ends()
+        disp = self.displacement[ends]
+        if self.period[0] < 0:  # first block is the loading
+            return np.diff(disp)
+        return np.diff(np.concatenate([[0.0], disp]))
+
+    @cached_property
+    def shakedown_period(self) -> int | None:
+        """First period from which every increment is below the shakedown tolerance, else None."""
+        inc = np.abs(self.increment_per_period)
+        if inc.size == 0:
+            return None
+        scale = max(float(inc.max()), 1e-300)
+        small = inc <= self.shakedown_rtol * scale
+        if not small[-1]:
+            return None
+        k = inc.size - 1
+        while k > 0 and small[k - 1]:
+            k -= 1
+        return int(k)
+
+    @property
+    def regime(self) -> str:
+        """``"shakedown"`` if the increment per period decayed below ``shakedown_rtol`` of its largest value, else ``"ratcheting"``."""
+        return "ratcheting" if self.shakedown_period is None else "shakedown"
+
+    # ---- the final state ---------------------------------------------------
+    @cached_property
+    def lowest_pressure(self) -> np.ndarray:
+        """Lowest element pressure seen during the last period, shape (n,) [p0]."""
+        last = self.period == self.period[-1]
+        return self.pressure[last].min(axis=0)
+
+    @cached_property
+    def final_zones(self) -> np.ndarray:
+        """Zones of the final traction: 1 stick (below mu p_min), 2 at the bound, 3 zero traction, 0 never in contact.
+
+        ``zero traction`` marks the elements that lost contact during the last
+        period (their lowest pressure is 0) and were in contact at some step.
+        """
+        q = np.abs(self.traction[-1])
+        bound = self.lowest_pressure
+        ever = (self.pressure > 0).any(axis=0)
+        tol = 1e-7
+        stick = (bound > 0) & (q < bound - tol)
+        zones = np.where(stick, 1, np.where(bound > 0, 2, np.where(ever, 3, 0)))
+        return zones.astype(np.int8)
+
+    @cached_property
+    def stick_halfwidth(self) -> float:
+        """``c_sd / a``: half-width of the central zone whose final traction stays below mu p_min.
+
+        Outside it the traction sits at ``mu`` times the lowest pressure of the
+        last period, or is zero where contact was lost. 0 if there is no such zone.
+        """
+        stick = self.final_zones == 1
+        if not stick.any():
+            return 0.0
+        x = self.x
+        # the contiguous run of stick elements closest to the centre
+        idx = np.flatnonzero(stick)
+        centre = idx[np.argmin(np.abs(x[idx]))]
+        lo = hi = centre
+        while lo - 1 >= 0 and stick[lo - 1]:
+            lo -= 1
+        while hi + 1 < stick.size and stick[hi + 1]:
+            hi += 1
+        return float(0.5 * (self.edges[hi + 1] - self.edges[lo]))
+
+    @property
+    def max_kkt_residual(self) -> float:
+        """Worst KKT residual over all steps."""
+        return float(self.kkt_residual.max()) if self.kkt_residual.size else 0.0
+
+    def summary(self) -> dict:
+        """Scalar figures of the run (for tables, CSV headers, the CLI)."""
+        inc = self.increment_per_period
+        return {
+            **self.params,
+            "regime": self.regime,
+            "stick_halfwidth": self.stick_halfwidth,
+            "shakedown_period": self.shakedown_period,
+            "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
+            "periods": self.periods,
+            "elements": int(self.edges.size - 1),
+            "steps": int(self.xc.size),
+            "periodic_from": self.periodic_from,
+            "max_iterations": int(self.iterations.max()) if self.iterations.size else 0,
+            "max_kkt_residual": self.max_kkt_residual,
+            "u0": self.u0,
+            "runtime_s": self.runtime,
+        }
