@@ -43,12 +43,13 @@ import numba as nb
 import numpy as np
 
 from ._validate import check_int, check_scalar
+from .analytical import hertz_pressure_element_mean
 from .kernels import KERNELS, influence_matrix, strip_b_coefficient, strip_u0
 from .result import CycleResult, SolverError
 from .schedule import Schedule, rocking_schedule
 
-__all__ = ["simulate_cycles", "simulate_contact", "solve_schedule", "make_grid",
-           "DEFAULT_DX", "MAX_ELEMENTS", "KKT_TOL"]
+__all__ = ["simulate_cycles", "simulate_contact", "solve_schedule", "solve_static", "shakedown_state",
+           "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "KKT_TOL"]
 
 #: Default element width [a]: 80 elements across the contact. The increment per
 #: period is then within about 1 % of the converged value (tests/test_solver.py).
@@ -604,6 +605,106 @@ def _repeat_last_period(period, done, p, traction, state, disp, diss, iters, res
     diss[rest] = diss[src]
     iters[rest] = 0
     resid[rest] = resid[src]
+
+
+def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=KKT_TOL):
+    """Static partial slip under an arbitrary traction bound, loaded from zero in one step.
+
+    Solves ``min 1/2 q^T K q`` subject to ``|q_i| <= bound_i`` and
+    ``sum q_i dx = (pi/2) Q``: with ``bound = mu p`` it is Cattaneo-Mindlin;
+    with ``bound = mu`` times the lowest pressure of a rocking period it is the
+    shaken-down state (:func:`shakedown_state`).
+
+    Parameters
+    ----------
+    bound : array_like, shape (n,)
+        Traction bound per element [mu p0], >= 0.
+    Q : float
+        Tangential load [mu P]; ``|Q| < (2/pi) sum(bound) dx``.
+    dx : float
+        Element width [a].
+    kernel, kernel_options :
+        As in :func:`solve_schedule`.
+    tol : float
+        KKT tolerance.
+
+    Returns
+    -------
+    q : ndarray, shape (n,)
+        Tractions [mu p0].
+    displacement : float
+        Rigid-body displacement [mu P/E*].
+    """
+    from ._validate import check_range
+
+    bound = check_range("bound", bound, 0.0, None)
+    if bound.ndim != 1 or bound.size < 1 or bound.size > MAX_ELEMENTS:
+        raise ValueError(f"bound must be a 1-D array of 1 to {MAX_ELEMENTS} elements")
+    dx = check_scalar("dx", dx, 1e-4, 0.5)
+    Q = check_scalar("Q", Q, -1.0, 1.0)
+    tol = check_scalar("tol", tol, 1e-14, 1e-4)
+    target = Q * 0.5 * np.pi / dx
+    if abs(target) >= bound.sum():
+        raise ValueError(f"Q = {Q:g} exceeds what the bound can carry ({2 / np.pi * bound.sum() * dx:g})")
+    n = bound.size
+    K = influence_matrix(n, dx, kernel, **dict(kernel_options or {}))
+    q, dq, slip = np.zeros(n), np.zeros(n), np.zeros(n)
+    codes, kind = np.zeros(n, np.int8), np.zeros(n, np.int8)
+    B, fidx, pos = np.zeros((n, n)), np.zeros(n, np.int64), -np.ones(n, np.int64)
+    lam, it, res, m, _ = solve_increment(K, np.ascontiguousarray(bound), np.zeros(n), target, dx, kind, B, fidx,
+                                         pos, 0, tol, 50 + 2 * n, q, dq, slip, codes, np.zeros(4 * n))
+    if m < 0:
+        raise SolverError(0, 0.0, res, "static partial slip")
+    return q, float(lam)
+
+
+def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0.5, tol=KKT_TOL):
+    """The shaken-down traction, computed directly as one static partial-slip problem.
+
+    After shakedown nothing slips, and every element carries at most ``mu``
+    times the lowest pressure it sees in a period. This computes the
+    partial-slip solution with that bound, loaded once: the observation of
+    ``shared/PHYSICS.md`` that it equals the end state of the transient is
+    checked in ``tests/test_solver.py``
+    (``test_direct_shakedown_state_matches_transient``). It takes one solve
+    instead of a whole transient.
+
+    Parameters
+    ----------
+    ft, w, dx, kernel, L_over_a, nu, tol :
+        As in :func:`simulate_cycles` (the rocking steps do not matter here).
+
+    Returns
+    -------
+    x : ndarray
+        Element centres [a].
+    q : ndarray
+        Traction [mu p0].
+    bound : ndarray
+        ``mu p_min`` per element [mu p0].
+    stick_halfwidth : float
+        Half-width of the central zone with ``|q| < bound`` [a] (0 if none).
+    """
+    ft = check_scalar("ft", ft, -1.0, 1.0, lo_closed=False, hi_closed=False)
+    w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
+    dx = check_scalar("dx", dx, 1e-4, 0.5)
+    edges = make_grid(1.0 + w, dx)
+    # lowest element-mean pressure over the period: the mean of the concave Hertz profile
+    # is quasi-concave in the centre position, so its minimum is at a turning point
+    bound = np.minimum(hertz_pressure_element_mean(edges, -w), hertz_pressure_element_mean(edges, w))
+    q, _ = solve_static(bound, ft, dx, kernel, kernel_options=_kernel_options(kernel, L_over_a, nu), tol=tol)
+    x = 0.5 * (edges[1:] + edges[:-1])
+    stick = (bound > 0) & (np.abs(q) < bound - 1e-7)
+    if not stick.any():
+        return x, q, bound, 0.0
+    idx = np.flatnonzero(stick)
+    c = idx[np.argmin(np.abs(x[idx]))]
+    lo, hi = c, c
+    while lo > 0 and stick[lo - 1]:
+        lo -= 1
+    while hi + 1 < stick.size and stick[hi + 1]:
+        hi += 1
+    return x, q, bound, float(0.5 * (edges[hi + 1] - edges[lo]))
 
 
 def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane", shape="triangle",

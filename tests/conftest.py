@@ -1,0 +1,32 @@
+"""Shared test helpers (fixtures, so they work under --import-mode=importlib)."""
+
+import numpy as np
+import pytest
+
+
+def _check_invariants(result, tol=1e-9):
+    """Coulomb's law, load balance, contact and dissipation at every step of a CycleResult."""
+    q = result.traction
+    p = result.pressure  # element-mean Hertz pressure = the traction bound in mu p0
+    # |q| <= mu p
+    excess = np.abs(q) - p
+    assert excess.max() <= tol, f"|q| exceeds mu p by {excess.max():.3g} at step {np.unravel_index(excess.argmax(), q.shape)[0]}"
+    # q = 0 out of contact
+    out = p <= 0
+    assert np.all(q[out] == 0.0), "traction outside the contact"
+    # load balance: sum q dx = (pi/2) Q
+    total = q.sum(axis=1) * result.dx
+    np.testing.assert_allclose(total, 0.5 * np.pi * result.Q, atol=tol, err_msg="load balance")
+    # friction dissipates
+    assert result.dissipation.min() >= -tol, f"negative dissipation {result.dissipation.min():.3g}"
+    # every step solved to its tolerance
+    assert result.max_kkt_residual <= result.tol, f"KKT residual {result.max_kkt_residual:.3g}"
+    # states are consistent: slip only at the bound, released only out of contact
+    slipping = result.state >= 2
+    assert np.all(np.abs(np.abs(q[slipping]) - p[slipping]) <= tol), "slip below the bound"
+    assert np.all((result.state == 0) == out), "released state differs from loss of contact"
+
+
+@pytest.fixture
+def check_invariants():
+    return _check_invariants
