@@ -126,7 +126,8 @@ def hertz_pressure_element_mean(edges, xc=0.0, a=1.0, p0=1.0):
     a = float(check_range("a", a, 0.0, None, lo_closed=False))
     p0 = float(check_range("p0", p0, 0.0, None))
     F = _ellipse_primitive((edges - float(xc)) / a)
-    return p0 * a * np.diff(F) / np.diff(edges)
+    # differences of the primitive can round to -1e-16 where the profile vanishes
+    return np.clip(p0 * a * np.diff(F) / np.diff(edges), 0.0, None)
 
 
 # --------------------------------------------------------------------------
