@@ -1,0 +1,397 @@
+"""The Panel view of the explorer: widgets, live figures, summary cards, downloads.
+
+:class:`Explorer` is a ``pn.viewable.Viewer`` over an :class:`~app.state.ExplorerState`.
+Analytical layers follow the sliders while they move (bound to the widgets'
+``value``); the solver runs when a slider is released (the state is linked to
+``value_throttled``), in a bounded worker pool, with a loading indicator; a
+result that arrives for stale inputs is dropped.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import html
+import io
+import math
+import re
+from pathlib import Path
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import param
+
+import core
+from core.export import to_csv, to_json
+
+from . import plots
+from .runs import RESULTS, Generation, run_key, solve, submit
+from .state import PRESETS, URL_PARAMETERS, ExplorerState, parse_query
+
+__all__ = ["Explorer"]
+
+_ABOUT = Path(__file__).with_name("about.md")
+_SOLVER_INPUTS = [p for p in URL_PARAMETERS if p != "units"]
+_CSS = """
+.regime-badge {display: inline-block; padding: 10px 22px; border-radius: 12px; color: white;
+               font-size: 26px; font-weight: 700; letter-spacing: 0.04em;}
+.regime-shakedown {background: #2ca02c;} .regime-ratcheting {background: #d62728;}
+.regime-none {background: #7f7f7f;}
+.regime-note {font-size: 15px; color: #444; margin-top: 6px;}
+.cards {display: grid; grid-template-columns: repeat(2, minmax(250px, 1fr)); gap: 4px 28px; font-size: 17px;}
+.cards .k {color: #444;} .cards .v {font-weight: 600; float: right; margin-left: 10px;}
+.cards div {border-bottom: 1px solid #eee; padding: 2px 0;}
+"""
+
+
+def _fmt(v, unit="", digits=4) -> str:
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "–"
+    return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
+
+
+class Explorer(pn.viewable.Viewer):
+    """The shakedown explorer over an :class:`ExplorerState` (one per browser session)."""
+
+    result = param.ClassSelector(class_=core.CycleResult, default=None, allow_None=True,
+                                 doc="The solver run of the current inputs (None until solved, or if they are invalid).")
+    contact = param.ClassSelector(class_=core.Contact, default=None, allow_None=True,
+                                  doc="The current contact (None if the inputs are invalid).")
+    frame = param.Integer(default=0, bounds=(0, None), doc="Step of the run shown by the cycle player.")
+    solving = param.Boolean(default=False, doc="A solve for the current inputs is running.")
+    error = param.String(default="", doc="Why the current inputs cannot be solved, if they cannot.")
+    notices = param.List(default=[], doc="Messages about rejected URL parameters.")
+
+    def __init__(self, state: ExplorerState | None = None, **params):
+        super().__init__(**params)
+        self.state = state if state is not None else ExplorerState()
+        self._generation = Generation()
+        self._build_widgets()
+        self.state.param.watch(self._inputs_changed, _SOLVER_INPUTS)
+        self._update_contact()
+        self._request_solve()
+
+    # ------------------------------------------------------------------ inputs
+    def _build_widgets(self):
+        s = self.state
+        slider = dict(sizing_mode="stretch_width", throttled=True)
+        self.ft_slider = pn.widgets.FloatSlider.from_param(s.param.ft, **slider)
+        self.w_slider = pn.widgets.FloatSlider.from_param(s.param.w, **slider)
+        self.mu_slider = pn.widgets.FloatSlider.from_param(s.param.mu, **slider)
+        self.units_toggle = pn.widgets.RadioButtonGroup.from_param(s.param.units, button_type="primary",
+                                                                   sizing_mode="stretch_width")
+        self.preset = pn.widgets.Select(name="Preset", options=["(custom)", *PRESETS], value="(custom)",
+                                        sizing_mode="stretch_width")
+        self.preset.param.watch(self._apply_preset, "value")
+        geometry = ["R", "L", "Fn", "E2", "nu2"]
+        self.geometry_inputs = [pn.widgets.FloatInput.from_param(s.param[p], sizing_mode="stretch_width")
+                                for p in geometry]
+        self.rigid_box = pn.widgets.Checkbox.from_param(s.param.rigid)
+        self.cylinder_inputs = [pn.widgets.FloatInput.from_param(s.param[p], sizing_mode="stretch_width")
+                                for p in ("E1", "nu1")]
+        for w in self.cylinder_inputs:
+            w.disabled = s.rigid
+        s.param.watch(lambda e: [setattr(w, "disabled", e.new) for w in self.cylinder_inputs], "rigid")
+        self.solver_inputs = [
+            pn.widgets.IntSlider.from_param(s.param.periods, **slider),
+            pn.widgets.IntSlider.from_param(s.param.resolution, **slider),
+            pn.widgets.RadioButtonGroup.from_param(s.param.kernel, sizing_mode="stretch_width"),
+            pn.widgets.RadioButtonGroup.from_param(s.param.schedule, sizing_mode="stretch_width"),
+        ]
+        self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, name="", visible=False,
+                                                    css_classes=["solve-spinner"])
+        self.status = pn.pane.HTML("", css_classes=["solve-status"], margin=(8, 4))
+        # the cycle player: a period, then the steps of that period
+        self.period_slider = pn.widgets.IntSlider(name="Period", start=0, end=1, value=0, width=260)
+        self.player = pn.widgets.Player(name="Step in the period", start=0, end=1, value=0, interval=80,
+                                        loop_policy="loop", width=430, css_classes=["cycle-player"])
+        self.period_slider.param.watch(self._update_frame, "value")
+        self.player.param.watch(self._update_frame, "value")
+        # downloads
+        self.csv_table = pn.widgets.Select(name="CSV table", options={
+            "per step (displacement)": "steps", "per period (increments)": "periods",
+            "final traction and zones": "final"}, value="steps", sizing_mode="stretch_width")
+        self.csv_download = pn.widgets.FileDownload(callback=self._csv, filename="shakedown_steps.csv",
+                                                    label="Download CSV", button_type="success",
+                                                    sizing_mode="stretch_width", css_classes=["csv-download"])
+        self.json_download = pn.widgets.FileDownload(callback=self._json, filename="shakedown_run.json",
+                                                     label="Download JSON", button_type="success",
+                                                     sizing_mode="stretch_width", css_classes=["json-download"])
+        self.csv_table.param.watch(lambda e: setattr(self.csv_download, "filename", f"shakedown_{e.new}.csv"),
+                                   "value")
+
+    def _apply_preset(self, event):
+        if event.new in PRESETS:
+            self.state.apply_preset(event.new)
+
+    def apply_query(self, query: str) -> None:
+        """Apply URL query parameters; rejected ones are listed in :attr:`notices` and not applied."""
+        updates, errors, ignored = parse_query(query)
+        if ignored:
+            errors = errors + [f"unknown URL parameter(s) ignored: {', '.join(sorted(ignored)[:10])}"]
+        self.notices = errors
+        if updates:
+            self.state.param.update(**updates)
+
+    # ------------------------------------------------------------------ solving
+    def _inputs_changed(self, *events):
+        self._update_contact()
+        self._request_solve()
+
+    def _update_contact(self):
+        try:
+            self.contact = self.state.contact()
+            self.error = ""
+        except ValueError as e:
+            self.contact = None
+            self.error = str(e)
+
+    def _request_solve(self):
+        """Solve the current inputs (cached, else in the worker pool); drop the answer if the inputs moved on."""
+        token = self._generation.next()
+        if self.contact is None:
+            self.solving = False
+            return
+        contact, options = self.contact, self.state.solver_options()
+        cached = RESULTS.get(run_key(contact, options))
+        doc = pn.state.curdoc
+        if cached is not None or doc is None or doc.session_context is None:
+            # cached, or headless (tests, notebooks without a server): solve here
+            self._finish(token, contact, options, cached)
+            return
+        self.solving = True
+
+        async def run():
+            try:
+                result = await asyncio.wrap_future(submit(contact, options))
+            except (core.SolverError, ValueError) as e:
+                if self._generation.is_current(token):
+                    self.error = f"solver: {e}"
+                    self.solving = False
+                return
+            self._finish(token, contact, options, result)
+
+        pn.state.execute(run)
+
+    def _finish(self, token, contact, options, result=None):
+        if result is None:
+            try:
+                result = solve(contact, options)
+            except (core.SolverError, ValueError) as e:
+                self.error = f"solver: {e}"
+                return
+        if not self._generation.is_current(token):
+            return  # a newer request is pending: never overwrite it with this stale run
+        m = max(1, int(np.count_nonzero(result.period == 0)))
+        with param.parameterized.batch_call_watchers(self):
+            self.period_slider.param.update(end=max(1, result.periods - 1), value=result.periods - 1)
+            self.player.param.update(end=max(1, m - 1), value=m - 1)
+            self.result = result
+            self.frame = result.xc.size - 1
+            self.solving = False
+
+    def solve_now(self) -> core.CycleResult | None:
+        """Solve the current inputs synchronously (headless use) and return the result."""
+        self._update_contact()
+        if self.contact is not None:
+            self._finish(self._generation.next(), self.contact, self.state.solver_options())
+        return self.result
+
+    @param.depends("solving", watch=True)
+    def _show_spinner(self):
+        self.spinner.param.update(value=self.solving, visible=self.solving)
+        self.status.object = "solving…" if self.solving else ""
+
+    def _update_frame(self, *_):
+        r = self.result
+        if r is None:
+            return
+        starts = np.flatnonzero(r.period == min(self.period_slider.value, r.periods - 1))
+        self.frame = int(min(starts[0] + self.player.value, r.xc.size - 1)) if starts.size else r.xc.size - 1
+
+    # ------------------------------------------------------------------ downloads
+    def _csv(self):
+        if self.result is None:
+            return io.StringIO("# no run yet\n")
+        return io.StringIO(to_csv(self.result, self.csv_table.value, self.contact))
+
+    def _json(self):
+        if self.result is None:
+            return io.StringIO("{}")
+        return io.StringIO(to_json(self.result, self.contact))
+
+    # ------------------------------------------------------------------ figures
+    def _units(self, system, mu, result):
+        contact = None if self.contact is None else self.contact.replace(mu=mu)
+        kernel = result.kernel if result is not None else self.state.kernel
+        return plots.make_units(system, contact, kernel, None if result is None else result.u0)
+
+    def _pressure(self, w, mu, units, contact, result, frame):
+        xc = None if result is None else float(result.xc[min(frame, result.xc.size - 1)])
+        return plots.pressure_plot(w, self._units(units, mu, result), xc)
+
+    def _traction(self, ft, w, mu, units, contact, result, frame):
+        return plots.traction_plot(ft, w, self._units(units, mu, result), result, frame)
+
+    def _state_map(self, units, contact, result):
+        return plots.state_map(result, self._units(units, self.state.mu, result))
+
+    def _state_marks(self, units, contact, result):
+        return plots.state_marks(result, self._units(units, self.state.mu, result))
+
+    def _displacement(self, units, contact, result, frame):
+        return plots.displacement_plot(result, self._units(units, self.state.mu, result), frame)
+
+    def _increments(self, units, contact, result):
+        return plots.increment_plot(result, self._units(units, self.state.mu, result))
+
+    def _map_point(self, ft, w, result):
+        return plots.map_point(ft, w, None if result is None else result.regime)
+
+    def _figures(self):
+        p, s = self.param, self.state.param
+        live = dict(ft=self.ft_slider.param.value, w=self.w_slider.param.value, mu=self.mu_slider.param.value)
+        run = dict(units=s.units, contact=p.contact, result=p.result)
+        dm = hv.DynamicMap
+        pressure = dm(pn.bind(self._pressure, w=live["w"], mu=live["mu"], frame=p.frame, **run))
+        traction = dm(pn.bind(self._traction, **live, frame=p.frame, **run))
+        states = (dm(pn.bind(self._state_map, **run)) * dm(pn.bind(self._state_marks, **run))
+                  * dm(pn.bind(plots.frame_marks, result=p.result, frame=p.frame)))
+        states = states.opts(hv.opts.Overlay(**plots.state_map_opts()))
+        displacement = dm(pn.bind(self._displacement, frame=p.frame, **run))
+        increments = dm(pn.bind(self._increments, **run))
+        shakedown_map = (plots.map_base() * dm(pn.bind(self._map_point, ft=live["ft"], w=live["w"],
+                                                        result=p.result))).opts(**plots.map_opts())
+        return dict(pressure=pressure, traction=traction, states=states, displacement=displacement,
+                    increments=increments, map=shakedown_map)
+
+    # ------------------------------------------------------------------ cards
+    def _badge(self, ft, w, result, error):
+        predicted = core.classify_regime(ft, w)
+        if error:
+            return ('<span class="regime-badge regime-none" data-regime="invalid">INVALID INPUT</span>'
+                    f'<div class="regime-note">{html.escape(error)}</div>')
+        if result is None:
+            return ('<span class="regime-badge regime-none" data-regime="pending">SOLVING…</span>'
+                    f'<div class="regime-note">eq 35 predicts {predicted}</div>')
+        regime = result.regime
+        note = f"solver, {result.periods} periods"
+        if result.shakedown_period is not None:
+            note += f"; shaken down after period {result.shakedown_period}"
+        note += f" · eq 35 predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}"
+        return (f'<span class="regime-badge regime-{regime}" data-regime="{regime}">{regime.upper()}</span>'
+                f'<div class="regime-note">{html.escape(note)}</div>')
+
+    def _cards(self, ft, w, mu, contact, result):
+        rows = []
+        c = None if contact is None else contact.replace(mu=mu, ft=ft, w=w)
+        if c is not None:
+            rows += [("a (half-width)", _fmt(c.a * 1e3, "mm")), ("p0 (peak pressure)", _fmt(c.p0 / 1e6, "MPa")),
+                     ("d (indentation, eq 6)", _fmt(c.d * 1e3, "mm")), ("Dundurs β", _fmt(c.beta, "", 3))]
+        u0 = None if result is None else result.u0
+        if u0 is not None and c is not None:
+            rows.append(("U0 (strip, ft = 1)", f"{_fmt(u0 * c.displacement_unit * 1e6, 'µm')} = {u0:.3g} μP/E*"))
+        csd = float(core.shakedown_stick_halfwidth(ft, w))
+        rows += [("c_sd/a closure (eq 30)", _fmt(csd, "", 3) if math.isfinite(csd) else "none (ft > ft_lim)"),
+                 ("c_sd/a numerical", "–" if result is None else _fmt(result.stick_halfwidth, "", 3)),
+                 ("ft_lim(w) (eq 35)", _fmt(float(core.ft_limit(w)), "", 4)),
+                 ("w_lim(ft) (eq 35)", _fmt(float(core.w_limit(ft)), "", 4))]
+        if result is not None:
+            inc = result.increment_per_period
+            unit = "U0" if result.u0 else "μP/E*"
+            last = inc[-1] / result.u0 if result.u0 else inc[-1]
+            rows.append(("Δu last period", f"{last:.3g} {unit}"))
+            rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., "
+                                  f"{result.xc.size} steps"))
+        body = "".join(f"<div><span class='k'>{html.escape(k)}</span><span class='v'>{html.escape(v)}</span></div>"
+                       for k, v in rows)
+        return f"<div class='cards'>{body}</div>"
+
+    def _warnings(self, ft, w, contact, result):
+        out = [] if contact is None else list(contact.warnings)
+        if w > 0.95:
+            out.append(f"w = {w:.2f}: b = a − W = {1 - w:.2f} a is tiny; the always-in-contact band spans "
+                       f"{(1 - w) * self.state.resolution * 2:.0f} elements.")
+        if result is not None:
+            n_b = 2 * (1 - float(result.params.get("w", w))) / result.dx
+            if n_b < 8:
+                out.append(f"only {n_b:.0f} elements resolve b = a − W: raise the resolution.")
+            inc = np.abs(result.increment_per_period)
+            if result.regime == "ratcheting" and inc.size >= 2 and inc[-1] < 0.7 * inc[-2]:
+                out.append("the increment per period is still falling: run more periods to tell slow "
+                           "shakedown from ratcheting.")
+        return out
+
+    # ------------------------------------------------------------------ layout
+    def __panel__(self):
+        return self.template()
+
+    def main_area(self) -> pn.viewable.Viewable:
+        """The badge, cards, player and figures, without the sidebar (for notebooks)."""
+        live = dict(ft=self.ft_slider.param.value, w=self.w_slider.param.value)
+        badge = pn.pane.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error),
+                             css_classes=["regime"], margin=(6, 10), min_width=300, stylesheets=[_CSS])
+        cards = pn.pane.HTML(pn.bind(self._cards, **live, mu=self.mu_slider.param.value,
+                                     contact=self.param.contact, result=self.param.result),
+                             css_classes=["summary-cards"], margin=(0, 10), stylesheets=[_CSS])
+        model_warnings = pn.bind(self._warnings, **live, contact=self.param.contact, result=self.param.result)
+        warnings = pn.pane.Alert(pn.bind(lambda m: "\n".join(f"- {html.escape(x)}" for x in m), model_warnings),
+                                 visible=pn.bind(bool, model_warnings), alert_type="warning",
+                                 sizing_mode="stretch_width", css_classes=["model-warnings"])
+        errors = pn.pane.Alert(pn.bind(lambda e: f"**Invalid input:** {html.escape(e)}", self.param.error),
+                               alert_type="danger", visible=self.param.error.rx.bool(),
+                               sizing_mode="stretch_width", css_classes=["input-error"])
+        notices = pn.pane.Alert(pn.bind(lambda n: "**Some URL parameters were not applied:**\n\n"
+                                        + "\n".join(f"- {html.escape(m)}" for m in n), self.param.notices),
+                                alert_type="warning", visible=self.param.notices.rx.bool(),
+                                sizing_mode="stretch_width", css_classes=["url-notice"])
+        figs = self._figures()
+        player = pn.Row(pn.pane.Markdown("**Cycle player**", margin=(18, 10, 0, 10)), self.period_slider,
+                        self.player, sizing_mode="stretch_width")
+        fig = lambda o: pn.pane.HoloViews(o, sizing_mode="stretch_width", linked_axes=False)  # noqa: E731
+        explorer = pn.Column(
+            player,
+            pn.Row(fig(figs["pressure"]), fig(figs["traction"]), sizing_mode="stretch_width"),
+            pn.Row(fig(figs["states"]), fig(figs["displacement"]), sizing_mode="stretch_width"),
+            pn.Row(fig(figs["map"]), fig(figs["increments"]), sizing_mode="stretch_width"),
+            sizing_mode="stretch_width", name="Explorer",
+        )
+        tabs = pn.Tabs(explorer, ("About the model", self.about()), sizing_mode="stretch_width",
+                       dynamic=True)
+        top = pn.Row(pn.Column(badge, pn.Row(self.spinner, self.status), width=360, sizing_mode="fixed"),
+                     pn.Column(cards, errors, notices, warnings, sizing_mode="stretch_width"),
+                     sizing_mode="stretch_width")
+        return pn.Column(top, tabs, sizing_mode="stretch_width")
+
+    def sidebar(self) -> list:
+        """The input widgets."""
+        return [
+            self.preset,
+            pn.pane.Markdown("### Loads"), self.ft_slider, self.w_slider, self.mu_slider,
+            pn.pane.Markdown("### Units"), self.units_toggle,
+            pn.Card(*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs,
+                    title="Geometry and materials", collapsed=False, sizing_mode="stretch_width"),
+            pn.Card(*self.solver_inputs, title="Solver", collapsed=True, sizing_mode="stretch_width"),
+            pn.pane.Markdown("### Download the run"), self.csv_table, self.csv_download, self.json_download,
+        ]
+
+    @staticmethod
+    def about() -> pn.Column:
+        """The 'About the model' tab: Markdown with KaTeX equations."""
+        parts = re.split(r"^\$\$(.+?)\$\$$", _ABOUT.read_text(encoding="utf-8"), flags=re.M | re.S)
+        objs = []
+        for i, part in enumerate(parts):
+            if i % 2:
+                objs.append(pn.pane.LaTeX(f"$${part.strip()}$$", renderer="katex", styles={"font-size": "20px"},
+                                          margin=(0, 30)))
+            elif part.strip():
+                objs.append(pn.pane.Markdown(part, styles={"font-size": "17px"}, sizing_mode="stretch_width"))
+        return pn.Column(*objs, name="About the model", max_width=1100, sizing_mode="stretch_width")
+
+    def template(self) -> pn.template.BaseTemplate:
+        """The served page."""
+        return pn.template.FastListTemplate(
+            title="Shakedown Explorer: a rocking cylinder with Coulomb friction",
+            sidebar=self.sidebar(), main=[self.main_area()], sidebar_width=340,
+            accent="#1f77b4", main_layout=None, theme_toggle=False,
+        )

@@ -1,0 +1,40 @@
+"""The served explorer: ``panel serve app/main.py --liveness``.
+
+One :class:`~app.explorer.Explorer` per browser session. URL query parameters
+are validated first (rejected ones show a notice and are not applied), then
+every parameter is kept in sync with the URL under its own name, so a link
+reproduces the view.
+"""
+
+import sys
+from pathlib import Path
+
+import panel as pn
+
+try:
+    from app.explorer import Explorer
+    from app.state import URL_PARAMETERS
+except ImportError:  # served from a checkout that is not installed
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+    from app.explorer import Explorer
+    from app.state import URL_PARAMETERS
+
+pn.extension("katex", sizing_mode="stretch_width", throttled=False)
+
+
+def _sync_url(explorer: Explorer) -> None:
+    location = pn.state.location
+    if location is None:
+        return
+    explorer.apply_query(location.search or "")
+
+    def rejected(values):  # values that Panel's own sync could not apply (kept out of the state)
+        names = ", ".join(sorted(map(str, values)))
+        explorer.notices = [*explorer.notices, f"not applied from the URL: {names}"][:20]
+
+    location.sync(explorer.state, {p: p for p in URL_PARAMETERS}, on_error=rejected)
+
+
+explorer = Explorer()
+_sync_url(explorer)
+explorer.template().servable()

@@ -1,0 +1,243 @@
+"""The explorer's state: every input of the model, with bounds, steps, units and docs.
+
+:class:`ExplorerState` is headless: it holds the inputs, turns them into a
+:class:`core.Contact` and solver options, applies presets and parses URL query
+parameters. The Panel view (:mod:`app.explorer`) is a thin layer over it, so
+everything here is testable without a browser.
+
+Units of the parameters are those of the user interface: lengths in mm, forces
+in N, moduli in MPa. :meth:`ExplorerState.contact` converts to SI for
+:mod:`core`.
+"""
+
+from __future__ import annotations
+
+import math
+import urllib.parse
+from typing import Mapping
+
+import param
+
+import core
+
+__all__ = ["ExplorerState", "PRESETS", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
+
+#: Longest query-string value that is even looked at (longer ones are rejected).
+MAX_QUERY_VALUE_LENGTH = 64
+
+_MM, _MPA = 1e-3, 1e6
+
+
+class ExplorerState(param.Parameterized):
+    """Inputs of the rocking-cylinder model as shown in the explorer.
+
+    ``bounds`` are the physical validity of each input (or an operator cap on
+    the work a served app accepts); ``softbounds`` are the slider ranges.
+    """
+
+    # ---- loads ------------------------------------------------------------
+    ft = param.Number(0.3, bounds=(0.0, 1.0), inclusive_bounds=(True, False), softbounds=(0.0, 0.99),
+                      step=0.01, label="ft = Ft/(μ Fn)",
+                      doc="Tangential load over its sliding limit, Ft/(μ Fn) [-], in [0, 1).")
+    w = param.Number(0.5, bounds=(0.0, 1.0), inclusive_bounds=(True, False), softbounds=(0.0, 0.99),
+                     step=0.01, label="w = W/a",
+                     doc="Rocking amplitude of the contact centre over the half-width, W/a [-], in [0, 1).")
+    mu = param.Number(0.58, bounds=(0.0, 10.0), inclusive_bounds=(False, True), softbounds=(0.05, 1.5),
+                      step=0.01, label="μ (friction)", doc="Coulomb friction coefficient μ [-], in (0, 10].")
+    # ---- geometry and materials --------------------------------------------
+    R = param.Number(40.0, bounds=(0.0, 1e5), inclusive_bounds=(False, True), softbounds=(1.0, 200.0),
+                     step=1.0, label="R [mm]", doc="Radius of the cylinder R [mm], in (0, 1e5].")
+    L = param.Number(500.0, bounds=(0.0, 1e6), inclusive_bounds=(False, True), softbounds=(1.0, 1000.0),
+                     step=1.0, label="L [mm]",
+                     doc="Length of the cylinder L [mm], in (0, 1e6]; must exceed the contact width 2a.")
+    Fn = param.Number(195.0, bounds=(0.0, 1e9), inclusive_bounds=(False, True), softbounds=(1.0, 1000.0),
+                      step=1.0, label="Fn [N]", doc="Normal force Fn [N], in (0, 1e9].")
+    E2 = param.Number(5.1, bounds=(0.0, 1e7), inclusive_bounds=(False, True), softbounds=(0.1, 1000.0),
+                      step=0.1, label="E substrate [MPa]", doc="Young's modulus of the substrate E2 [MPa], in (0, 1e7].")
+    nu2 = param.Number(0.5, bounds=(0.0, 0.5), softbounds=(0.0, 0.5), step=0.01, label="ν substrate",
+                       doc="Poisson ratio of the substrate ν2 [-], in [0, 0.5].")
+    rigid = param.Boolean(True, label="Rigid cylinder",
+                          doc="Treat the cylinder as rigid (E1 = ∞); untick to use E1 and ν1.")
+    E1 = param.Number(206e3, bounds=(0.0, 1e7), inclusive_bounds=(False, True), softbounds=(1.0, 1e6),
+                      step=1.0, label="E cylinder [MPa]",
+                      doc="Young's modulus of the cylinder E1 [MPa], in (0, 1e7]; used when not rigid.")
+    nu1 = param.Number(0.3, bounds=(0.0, 0.5), softbounds=(0.0, 0.5), step=0.01, label="ν cylinder",
+                       doc="Poisson ratio of the cylinder ν1 [-], in [0, 0.5]; used when not rigid.")
+    # ---- solver -------------------------------------------------------------
+    periods = param.Integer(10, bounds=(1, 200), softbounds=(1, 30), step=1, label="Periods",
+                            doc="Rocking periods simulated after the loading [-], in [1, 200].")
+    resolution = param.Integer(40, bounds=(5, 400), softbounds=(10, 100), step=5, label="Elements per a",
+                               doc="Grid resolution: elements per half-width a [-] (dx = a/resolution), in [5, 400].")
+    kernel = param.Selector(default="strip", objects=["strip", "plane"], label="Kernel",
+                            doc="Influence kernel: 'strip' (truncated 3D strip of length L, gives U/U0) "
+                                "or 'plane' (plane strain; displacement defined up to a constant).")
+    schedule = param.Selector(default="triangle", objects=["triangle", "sine"], label="Rocking waveform",
+                              doc="Waveform of the rocking motion of the contact centre: 'triangle' (the paper's) or 'sine'.")
+    # ---- view -------------------------------------------------------------
+    units = param.Selector(default="normalised", objects=["normalised", "physical"], label="Units",
+                           doc="Plot units: 'normalised' (x/a, p/p0, q/(μ p0), u in μP/E* or U/U0) "
+                               "or 'physical' (mm, MPa, µm).")
+
+    # ---- derived ------------------------------------------------------------
+    def contact(self) -> core.Contact:
+        """The contact in SI units, with this state's ``ft`` and ``w``.
+
+        Raises
+        ------
+        ValueError
+            If the inputs do not make a valid contact (the message names the field).
+        """
+        rigid = self.rigid
+        return core.Contact(
+            R1=self.R * _MM, L=self.L * _MM, Fn=self.Fn, mu=self.mu,
+            E2=self.E2 * _MPA, nu2=self.nu2,
+            E1=math.inf if rigid else self.E1 * _MPA, nu1=0.3 if rigid else self.nu1,
+            ft=self.ft, w=self.w,
+        )
+
+    @property
+    def dx(self) -> float:
+        """Element width over the half-width a [-]."""
+        return 1.0 / self.resolution
+
+    def solver_options(self) -> dict:
+        """Keyword arguments of :func:`core.simulate_contact` (besides the contact)."""
+        return dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
+
+    def values(self) -> dict:
+        """The URL-synced parameters and their current values."""
+        return {name: getattr(self, name) for name in URL_PARAMETERS}
+
+    def apply_preset(self, name: str) -> None:
+        """Set the inputs of a named preset (see :data:`PRESETS`); other inputs keep their values.
+
+        Raises
+        ------
+        ValueError
+            If ``name`` is not a preset.
+        """
+        if name not in PRESETS:
+            raise ValueError(f"preset must be one of {sorted(PRESETS)}, got {name!r}")
+        self.param.update(**PRESETS[name])
+
+
+def _contact_inputs(contact: core.Contact) -> dict:
+    """The state's geometry and material inputs (UI units) of a core contact preset."""
+    rigid = math.isinf(contact.E1)
+    out = dict(R=contact.R1 / _MM, L=contact.L / _MM, Fn=contact.Fn, mu=contact.mu,
+               E2=contact.E2 / _MPA, nu2=contact.nu2, rigid=rigid)
+    if not rigid:
+        out.update(E1=contact.E1 / _MPA, nu1=contact.nu1)
+    return out
+
+
+_SIMULATION = _contact_inputs(core.PAPER_SIMULATION)
+_SOLVER_PAPER = dict(kernel="strip", schedule="triangle", periods=10)
+
+#: Named sets of inputs: the paper's simulation (eq 17), its experiment
+#: (Table 1) and the cases of its Figs 6 (shakedown) and 7 (ratcheting).
+PRESETS: dict[str, dict] = {
+    "Paper simulation (eq 17)": dict(_SIMULATION, **_SOLVER_PAPER),
+    "Paper experiment (Table 1)": dict(_contact_inputs(core.PAPER_EXPERIMENT), **_SOLVER_PAPER),
+    **{f"Fig 6: ft = 0.08, w = {w}": dict(_SIMULATION, ft=0.08, w=w, **_SOLVER_PAPER) for w in (0.26, 0.52, 0.77)},
+    **{f"Fig 7: ft = 0.58, w = {w}": dict(_SIMULATION, ft=0.58, w=w, **_SOLVER_PAPER) for w in (0.26, 0.52, 0.77)},
+}
+
+#: Parameters synced with the URL, each under its own name.
+URL_PARAMETERS = tuple(p for p in ExplorerState.param if p != "name")
+
+
+# --------------------------------------------------------------------------
+# URL query parameters
+# --------------------------------------------------------------------------
+_TRUE, _FALSE = {"true", "1", "yes", "on"}, {"false", "0", "no", "off"}
+
+
+def _convert(p: param.Parameter, name: str, text: str):
+    """Turn one query-string value into a value of parameter ``p``; ValueError if it is not one."""
+    if isinstance(p, param.Boolean):
+        low = text.strip().lower()
+        if low in _TRUE:
+            return True
+        if low in _FALSE:
+            return False
+        raise ValueError(f"{name} must be true or false, got {text!r}")
+    if isinstance(p, param.Selector):
+        if text not in p.objects:
+            raise ValueError(f"{name} must be one of {', '.join(map(str, p.objects))}, got {text!r}")
+        return text
+    if isinstance(p, param.Integer):
+        try:
+            value = float(text)
+        except ValueError:
+            raise ValueError(f"{name} must be an integer, got {text!r}") from None
+        if not math.isfinite(value) or not value.is_integer():
+            raise ValueError(f"{name} must be an integer, got {text!r}")
+        return int(value)
+    if isinstance(p, param.Number):
+        try:
+            value = float(text)
+        except ValueError:
+            raise ValueError(f"{name} must be a number, got {text!r}") from None
+        if not math.isfinite(value):
+            raise ValueError(f"{name} must be a finite number, got {text!r}")
+        return value
+    raise ValueError(f"{name} cannot be set from the URL")  # pragma: no cover
+
+
+def _range_text(p: param.Parameter) -> str:
+    lo, hi = p.bounds
+    ilo, ihi = getattr(p, "inclusive_bounds", (True, True))
+    return f"{'[' if ilo else '('}{lo:g}, {hi:g}{']' if ihi else ')'}"
+
+
+def parse_query(query: str | Mapping[str, object]) -> tuple[dict, list[str], list[str]]:
+    """Validate URL query parameters against :class:`ExplorerState`.
+
+    Parameters
+    ----------
+    query : str or mapping
+        A query string (``"?ft=0.3&w=0.5"``, leading ``?`` optional) or a
+        mapping of names to a value or a list of values (repeated keys).
+
+    Returns
+    -------
+    updates : dict
+        Valid values, ready for ``state.param.update(**updates)``.
+    errors : list of str
+        One message per rejected parameter (naming it, its value and the allowed
+        values); rejected parameters are not in ``updates``.
+    ignored : list of str
+        Names that are not parameters of the explorer.
+    """
+    if isinstance(query, str):
+        pairs = urllib.parse.parse_qsl(query.lstrip("?"), keep_blank_values=True)
+        items: dict[str, list[str]] = {}
+        for k, v in pairs:
+            items.setdefault(k, []).append(v)
+    else:
+        items = {k: (list(v) if isinstance(v, (list, tuple)) else [v]) for k, v in query.items()}
+    updates, errors, ignored = {}, [], []
+    scratch = ExplorerState()
+    for key, raw in items.items():
+        if key not in URL_PARAMETERS:
+            ignored.append(str(key)[:MAX_QUERY_VALUE_LENGTH])
+            continue
+        values = [v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v) for v in raw]
+        p = ExplorerState.param[key]
+        try:
+            if len(set(values)) > 1:
+                raise ValueError(f"{key} is given {len(values)} times with different values")
+            text = values[0]
+            if len(text) > MAX_QUERY_VALUE_LENGTH:
+                raise ValueError(f"{key} is too long ({len(text)} characters)")
+            value = _convert(p, key, text)
+            try:
+                scratch.param.update(**{key: value})
+            except ValueError:
+                raise ValueError(f"{key} must be in {_range_text(p)}, got {text!r}") from None
+        except ValueError as e:
+            errors.append(str(e))
+            continue
+        updates[key] = value
+    return updates, errors, ignored

@@ -1,0 +1,53 @@
+"""Take a screenshot of the served explorer for the README: docs/screenshot.png.
+
+Usage: python scripts/screenshot.py [--url-query "?ft=0.3&w=0.5"] [--out docs/screenshot.png]
+
+Serves ``app/main.py`` on a free loopback port, opens it in headless Chromium
+at projector size (1600 x 1000 CSS pixels), waits until the solver's verdict and
+the figures are drawn, and saves a PNG (palette-quantised to stay small).
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from app.serving import ROOT, chromium, served_app, wait_until  # noqa: E402
+
+BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--query", default="?ft=0.3&w=0.5", help="URL query of the view to capture")
+    ap.add_argument("--out", default=str(ROOT / "docs" / "screenshot.png"), help="output PNG")
+    ap.add_argument("--width", type=int, default=1600)
+    ap.add_argument("--height", type=int, default=1000)
+    ap.add_argument("--full-page", action="store_true", help="capture the whole page, not the viewport")
+    args = ap.parse_args(argv)
+    with served_app() as url, chromium() as browser:
+        page = browser.new_page(viewport={"width": args.width, "height": args.height})
+        page.goto(url + args.query)
+        page.locator(BADGE).first.wait_for(timeout=60_000)
+        wait_until(lambda: page.locator(".bk-Canvas, canvas").count() >= 6, 30, message="the figures")
+        page.wait_for_timeout(1500)  # let the last figures paint (one-off script, not a test)
+        png = page.screenshot(full_page=args.full_page)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        from PIL import Image
+
+        img = Image.open(io.BytesIO(png)).convert("RGB").quantize(colors=256, method=Image.Quantize.MEDIANCUT)
+        img.save(out, optimize=True)
+    except ImportError:
+        out.write_bytes(png)
+    print(f"wrote {out} ({out.stat().st_size / 1024:.0f} KB)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
