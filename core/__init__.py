@@ -4,5 +4,5 @@ from .contact import Contact, PAPER_SIMULATION, PAPER_EXPERIMENT, BETA_WARNING_L
 from . import approximations  # noqa: F401
 from .kernels import influence_matrix, strip_u0  # noqa: F401
 from .schedule import Schedule, rocking_schedule  # noqa: F401
-from .result import CycleResult, SolverError, STATE_NAMES  # noqa: F401
+from .result import CycleResult, SolverError, SolveCancelled, STATE_NAMES  # noqa: F401
 from .solver import simulate_cycles, simulate_contact, solve_schedule  # noqa: F401

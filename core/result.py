@@ -10,7 +10,7 @@ import numpy as np
 from .analytical import hertz_pressure_element_mean
 
 __all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
-           "STATE_NAMES", "SolverError"]
+           "STATE_NAMES", "SolverError", "SolveCancelled"]
 
 #: Element states recorded per step (``CycleResult.state``).
 STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = 0, 1, 2, 3
@@ -36,6 +36,10 @@ class SolverError(RuntimeError):
             f"tangential increment not solved at step {self.step} (xc = {self.xc:.6g} a): "
             f"KKT residual {self.residual:.3g}{'; ' + reason if reason else ''}"
         )
+
+
+class SolveCancelled(RuntimeError):
+    """A solve was stopped on request or because its time budget ran out; the message says which."""
 
 
 @dataclass(frozen=True, eq=False)

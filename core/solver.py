@@ -45,17 +45,19 @@ import numpy as np
 from ._validate import check_int, check_scalar
 from .analytical import hertz_pressure_element_mean
 from .kernels import KERNELS, influence_matrix, strip_b_coefficient, strip_u0
-from .result import CycleResult, SolverError
+from .result import CycleResult, SolveCancelled, SolverError
 from .schedule import Schedule, rocking_schedule
 
 __all__ = ["simulate_cycles", "simulate_contact", "solve_schedule", "solve_static", "shakedown_state",
-           "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "KKT_TOL"]
+           "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_STORED_VALUES", "KKT_TOL"]
 
 #: Default element width [a]: 80 elements across the contact. The increment per
 #: period is then within about 1 % of the converged value (tests/test_solver.py).
 DEFAULT_DX = 1.0 / 40.0
 #: Largest grid the solver accepts (the dense kernel needs 8 n^2 bytes).
 MAX_ELEMENTS = 4000
+#: Largest steps x elements a run may store (traction float64 + state int8: ~9 bytes each).
+MAX_STORED_VALUES = 2.5e8
 #: Default tolerance of the KKT residual (tractions in mu p0, slips in mu P/E*).
 KKT_TOL = 1e-10
 
@@ -422,28 +424,26 @@ def solve_increment(K, g, q_prev, target, dx, kind, B, fidx, pos, m0, tol, maxit
 # a whole schedule
 # --------------------------------------------------------------------------
 @nb.njit(cache=True, fastmath=True)
-def _run_schedule(K, edges, xc, P, Q, period, dx, tol, maxiter, detect_periodic,
-                  traction, state, disp, diss, iters, resid):
-    """March through the schedule; return (steps done, periodic_from, failed step, its residual)."""
+def _run_steps(K, edges, xc, P, Q, period, dx, tol, maxiter, detect_periodic, k0, k1,
+               q_prev, kind, B, fidx, pos, work, q_block_end, counters, total_arr,
+               traction, state, disp, diss, iters, resid):
+    """March through steps ``k0:k1`` of the schedule, carrying the solver state in the arrays passed.
+
+    Returns (steps done, periodic_from, failed step, its residual): ``steps done < k1`` with
+    ``periodic_from >= 0`` means the period ``periodic_from`` repeats for ever.
+    """
     n = K.shape[0]
     steps = xc.size
-    q_prev = np.zeros(n)
     q = np.zeros(n)
     dq = np.zeros(n)
     slip = np.zeros(n)
     g = np.zeros(n)
     codes = np.zeros(n, dtype=np.int8)
-    kind = np.zeros(n, dtype=np.int8)
-    B = np.zeros((n, n))
-    fidx = np.zeros(n, dtype=np.int64)
-    pos = -np.ones(n, dtype=np.int64)
-    work = np.zeros(4 * n)
-    q_block_end = np.zeros(n)
-    m = 0
-    updates = 0
-    total = 0.0
+    m = counters[0]
+    updates = counters[1]
+    total = total_arr[0]
     load_scale = 0.5 * np.pi / dx
-    for k in range(steps):
+    for k in range(k0, k1):
         _element_bounds(edges, xc[k], P[k], g)
         if updates > _REBUILD_EVERY:
             m = _inverse_rebuild(K, B, fidx, pos, kind)
@@ -464,6 +464,9 @@ def _run_schedule(K, edges, xc, P, Q, period, dx, tol, maxiter, detect_periodic,
         diss[k] = d * dx
         iters[k] = it
         resid[k] = res
+        counters[0] = m
+        counters[1] = updates
+        total_arr[0] = total
         if k + 1 < steps and period[k + 1] != period[k]:
             # end of a block: a period that ends where the previous one ended repeats for ever
             if detect_periodic and period[k] >= 0:
@@ -476,7 +479,7 @@ def _run_schedule(K, edges, xc, P, Q, period, dx, tol, maxiter, detect_periodic,
                     return k + 1, period[k], -1, 0.0
             for i in range(n):
                 q_block_end[i] = q[i]
-    return steps, -1, -1, 0.0
+    return k1, -1, -1, 0.0
 
 
 def make_grid(reach, dx):
@@ -513,7 +516,8 @@ def _kernel_options(kernel, L_over_a, nu):
 
 
 def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=None, tol=KKT_TOL,
-                   maxiter=None, detect_periodic=True, shakedown_rtol=1e-3, params=None):
+                   maxiter=None, detect_periodic=True, shakedown_rtol=1e-3, params=None,
+                   time_budget=None, cancel=None, progress=None, chunk=256):
     """Run the incremental solver over any :class:`~core.schedule.Schedule`.
 
     Parameters
@@ -541,6 +545,15 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
         below which the run counts as shaken down.
     params : dict, optional
         Recorded on the result.
+    time_budget : float, optional
+        Wall-time budget [s]; past it the solve stops with :class:`SolveCancelled`.
+    cancel : callable, optional
+        Called between chunks of steps; returning True stops the solve with
+        :class:`SolveCancelled` (e.g. when a newer request superseded this one).
+    progress : callable, optional
+        Called with the fraction of steps done, between chunks and at the end.
+    chunk : int
+        Steps run between checks of the budget, ``cancel`` and ``progress``.
 
     Returns
     -------
@@ -550,6 +563,11 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     ------
     SolverError
         If a step cannot be solved to ``tol`` (names the step, ``xc`` and the residual).
+    SolveCancelled
+        If ``cancel`` asked for it or the time budget ran out.
+    ValueError
+        For invalid inputs, or a run whose stored fields would exceed
+        :data:`MAX_STORED_VALUES` (steps x elements).
     """
     if not isinstance(schedule, Schedule):
         raise ValueError(f"schedule must be a core.Schedule, got {type(schedule).__name__}")
@@ -561,6 +579,12 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     edges = make_grid(schedule.reach, dx)
     n = edges.size - 1
     maxiter = check_int("maxiter", 50 + 2 * n if maxiter is None else maxiter, 1, 10**7)
+    chunk = check_int("chunk", chunk, 1, 10**7)
+    if time_budget is not None:
+        time_budget = check_scalar("time_budget", time_budget, 0.0, None, lo_closed=False)
+    if len(schedule) * n > MAX_STORED_VALUES:
+        raise ValueError(f"{len(schedule)} steps x {n} elements exceeds {MAX_STORED_VALUES:.0e} stored values "
+                         "(about 2.4 GB): use fewer periods, a larger dx or a larger dW")
     K = influence_matrix(n, dx, kernel, **kernel_options)
     steps = len(schedule)
     traction = np.empty((steps, n))
@@ -570,20 +594,43 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     iters = np.empty(steps, dtype=np.int64)
     resid = np.empty(steps)
     periodic = bool(detect_periodic) and schedule.is_periodic()
-    done, periodic_from, failed, res = _run_schedule(
-        K, edges, schedule.xc, schedule.P, schedule.Q, schedule.period, dx, tol, maxiter, periodic,
-        traction, state, disp, diss, iters, resid)
-    if failed >= 0:
-        raise SolverError(failed, schedule.xc[failed], res,
-                          "the active set did not settle" if np.isfinite(res) else "no feasible active set")
+    # solver state carried between chunks of steps
+    q_prev, q_block_end, work = np.zeros(n), np.zeros(n), np.zeros(4 * n)
+    kind, B = np.zeros(n, np.int8), np.zeros((n, n))
+    fidx, pos = np.zeros(n, np.int64), -np.ones(n, np.int64)
+    counters, total = np.zeros(2, np.int64), np.zeros(1)
+    done, periodic_from = 0, -1
+    budget_end = None if time_budget is None else t0 + time_budget
+    while done < steps:
+        k1 = min(steps, done + chunk)
+        reached, periodic_from, failed, res = _run_steps(
+            K, edges, schedule.xc, schedule.P, schedule.Q, schedule.period, dx, tol, maxiter, periodic, done, k1,
+            q_prev, kind, B, fidx, pos, work, q_block_end, counters, total,
+            traction, state, disp, diss, iters, resid)
+        if failed >= 0:
+            raise SolverError(failed, schedule.xc[failed], res,
+                              "the active set did not settle" if np.isfinite(res) else "no feasible active set")
+        done = reached
+        if periodic_from >= 0:
+            break
+        if done < steps:
+            if cancel is not None and cancel():
+                raise SolveCancelled(f"solve cancelled after {done} of {steps} steps")
+            if budget_end is not None and time.perf_counter() > budget_end:
+                raise SolveCancelled(f"solve stopped after {time_budget:g} s (its time budget) at step "
+                                     f"{done} of {steps}: use fewer periods or a coarser grid")
+            if progress is not None:
+                progress(done / steps)
     if done < steps:
         _repeat_last_period(schedule.period, done, periodic_from, traction, state, disp, diss, iters, resid)
     u0 = strip_u0(kernel_options["L_over_a"], kernel_options["b_coefficient"]) if kernel == "strip" else None
+    if progress is not None:
+        progress(1.0)
     return CycleResult(
         edges=edges, xc=schedule.xc, P=schedule.P, Q=schedule.Q, period=schedule.period,
         traction=traction, state=state, displacement=disp, dissipation=diss, iterations=iters,
         kkt_residual=resid, kernel=kernel, u0=u0,
-        periodic_from=None if done == steps else int(periodic_from),
+        periodic_from=None if periodic_from < 0 else int(periodic_from),
         params=dict(params or {}), tol=tol, shakedown_rtol=shakedown_rtol,
         runtime=time.perf_counter() - t0,
     )
@@ -709,7 +756,7 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 
 def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane", shape="triangle",
                     load_steps=1, L_over_a=None, nu=0.5, tol=KKT_TOL, detect_periodic=True,
-                    shakedown_rtol=1e-3):
+                    shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -738,6 +785,10 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
         KKT tolerance of every step.
     detect_periodic : bool
         Copy periods once the state repeats (see :func:`solve_schedule`).
+    time_budget, cancel, progress :
+        Stop after ``time_budget`` seconds, or when ``cancel()`` returns True
+        (:class:`SolveCancelled`); report the fraction done to ``progress``
+        (see :func:`solve_schedule`).
     shakedown_rtol : float
         Tolerance of the shakedown verdict: the run has shaken down when the
         last increment per period is at most this fraction of the largest
@@ -768,7 +819,8 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
     if kernel == "strip":
         params.update(L_over_a=options["L_over_a"], nu=float(nu))
     return solve_schedule(schedule, dx, kernel, kernel_options=options, tol=tol,
-                          detect_periodic=detect_periodic, shakedown_rtol=shakedown_rtol, params=params)
+                          detect_periodic=detect_periodic, shakedown_rtol=shakedown_rtol, params=params,
+                          time_budget=time_budget, cancel=cancel, progress=progress)
 
 
 def simulate_contact(contact, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="strip", **options):

@@ -188,3 +188,40 @@ def test_result_is_frozen():
     r = simulate_cycles(0.2, 0.3, periods=2)
     with pytest.raises(Exception):
         r.regime = "x"  # type: ignore[misc]
+
+
+# ---------------------------------------------------------------------------
+# bounded work: cancellation, time budget, progress, size caps
+# ---------------------------------------------------------------------------
+def test_cancel_stops_the_solve_between_chunks():
+    calls = []
+
+    def cancel():
+        calls.append(1)
+        return len(calls) >= 2
+
+    with pytest.raises(core.SolveCancelled, match="cancelled after"):
+        simulate_cycles(0.58, 0.77, periods=10, dx=1 / 60, detect_periodic=False, cancel=cancel)
+    assert len(calls) == 2
+
+
+def test_time_budget_stops_the_solve_with_a_message():
+    with pytest.raises(core.SolveCancelled, match="time budget"):
+        simulate_cycles(0.3, 0.77, periods=200, dx=1 / 100, detect_periodic=False, time_budget=1e-3)
+
+
+def test_progress_reports_increasing_fractions_and_chunks_change_nothing():
+    seen = []
+    a = simulate_cycles(0.58, 0.52, periods=5, dx=1 / 40, detect_periodic=False, progress=seen.append)
+    assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) >= 2
+    s = core.rocking_schedule(0.58, 0.52, periods=5, dW=1 / 40)
+    b = solve_schedule(s, dx=1 / 40, detect_periodic=False, chunk=7)
+    assert_allclose(a.traction, b.traction, atol=0)
+    assert_allclose(a.displacement, b.displacement, atol=0)
+
+
+def test_stored_size_is_capped():
+    with pytest.raises(ValueError, match="stored values"):
+        simulate_cycles(0.3, 0.9, periods=2000, dx=1 / 200)
+    with pytest.raises(ValueError, match="steps"):
+        simulate_cycles(0.3, 0.9, periods=10_000, dx=1 / 200)
