@@ -240,9 +240,13 @@ def _add_solver_options(parser, kernel_default="plane"):
     add("--shakedown-rtol", dest="shakedown_rtol", type=_number("shakedown_rtol", 0.0, 1.0, lo_closed=False),
         action=_Once, metavar="R",
         help="shaken down when the last increment per period is <= R times the largest, in (0, 1] (default 1e-3)")
+    add("--time-budget", dest="time_budget", type=_number("time_budget", 0.0, 86400.0, lo_closed=False),
+        action=_Once, metavar="S",
+        help="wall-time budget of each run [s], in (0, 86400]; a run past it stops and counts as failed")
 
 
-_SOLVER_DESTS = ("periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu", "shakedown_rtol")
+_SOLVER_DESTS = ("periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu", "shakedown_rtol",
+                 "time_budget")
 
 
 def _add_execution_options(parser):

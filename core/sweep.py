@@ -41,6 +41,7 @@ import itertools
 import math
 import multiprocessing
 import os
+import queue
 import sys
 import threading
 import time
@@ -87,6 +88,7 @@ _WORKER_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THR
                "NUMBA_NUM_THREADS": "1"}
 _ENV_LOCK = threading.Lock()
 _POLL_S = 0.2  # how often a waiting sweep checks for cancellation [s]
+_START_TIMEOUT_S = 600.0  # longest wait for a worker process to start (it may compile the solver) [s]
 
 
 class SweepCancelled(RuntimeError):
@@ -165,8 +167,10 @@ def _option_axes(options: dict) -> dict[str, list]:
     return axes
 
 
-def _check_size(ft_values, w_values, option: dict, cells_cap: int) -> None:
-    """Check the largest run of one option combination against the cell cap, before any work."""
+def _check_option(ft_values, w_values, option: dict, cells_cap: int) -> None:
+    """Check one option combination before any work: its largest run against the cell cap, then
+    every option as the solver sees it (a one-period run at rest, which raises the solver's own
+    ``ValueError`` for a bad value)."""
     ft = max(ft_values, key=abs)
     w = max(w_values)
     dx = check_scalar("dx", option.get("dx", _SOLVER_DEFAULTS["dx"]), 1e-4, 0.5)
@@ -181,6 +185,12 @@ def _check_size(ft_values, w_values, option: dict, cells_cap: int) -> None:
         raise ValueError(f"a run at w = {w:g} ({described}) would have {len(schedule)} steps x {elements} "
                          f"elements = {cells:.3g} cells (> {cells_cap:.3g}, see SHAKEDOWN_MAX_CELLS): "
                          "use fewer periods or a larger dx")
+    try:
+        simulate_cycles(0.0, 0.0, **{**option, "periods": 1})
+    except ValueError:
+        raise
+    except Exception:  # noqa: BLE001 - not about the inputs (e.g. a tiny time budget); the runs will tell
+        pass
 
 
 def sweep_grid(ft, w, *, max_runs: int | None = None, max_cells: int | None = None, **solver_options) -> list[dict]:
@@ -231,7 +241,7 @@ def sweep_grid(ft, w, *, max_runs: int | None = None, max_cells: int | None = No
     names = list(axes)
     combos = [dict(zip(names, values)) for values in itertools.product(*axes.values())]
     for option in combos:
-        _check_size(ft_values, w_values, option, cells_cap)
+        _check_option(ft_values, w_values, option, cells_cap)
     return [{"ft": f, "w": x, **option} for f, x in itertools.product(ft_values, w_values) for option in combos]
 
 
@@ -264,9 +274,6 @@ def _run_chunk(points: list[dict]) -> list[dict]:
     return [_run_point(p) for p in points]
 
 
-_WORKER_WARMUP_S = float("nan")
-
-
 def _warm_up() -> float:
     """Run the solver once (compiling it or loading numba's cache); return the seconds it took."""
     t0 = time.perf_counter()
@@ -274,15 +281,14 @@ def _warm_up() -> float:
     return time.perf_counter() - t0
 
 
-def _init_worker() -> None:
+def _init_worker(started) -> None:
     """Initializer of pool workers: one thread each, solver loaded before the first task."""
-    global _WORKER_WARMUP_S
     os.environ.update(_WORKER_ENV)
-    _WORKER_WARMUP_S = _warm_up()
+    started.put((os.getpid(), _warm_up()))
 
 
-def _worker_warmup_time() -> tuple[int, float]:
-    return os.getpid(), _WORKER_WARMUP_S
+def _nothing() -> None:
+    return None
 
 
 # --------------------------------------------------------------------------
@@ -385,18 +391,27 @@ class _Processes(_Futures):
         self.workers = max_workers
         self.name = f"processes({max_workers})"
         ctx = multiprocessing.get_context("spawn")
+        started = ctx.Queue()
         with _single_threaded_children():
-            self.executor = cf.ProcessPoolExecutor(max_workers, mp_context=ctx, initializer=_init_worker)
+            self.executor = cf.ProcessPoolExecutor(max_workers, mp_context=ctx, initializer=_init_worker,
+                                                   initargs=(started,))
             # one task per worker starts them all now, under the single-threaded environment
-            starts = [self.executor.submit(_worker_warmup_time) for _ in range(max_workers)]
-        try:
-            self.warmup = {f"pid-{pid}": seconds for pid, seconds in (f.result() for f in starts)}
-        except cf.process.BrokenProcessPool as e:
-            self.executor.shutdown(wait=False, cancel_futures=True)
-            raise RuntimeError(
-                "the worker processes failed to start. They import the main module again (the 'spawn' "
-                "start method): run sweeps from a file guarded by `if __name__ == \"__main__\":`, "
-                "or pass scheduler='serial'") from e
+            starts = [self.executor.submit(_nothing) for _ in range(max_workers)]
+        # each worker reports its warm-up once it is ready
+        self.warmup = {}
+        deadline = time.perf_counter() + _START_TIMEOUT_S
+        while len(self.warmup) < max_workers:
+            try:
+                pid, seconds = started.get(timeout=_POLL_S)
+            except queue.Empty:
+                if any(f.done() and f.exception() is not None for f in starts) or time.perf_counter() > deadline:
+                    self.executor.shutdown(wait=False, cancel_futures=True)
+                    raise RuntimeError(
+                        "the worker processes failed to start. They import the main module again (the "
+                        "'spawn' start method): run sweeps from a file guarded by "
+                        "`if __name__ == \"__main__\":`, or pass scheduler='serial'") from None
+                continue
+            self.warmup[f"pid-{pid}"] = seconds
 
     def close(self):
         self.executor.shutdown(wait=True, cancel_futures=True)
@@ -472,8 +487,10 @@ def _run_tasks(fn, make_tasks, max_tasks, scheduler, max_workers, *, on_result, 
     t0 = time.perf_counter()
     deadline = math.inf if timeout is None else t0 + timeout
 
+    cancelled = _cancel_check(cancel)
+
     def stopped():
-        return (cancel is not None and cancel.is_set()) or time.perf_counter() > deadline
+        return cancelled() or time.perf_counter() > deadline
 
     backend = _backend(scheduler, max_workers, max_tasks)
     t_started = time.perf_counter()
@@ -486,10 +503,21 @@ def _run_tasks(fn, make_tasks, max_tasks, scheduler, max_workers, *, on_result, 
     finally:
         backend.close()
     if finished < len(tasks):
-        why = "cancelled" if cancel is not None and cancel.is_set() else f"timed out after {timeout:g} s"
+        why = "cancelled" if cancelled() else f"timed out after {timeout:g} s"
         raise SweepCancelled(f"sweep {why}: {finished} of {len(tasks)} tasks finished")
     return {"backend": backend.name, "workers": backend.workers, "warmup_s": backend.warmup,
             "startup_s": t_started - t0, "wall_s": time.perf_counter() - t0}
+
+
+def _cancel_check(cancel):
+    """``cancel`` as a function: a ``threading.Event`` (set means stop) or a callable returning True to stop."""
+    if cancel is None:
+        return lambda: False
+    if callable(getattr(cancel, "is_set", None)):
+        return cancel.is_set
+    if callable(cancel):
+        return lambda: bool(cancel())
+    raise ValueError(f"cancel must be a threading.Event or a callable, got {cancel!r:.60}")
 
 
 def _progress_callback(progress, label="runs"):
@@ -621,9 +649,10 @@ def sweep(ft, w, scheduler=None, *, max_workers=None, progress=None, cancel=None
     progress : bool or callable, optional
         ``True`` draws a progress bar on stderr; a callable is called as
         ``progress(done, total)`` (runs) in the calling thread.
-    cancel : threading.Event, optional
-        Set it (from another thread) to stop the sweep; runs not started are
-        dropped and :class:`SweepCancelled` is raised with the finished rows.
+    cancel : threading.Event or callable, optional
+        Set the event (from another thread), or return True from the
+        callable, to stop the sweep; runs not started are dropped and
+        :class:`SweepCancelled` is raised with the finished rows.
     timeout : float, optional
         Time budget [s]; past it the sweep stops like ``cancel``.
     max_runs, max_cells : int, optional

@@ -1,0 +1,248 @@
+"""The ``shakedown`` command line: outputs, resume, and bad input (exit 2, a message, no traceback)."""
+
+import json
+import math
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import core
+from core.cli import main, parse_range
+from core.sweep import normalise_table
+
+FAST = ["--periods", "4", "--workers", "1", "--no-progress"]
+
+
+def _run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _command():
+    exe = shutil.which("shakedown")
+    return [exe] if exe else [sys.executable, "-m", "core.cli"]
+
+
+# --------------------------------------------------------------------------
+# run
+# --------------------------------------------------------------------------
+def test_run_prints_a_summary_and_writes_csv_and_json(capsys, tmp_path):
+    code, out, err = _run(capsys, "run", "--ft", "0.3", "--w", "0.5", "--periods", "6",
+                          "--out", str(tmp_path / "r.json"))
+    assert code == 0, err
+    assert "regime" in out and "shakedown" in out and "mu P/E*" in out
+    doc = json.loads((tmp_path / "r.json").read_text())
+    assert doc["summary"]["regime"] == "shakedown" and len(doc["increment_per_period"]) == 6
+    code, _, err = _run(capsys, "run", "--ft", "0.6", "--w", "0.5", "--periods", "6", "--out", str(tmp_path / "r.csv"))
+    assert code == 0, err
+    row = pd.read_csv(tmp_path / "r.csv").iloc[0]
+    assert row["regime"] == "ratcheting" and row["ft"] == 0.6 and row["increment_last_period"] > 0
+
+
+def test_run_with_a_physical_contact(capsys):
+    code, out, err = _run(capsys, "run", "--R1", "0.04", "--L", "0.08", "--Fn", "32.2", "--mu", "0.79",
+                          "--E2", "3.6e6", "--nu2", "0.5", "--Ft", "5", "--W", "3e-4", "--periods", "4")
+    assert code == 0, err
+    assert "strip kernel" in out and "a = 2.0" in out and "in metres" in out
+
+
+# --------------------------------------------------------------------------
+# sweep: formats and resume
+# --------------------------------------------------------------------------
+def test_sweep_resumes_and_skips_rows_already_done(capsys, tmp_path):
+    out = tmp_path / "map.csv"
+    code, _, err = _run(capsys, "sweep", "--ft", "0.1:0.5:2", "--w", "0.2:0.6:2", "--out", str(out), *FAST)
+    assert code == 0, err
+    first = normalise_table(pd.read_csv(out))
+    assert len(first) == 4 and "0 already" in err
+    # a bigger grid sharing two w values: only the new rows run, the old ones are kept as they were
+    code, _, err = _run(capsys, "sweep", "--ft", "0.1:0.5:2", "--w", "0.2:0.6:3", "--out", str(out), *FAST)
+    assert code == 0, err
+    assert "6 runs in the grid, 4 already" in err and "2 to run" in err
+    second = normalise_table(pd.read_csv(out))
+    assert list(zip(second["ft"], second["w"])) == [(f, w) for f in (0.1, 0.5) for w in (0.2, 0.4, 0.6)]
+    kept = second.merge(first, on=["ft", "w"], suffixes=("", "_first"))
+    np.testing.assert_array_equal(kept["runtime"], kept["runtime_first"])  # not recomputed
+    code, _, err = _run(capsys, "sweep", "--ft", "0.1:0.5:2", "--w", "0.2:0.6:3", "--out", str(out), *FAST)
+    assert code == 0 and "nothing new" in err
+    # the same grid through the API gives the same table
+    api = core.sweep([0.1, 0.5], [0.2, 0.4, 0.6], scheduler="serial", periods=4)
+    pd.testing.assert_frame_equal(second.drop(columns="runtime"), api.drop(columns="runtime"))
+
+
+def test_an_interrupted_sweep_resumes_from_its_journal(capsys, tmp_path, monkeypatch):
+    sweep_module = sys.modules["core.sweep"]
+    real, calls = sweep_module._run_chunk, []
+
+    def interrupted(points):
+        calls.append(points)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return real(points)
+
+    monkeypatch.setattr(sweep_module, "_run_chunk", interrupted)
+    out = tmp_path / "map.parquet"
+    pytest.importorskip("pyarrow")
+    code, _, err = _run(capsys, "sweep", "--ft", "0.1,0.3,0.5", "--w", "0.2,0.6", "--out", str(out), *FAST)
+    journal = tmp_path / "map.parquet.partial.csv"
+    assert code == 130 and "rerun the same command" in err
+    assert not out.exists() and len(pd.read_csv(journal)) == 2
+    monkeypatch.setattr(sweep_module, "_run_chunk", real)
+    code, _, err = _run(capsys, "sweep", "--ft", "0.1,0.3,0.5", "--w", "0.2,0.6", "--out", str(out), *FAST)
+    assert code == 0 and "2 already" in err and "4 to run" in err
+    assert not journal.exists()
+    table = pd.read_parquet(out)
+    assert len(table) == 6 and table["error"].isna().all()
+
+
+def test_sweep_to_gzip_and_overwrite(capsys, tmp_path):
+    out = tmp_path / "map.csv.gz"
+    args = ["sweep", "--ft", "0.2", "--w", "0.1,0.9", "--out", str(out), *FAST]
+    assert _run(capsys, *args)[0] == 0
+    assert _run(capsys, *args, "--overwrite")[0] == 0
+    table = normalise_table(pd.read_csv(out))
+    assert list(table["regime"]) == ["shakedown", "ratcheting"]
+
+
+def test_failed_runs_are_rows_and_exit_status_1(capsys, tmp_path):
+    out = tmp_path / "m.csv"
+    # a 1 us budget stops the longer run (the shorter one ends before the first check)
+    code, _, err = _run(capsys, "sweep", "--ft", "0.3", "--w", "0.05,0.8", "--out", str(out), "--time-budget", "1e-6",
+                        *FAST)
+    assert code == 1 and "1 of 2 runs failed" in err
+    table = normalise_table(pd.read_csv(out))
+    assert list(table["regime"]) == ["shakedown", "error"] and "SolveCancelled" in table["error"][1]
+    code, _, err = _run(capsys, "run", "--ft", "0.3", "--w", "0.8", "--time-budget", "1e-6")
+    assert code == 1 and "SolveCancelled" in err and "Traceback" not in err
+
+
+# --------------------------------------------------------------------------
+# limit
+# --------------------------------------------------------------------------
+def test_limit_prints_and_writes_the_curve(capsys, tmp_path):
+    code, out, err = _run(capsys, "limit", "--ft", "0.3,0.6", "--tol", "0.005", "--out", str(tmp_path / "l.json"),
+                          "--workers", "1", "--no-progress")
+    assert code == 0, err
+    assert "w_limit_eq35" in out
+    rows = json.loads((tmp_path / "l.json").read_text())
+    assert [r["ft"] for r in rows] == [0.3, 0.6]
+    assert all(r["converged"] and abs(r["difference"]) <= 0.005 + 1e-3 for r in rows)
+
+
+# --------------------------------------------------------------------------
+# bad input: exit 2, a message naming the problem, no traceback
+# --------------------------------------------------------------------------
+LONG = "9" * 5000
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["run", "--ft", "nan", "--w", "0.3"], "ft must be a number"),
+    (["run", "--ft", "inf", "--w", "0.3"], "ft must be in"),
+    (["run", "--ft", "-0.1", "--w", "0.3"], "ft must be in"),
+    (["run", "--ft", "1", "--w", "0.3"], "ft must be in [0, 1)"),
+    (["run", "--ft", "0.3", "--w", "1.0"], "w must be in [0, 1)"),
+    (["run", "--ft", "abc", "--w", "0.3"], "ft must be a number"),
+    (["run", "--ft", "0.3", "--ft", "0.2", "--w", "0.3"], "given more than once"),
+    (["run", "--ft", "0.3"], "give --ft and --w"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--periods", "1e9"], "periods must be a whole number"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--periods", "100000"], "periods must be an integer"),
+    (["run", "--ft", "0.3", "--w", "0.9", "--periods", "5000"], "cells"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "1e-5"], "dx must be in"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "2e-4"], "elements"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--kernel", "strip"], "L_over_a is required"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--kernel", "x" * 300], "too long"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--kernel", LONG], "too long"),
+    (["run", "--R1", "0.04", "--ft", "0.3", "--w", "0.3"], "needs --L --Fn --mu --E2"),
+    (["run", "--R1", "-1", "--L", "0.08", "--Fn", "32", "--mu", "0.8", "--E2", "3e6", "--ft", "0.1", "--w", "0.1"],
+     "R1 must be in"),
+    (["run", "--R1", "0.04", "--L", "0.08", "--Fn", "32", "--mu", "0.8", "--E2", "0", "--ft", "0.1", "--w", "0.1"],
+     "E2 must be in"),
+    (["run", "--R1", "0.04", "--L", "0.08", "--Fn", "32", "--mu", "0.8", "--E2", "3e6", "--nu2", "0.6", "--ft", "0.1",
+      "--w", "0.1"], "nu2 must be in"),
+    (["run", "--R1", "0.04", "--L", "0.08", "--Fn", "32", "--mu", "0.8", "--E2", "3e6", "--Ft", "100", "--w", "0.1"],
+     "Ft must be in"),
+    (["run", "--R1", "0.04", "--L", "0.08", "--Fn", "32", "--mu", "0.8", "--E2", "3e6", "--Ft", "1", "--ft", "0.1",
+      "--w", "0.1"], "exactly one of --Ft and --ft"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--out", "x.txt"], "--out must end in"),
+    (["sweep", "--ft", "0:0.9:1000", "--w", "0:0.9:1000", "--out", "m.csv"], "1000000 runs"),
+    (["sweep", "--ft", "0:0.9:10", "--w", "0:0.9:10", "--out", "m.csv", "--max-runs", "50"], "100 runs"),
+    (["sweep", "--ft", "0:1:10", "--w", "0.1", "--out", "m.csv"], "ft must be in"),
+    (["sweep", "--ft", "0.1:0.2:1", "--w", "0.1", "--out", "m.csv"], "N in START:STOP:N"),
+    (["sweep", "--ft", "0.1,0.1", "--w", "0.1", "--out", "m.csv"], "distinct"),
+    (["sweep", "--ft", "0.1", "--w", "0.1", "--out", "/no/such/dir/m.csv"], "does not exist"),
+    (["sweep", "--ft", "0.1", "--w", "0.1"], "required: --out"),
+    (["sweep", "--ft", "0.1", "--w", "0.1", "--out", "m.csv", "--workers", "0"], "workers must be"),
+    (["limit", "--ft", "0:0.5:3"], "ft must be in (0, 1)"),
+    (["limit", "--ft", "0.5", "--tol", "1"], "tol must be in"),
+    (["bogus"], "invalid choice"),
+    ([LONG], "too long"),
+    ([], ""),
+])
+def test_bad_input_exits_2_with_a_message(capsys, tmp_path, monkeypatch, argv, message):
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run(capsys, *argv)
+    assert code == 2
+    assert message in err and "Traceback" not in err + out
+    assert len(err) < 5000
+    assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_sweep_cap_from_the_environment(capsys, tmp_path, monkeypatch):
+    monkeypatch.setenv("SHAKEDOWN_MAX_RUNS", "3")
+    code, _, err = _run(capsys, "sweep", "--ft", "0.1,0.2", "--w", "0.1,0.2", "--out", str(tmp_path / "m.csv"))
+    assert code == 2 and "SHAKEDOWN_MAX_RUNS" in err
+
+
+def test_cli_as_a_subprocess():
+    done = subprocess.run([*_command(), "--help"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and all(c in done.stdout for c in ("run", "sweep", "limit"))
+    done = subprocess.run([*_command(), "sweep", "--help"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0
+    for text in ("START:STOP:N", "[a]", "--scheduler", "SHAKEDOWN_MAX_RUNS", "mu P/E*"):
+        assert text in " ".join(done.stdout.split()), text
+    done = subprocess.run([*_command(), "run", "--ft", "nan", "--w", "0.3"], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 2 and "ft must be a number" in done.stderr and "Traceback" not in done.stderr
+
+
+# --------------------------------------------------------------------------
+# the range parser, fuzzed
+# --------------------------------------------------------------------------
+@settings(max_examples=300, deadline=None)
+@given(st.one_of(
+    st.text(max_size=60),
+    st.text(alphabet="0123456789.:,-+e naif", max_size=30),
+    st.builds(lambda a, b, n: f"{a}:{b}:{n}", st.floats(allow_nan=True), st.floats(allow_nan=True),
+              st.integers(-5, 20_000)),
+))
+def test_parse_range_returns_valid_values_or_raises_value_error(text):
+    try:
+        values = parse_range(text, "ft", 0.0, 1.0, hi_closed=False)
+    except ValueError as e:
+        assert "ft" in str(e)
+        return
+    assert values.ndim == 1 and 1 <= values.size <= 10_000
+    assert np.isfinite(values).all() and (values >= 0).all() and (values < 1).all()
+    assert np.unique(values).size == values.size
+
+
+@given(st.floats(0, 0.99), st.floats(0, 0.99), st.integers(2, 500))
+def test_parse_range_start_stop_n_is_linspace(start, stop, n):
+    text = f"{start!r}:{stop!r}:{n}"
+    if start == stop:
+        with pytest.raises(ValueError):
+            parse_range(text, "w", 0.0, 1.0, hi_closed=False)
+        return
+    try:
+        values = parse_range(text, "w", 0.0, 1.0, hi_closed=False)
+    except ValueError as e:  # values so close that linspace repeats one
+        assert "distinct" in str(e)
+        return
+    np.testing.assert_array_equal(values, np.linspace(start, stop, n))
+    assert math.isclose(values[0], start) and values[-1] == stop
