@@ -78,9 +78,9 @@ class Explorer(pn.viewable.Viewer):
         self.ft_slider = pn.widgets.FloatSlider.from_param(s.param.ft, **slider)
         self.w_slider = pn.widgets.FloatSlider.from_param(s.param.w, **slider)
         self.mu_slider = pn.widgets.FloatSlider.from_param(s.param.mu, **slider)
-        self.units_toggle = pn.widgets.RadioButtonGroup.from_param(s.param.units, button_type="primary",
+        self.units_toggle = pn.widgets.RadioButtonGroup.from_param(s.param.units, color="primary",
                                                                    sizing_mode="stretch_width")
-        self.preset = pn.widgets.Select(name="Preset", options=["(custom)", *PRESETS], value="(custom)",
+        self.preset = pn.widgets.Select(label="Preset", options=["(custom)", *PRESETS], value="(custom)",
                                         sizing_mode="stretch_width")
         self.preset.param.watch(self._apply_preset, "value")
         geometry = ["R", "L", "Fn", "E2", "nu2"]
@@ -98,24 +98,25 @@ class Explorer(pn.viewable.Viewer):
             pn.widgets.RadioButtonGroup.from_param(s.param.kernel, sizing_mode="stretch_width"),
             pn.widgets.RadioButtonGroup.from_param(s.param.schedule, sizing_mode="stretch_width"),
         ]
-        self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, name="", visible=False,
+        self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, visible=False,
                                                     css_classes=["solve-spinner"])
         self.status = pn.pane.HTML("", css_classes=["solve-status"], margin=(8, 4))
         # the cycle player: a period, then the steps of that period
-        self.period_slider = pn.widgets.IntSlider(name="Period", start=0, end=1, value=0, width=260)
-        self.player = pn.widgets.Player(name="Step in the period", start=0, end=1, value=0, interval=80,
-                                        loop_policy="loop", width=430, css_classes=["cycle-player"])
+        self.period_slider = pn.widgets.IntSlider(label="Period", start=0, end=1, value=0, width=260)
+        self.player = pn.widgets.Player(label="Step in the period", start=0, end=1, value=0, interval=80,
+                                        loop_policy="loop", width=430, show_loop_controls=False,
+                                        css_classes=["cycle-player"])
         self.period_slider.param.watch(self._update_frame, "value")
         self.player.param.watch(self._update_frame, "value")
         # downloads
-        self.csv_table = pn.widgets.Select(name="CSV table", options={
+        self.csv_table = pn.widgets.Select(label="CSV table", options={
             "per step (displacement)": "steps", "per period (increments)": "periods",
             "final traction and zones": "final"}, value="steps", sizing_mode="stretch_width")
         self.csv_download = pn.widgets.FileDownload(callback=self._csv, filename="shakedown_steps.csv",
-                                                    label="Download CSV", button_type="success",
+                                                    label="Download CSV", color="success",
                                                     sizing_mode="stretch_width", css_classes=["csv-download"])
         self.json_download = pn.widgets.FileDownload(callback=self._json, filename="shakedown_run.json",
-                                                     label="Download JSON", button_type="success",
+                                                     label="Download JSON", color="success",
                                                      sizing_mode="stretch_width", css_classes=["json-download"])
         self.csv_table.param.watch(lambda e: setattr(self.csv_download, "filename", f"shakedown_{e.new}.csv"),
                                    "value")
@@ -390,8 +391,8 @@ class Explorer(pn.viewable.Viewer):
 
     def template(self) -> pn.template.BaseTemplate:
         """The served page."""
-        return pn.template.FastListTemplate(
+        return pn.template.BootstrapTemplate(
             title="Shakedown Explorer: a rocking cylinder with Coulomb friction",
             sidebar=self.sidebar(), main=[self.main_area()], sidebar_width=340,
-            accent="#1f77b4", main_layout=None, theme_toggle=False,
+            header_background="#1f5f99",
         )

@@ -1,0 +1,218 @@
+"""Fast tests of the explorer without a browser: state, URL parsing, cache, stale runs, figures."""
+
+import io
+import math
+
+import holoviews as hv
+import numpy as np
+import pandas as pd
+import param
+import pytest
+
+import core
+from app import plots
+from app.explorer import Explorer
+from app.runs import Generation, ResultCache, result_nbytes
+from app.state import PRESETS, URL_PARAMETERS, ExplorerState, parse_query
+
+
+# ---- the state class -------------------------------------------------------
+@pytest.mark.parametrize("name", URL_PARAMETERS)
+def test_every_parameter_is_documented_with_units_and_bounds(name):
+    p = ExplorerState.param[name]
+    assert p.doc and p.label, name
+    if isinstance(p, param.Number):
+        assert p.bounds is not None and None not in p.bounds, name
+        assert p.softbounds is not None and p.step, name
+        assert "[" in p.doc and "]" in p.doc, f"{name}: doc should state the unit in brackets"
+    if isinstance(p, param.Selector):
+        assert len(p.objects) >= 2
+
+
+def test_default_state_is_the_paper_simulation():
+    c = ExplorerState().contact()
+    ref = core.PAPER_SIMULATION
+    for field in ("a", "p0", "E_star", "P", "mu"):
+        assert getattr(c, field) == pytest.approx(getattr(ref, field), rel=1e-12), field
+
+
+@pytest.mark.parametrize("name", PRESETS)
+def test_presets_give_valid_contacts(name):
+    s = ExplorerState()
+    s.apply_preset(name)
+    c = s.contact()
+    assert c.warnings == () or "beta" not in " ".join(c.warnings).lower() or not s.rigid
+
+
+def test_preset_values():
+    s = ExplorerState()
+    s.apply_preset("Fig 7: ft = 0.58, w = 0.77")
+    assert (s.ft, s.w, s.kernel) == (0.58, 0.77, "strip")
+    s.apply_preset("Paper experiment (Table 1)")
+    c = s.contact()
+    assert not s.rigid and s.E1 == pytest.approx(206e3)
+    assert 2 * c.a * 1e3 == pytest.approx(4.13, abs=0.01)  # Table 1: 2a = 4.2 mm measured, 4.13 Hertz
+    with pytest.raises(ValueError, match="preset"):
+        s.apply_preset("nope")
+
+
+def test_invalid_geometry_raises_naming_the_field():
+    s = ExplorerState(L=1.0)  # 1 mm: shorter than the contact width
+    with pytest.raises(ValueError, match="L must exceed"):
+        s.contact()
+
+
+# ---- URL parsing -----------------------------------------------------------
+def test_parse_query_accepts_what_the_url_sync_writes():
+    s = ExplorerState(ft=0.42, w=0.33, periods=12, kernel="plane", rigid=False, units="physical")
+    query = "&".join(f"{k}={str(v).lower() if isinstance(v, bool) else v}" for k, v in s.values().items())
+    updates, errors, ignored = parse_query("?" + query)
+    assert errors == [] and ignored == []
+    assert updates == s.values()
+
+
+@pytest.mark.parametrize("query, name", [
+    ("ft=abc", "ft"), ("ft=nan", "ft"), ("ft=inf", "ft"), ("ft=1", "ft"), ("ft=-0.1", "ft"),
+    ("w=1.5", "w"), ("R=0", "R"), ("R=-3", "R"), ("E2=0", "E2"), ("nu2=0.6", "nu2"),
+    ("periods=10.5", "periods"), ("periods=100000", "periods"), ("resolution=1e9", "resolution"),
+    ("kernel=cubic", "kernel"), ("rigid=maybe", "rigid"), ("mu=" + "9" * 500, "mu"),
+    ("ft=0.2&ft=0.3", "ft"), ("units=<script>", "units"),
+])
+def test_parse_query_rejects_bad_values_naming_them(query, name):
+    updates, errors, _ = parse_query(query)
+    assert name not in updates
+    assert len(errors) == 1 and errors[0].startswith(name), errors
+
+
+def test_parse_query_keeps_the_good_values_and_lists_unknown_names():
+    updates, errors, ignored = parse_query({"ft": "0.2", "w": ["0.4", "0.4"], "bogus": "1", "mu": "x"})
+    assert updates == {"ft": 0.2, "w": 0.4}
+    assert ignored == ["bogus"] and len(errors) == 1
+
+
+# ---- cache and stale runs ----------------------------------------------------
+@pytest.fixture(scope="module")
+def small_run():
+    return core.simulate_cycles(0.3, 0.5, periods=2, dx=0.1)
+
+
+def test_result_cache_is_lru_and_bounded(small_run):
+    cache = ResultCache(max_items=2)
+    cache.put("a", small_run)
+    cache.put("b", small_run)
+    assert cache.get("a") is small_run  # a is now the most recent
+    cache.put("c", small_run)
+    assert "b" not in cache and "a" in cache and "c" in cache
+    tiny = ResultCache(max_items=10, max_bytes=int(2.5 * result_nbytes(small_run)))
+    for k in "abcd":
+        tiny.put(k, small_run)
+    assert len(tiny) == 2 and tiny.nbytes <= tiny.max_bytes
+    with pytest.raises(ValueError, match="max_items"):
+        ResultCache(max_items=0)
+
+
+def test_a_stale_run_never_overwrites_a_newer_one():
+    ex = Explorer()
+    first = ex.result
+    gen = ex._generation
+    old = gen.next()
+    new = gen.next()
+    stale = core.simulate_contact(ex.contact.replace(ft=0.7), **ex.state.solver_options())
+    ex._finish(old, ex.contact, ex.state.solver_options(), stale)
+    assert ex.result is first
+    ex._finish(new, ex.contact, ex.state.solver_options(), stale)
+    assert ex.result is stale
+    g = Generation()
+    t = g.next()
+    assert g.is_current(t) and not g.is_current(t - 1)
+
+
+# ---- the headless explorer -------------------------------------------------
+def test_explorer_solves_and_flips_regime_across_the_limit():
+    ex = Explorer(ExplorerState(w=0.5, periods=8))
+    lim = float(core.ft_limit(0.5))
+    ex.state.ft = round(lim - 0.1, 2)
+    assert ex.result.regime == "shakedown" and ex.result.params["ft"] == ex.state.ft
+    ex.state.ft = round(lim + 0.1, 2)
+    assert ex.result.regime == "ratcheting"
+    assert 'data-regime="ratcheting"' in ex._badge(ex.state.ft, ex.state.w, ex.result, "")
+
+
+def test_explorer_reports_invalid_input_and_recovers():
+    ex = Explorer()
+    ex.state.L = 1.0
+    assert ex.contact is None and "L must exceed" in ex.error
+    assert 'data-regime="invalid"' in ex._badge(0.3, 0.5, ex.result, ex.error)
+    ex.state.L = 500.0
+    assert ex.error == "" and ex.contact is not None
+
+
+def test_apply_query_sets_notices_and_valid_values():
+    ex = Explorer()
+    ex.apply_query("?ft=0.25&w=zzz&colour=red")
+    assert ex.state.ft == 0.25 and ex.state.w == 0.5
+    assert any(n.startswith("w must be") for n in ex.notices)
+    assert any("colour" in n for n in ex.notices)
+
+
+def test_player_moves_the_frame_within_a_period():
+    ex = Explorer(ExplorerState(periods=3))
+    r = ex.result
+    assert ex.frame == r.xc.size - 1
+    ex.period_slider.value = 1
+    ex.player.value = 0
+    first_of_period_1 = int(np.flatnonzero(r.period == 1)[0])
+    assert ex.frame == first_of_period_1
+
+
+def test_csv_download_has_the_run_and_its_parameters():
+    ex = Explorer(ExplorerState(periods=3))
+    text = ex._csv().getvalue()
+    assert "# ft = 0.3" in text
+    df = pd.read_csv(io.StringIO(text), comment="#")
+    assert {"step", "period", "displacement_muP_Estar", "u_U_over_U0", "displacement_m"} <= set(df.columns)
+    ex.csv_table.value = "final"
+    assert ex.csv_download.filename == "shakedown_final.csv"
+    assert "traction_mu_p0" in pd.read_csv(ex._csv(), comment="#").columns
+
+
+# ---- figures ----------------------------------------------------------------
+def _layers(overlay):
+    return [type(e).__name__ for e in overlay]
+
+
+def test_figures_keep_their_structure_with_and_without_a_run():
+    ex = Explorer(ExplorerState(periods=2))
+    r = ex.result
+    u = plots.make_units("normalised", ex.contact, "strip", r.u0)
+    assert _layers(plots.traction_plot(0.3, 0.5, u)) == _layers(plots.traction_plot(0.3, 0.5, u, r, 5))
+    assert _layers(plots.displacement_plot(None, u)) == _layers(plots.displacement_plot(r, u, 3))
+    assert _layers(plots.increment_plot(None, u)) == _layers(plots.increment_plot(r, u))
+    assert _layers(plots.state_marks(None, u)) == _layers(plots.state_marks(r, u))
+    assert _layers(plots.pressure_plot(0.5, u)) == _layers(plots.pressure_plot(0.5, u, 0.2))
+    # above the limit the closure is empty (NaN), the rest still draws
+    hv.render(plots.traction_plot(0.9, 0.9, u, r), backend="bokeh")
+
+
+def test_physical_units_scale_from_the_contact():
+    c = ExplorerState().contact()
+    u = plots.make_units("physical", c, "strip", 5.0)
+    assert u.x == pytest.approx(c.a * 1e3) and u.x_label == "x [mm]"
+    assert u.q == pytest.approx(c.mu * c.p0 / 1e6) and u.u == pytest.approx(c.displacement_unit * 1e6)
+    n = plots.make_units("normalised", c, "strip", 5.0)
+    assert n.u == pytest.approx(0.2) and n.u_label == "u = U / U0"
+    assert plots.make_units("physical", None, "plane").system == "normalised"
+
+
+def test_time_axis_puts_the_loading_before_zero():
+    r = core.simulate_cycles(0.3, 0.5, periods=2, dx=0.1)
+    t = plots.time_axis(r)
+    assert t[r.period == -1].max() <= 0 and t[-1] == pytest.approx(2.0)
+    assert math.isclose(t[np.flatnonzero(r.period == 0)[-1]], 1.0)
+
+
+def test_the_template_builds():
+    ex = Explorer()
+    tmpl = ex.template()
+    assert tmpl.title.startswith("Shakedown Explorer")
+    assert len(ex.about()) >= 5
