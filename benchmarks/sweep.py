@@ -1,0 +1,83 @@
+"""Time a 40 x 40 (ft, w) map at the default resolution: 1 worker, 2 workers, speed-up (target < 60 s).
+
+Run: python benchmarks/sweep.py [--n 40] [--workers 1 2]
+
+Prints, separately: the compile time of the solver (in a subprocess with an
+empty numba cache, so the shared cache is not touched), the warm-up of this
+process and of each worker (loading the cached code), and for each number of
+workers the wall time of the map, the start-up of the pool, the mean wall time
+per run, the mean solver time per run (``runtime`` column: the step solves
+alone; the rest of a run is building its result table row) and the active-set
+iterations, so that an algorithmic regression can be told from machine noise.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import core
+
+TARGET_S = 60.0
+
+
+def compile_time() -> float:
+    """Seconds of the first solve in a fresh process whose numba cache is empty (import excluded)."""
+    code = ("import time, core; t = time.perf_counter(); core.simulate_cycles(0.3, 0.3, periods=1); "
+            "print(time.perf_counter() - t)")
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    return float(out.stdout.strip().splitlines()[-1])
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=40, help="grid points per axis (default 40)")
+    parser.add_argument("--workers", type=int, nargs="+", default=[1, 2], help="worker counts (default 1 2)")
+    parser.add_argument("--no-compile", action="store_true", help="skip the cold-compile measurement")
+    args = parser.parse_args(argv)
+
+    grid = np.linspace(0.02, 0.95, args.n)
+    print(f"{args.n} x {args.n} map, ft and w in [0.02, 0.95], default resolution "
+          f"(dx = dW = {core.solver.DEFAULT_DX:g} a, 10 periods), {os.cpu_count()} cores")
+    if not args.no_compile:
+        print(f"compile (empty numba cache, fresh process):   {compile_time():6.2f} s")
+    t0 = time.perf_counter()
+    core.simulate_cycles(0.3, 0.3, periods=1)
+    print(f"warm-up of this process (cached code):        {time.perf_counter() - t0:6.2f} s")
+
+    walls = {}
+    for workers in args.workers:
+        t0 = time.perf_counter()
+        table = core.sweep(grid, grid, max_workers=workers)
+        wall = time.perf_counter() - t0
+        walls[workers] = wall
+        n = len(table)
+        warm = table.attrs["warmup_s"]
+        warm_text = ", ".join(f"{v:.2f}" for v in warm.values())
+        print(f"\n{workers} worker(s), backend {table.attrs['backend']}, {table.attrs['chunksize']} runs per task")
+        print(f"  wall time of the map:        {wall:7.2f} s  (target < {TARGET_S:.0f} s: "
+              f"{'met' if wall < TARGET_S else 'MISSED'})")
+        print(f"  start-up (pool + warm-up):   {table.attrs['startup_s']:7.2f} s  (worker warm-up: {warm_text} s)")
+        print(f"  wall per run:                {1e3 * wall / n:7.2f} ms")
+        print(f"  solver time per run (mean):  {1e3 * table['runtime'].mean():7.2f} ms "
+              f"(median {1e3 * table['runtime'].median():.2f}, max {1e3 * table['runtime'].max():.1f})")
+        print(f"  active-set iterations:       max {int(table['max_iterations'].max())} per step, "
+              f"{int(table['steps'].sum())} steps in all")
+        counts = table["regime"].value_counts().to_dict()
+        print("  regimes:                     " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())))
+    if 1 in walls:
+        for workers, wall in walls.items():
+            if workers != 1:
+                print(f"\nspeed-up 1 -> {workers} workers: {walls[1] / wall:.2f}x")
+
+
+if __name__ == "__main__":
+    main()
