@@ -14,6 +14,7 @@ import html
 import io
 import math
 import re
+import threading
 from pathlib import Path
 
 import holoviews as hv
@@ -25,6 +26,7 @@ import core
 from core.export import to_csv, to_json
 
 from . import plots
+from . import runs
 from .runs import RESULTS, Generation, run_key, solve, submit
 from .state import PRESETS, URL_PARAMETERS, ExplorerState, parse_query
 
@@ -61,6 +63,12 @@ class Explorer(pn.viewable.Viewer):
     solving = param.Boolean(default=False, doc="A solve for the current inputs is running.")
     error = param.String(default="", doc="Why the current inputs cannot be solved, if they cannot.")
     notices = param.List(default=[], doc="Messages about rejected URL parameters.")
+    map_table = param.DataFrame(default=None, allow_None=True,
+                                doc="Sweep table shown on the shakedown map (the shipped map until one is computed).")
+    map_label = param.String(default="shipped map", doc="Where the numerical map comes from.")
+    map_running = param.Boolean(default=False, doc="A numerical map is being computed.")
+    map_progress = param.Integer(default=0, bounds=(0, 100), doc="Progress of the map computation [%].")
+    map_status = param.String(default="", doc="Outcome of the last map computation.")
 
     def __init__(self, state: ExplorerState | None = None, **params):
         super().__init__(**params)
@@ -70,6 +78,13 @@ class Explorer(pn.viewable.Viewer):
         self.state.param.watch(self._inputs_changed, _SOLVER_INPUTS)
         self._update_contact()
         self._request_solve()
+        self._map_cancel = threading.Event()
+        self.map_scheduler = None  # core.sweep's default: a local process pool
+        try:
+            self.map_table = core.load_default_map()
+            self.map_label = "shipped 40×40, plane kernel"
+        except (OSError, ValueError) as e:  # pragma: no cover - a broken install
+            self.map_status = f"shipped map not available: {e}"
 
     # ------------------------------------------------------------------ inputs
     def _build_widgets(self):
@@ -120,6 +135,16 @@ class Explorer(pn.viewable.Viewer):
                                                      sizing_mode="stretch_width", css_classes=["json-download"])
         self.csv_table.param.watch(lambda e: setattr(self.csv_download, "filename", f"shakedown_{e.new}.csv"),
                                    "value")
+        # the numerical map
+        self.map_points = pn.widgets.IntSlider(label="Map grid (points per axis)", start=3,
+                                               end=runs.MAP_MAX_POINTS, value=min(12, runs.MAP_MAX_POINTS),
+                                               sizing_mode="stretch_width")
+        self.map_button = pn.widgets.Button(label="Compute the numerical map", color="primary",
+                                            sizing_mode="stretch_width", css_classes=["map-compute"])
+        self.map_cancel_button = pn.widgets.Button(label="Stop", color="warning", disabled=True, width=80)
+        self.map_bar = pn.indicators.Progress(value=0, max=100, visible=False, sizing_mode="stretch_width")
+        self.map_button.on_click(lambda e: self.compute_map())
+        self.map_cancel_button.on_click(lambda e: self._map_cancel.set())
 
     def _apply_preset(self, event):
         if event.new in PRESETS:
@@ -162,11 +187,14 @@ class Explorer(pn.viewable.Viewer):
             return
         self.solving = True
 
+        def stale():
+            return not self._generation.is_current(token)
+
         async def run():
             try:
-                result = await asyncio.wrap_future(submit(contact, options))
-            except (core.SolverError, ValueError) as e:
-                if self._generation.is_current(token):
+                result = await asyncio.wrap_future(submit(contact, options, cancel=stale))
+            except (core.SolverError, core.SolveCancelled, ValueError) as e:
+                if not stale():  # a stale run was cancelled on purpose: say nothing
                     self.error = f"solver: {e}"
                     self.solving = False
                 return
@@ -178,7 +206,7 @@ class Explorer(pn.viewable.Viewer):
         if result is None:
             try:
                 result = solve(contact, options)
-            except (core.SolverError, ValueError) as e:
+            except (core.SolverError, core.SolveCancelled, ValueError) as e:
                 self.error = f"solver: {e}"
                 return
         if not self._generation.is_current(token):
@@ -209,6 +237,83 @@ class Explorer(pn.viewable.Viewer):
             return
         starts = np.flatnonzero(r.period == min(self.period_slider.value, r.periods - 1))
         self.frame = int(min(starts[0] + self.player.value, r.xc.size - 1)) if starts.size else r.xc.size - 1
+
+    # ------------------------------------------------------------------ the numerical map
+    def _map_options(self) -> dict:
+        """Solver options of a map sweep: the current solver settings (strip: the current run's L/a and nu)."""
+        opts = dict(periods=self.state.periods, dx=self.state.dx, kernel=self.state.kernel,
+                    shape=self.state.schedule)
+        if opts["kernel"] == "strip":
+            r = self.result
+            if r is None or r.kernel != "strip":
+                opts["kernel"] = "plane"
+            else:
+                opts.update(L_over_a=r.params["L_over_a"], nu=r.params["nu"])
+        return opts
+
+    def compute_map(self) -> None:
+        """Sweep the (ft, w) plane with the current solver settings, off the UI thread, and overlay it on the map."""
+        if self.map_running:
+            return
+        if not runs.MAP_SLOT.acquire(blocking=False):
+            self.map_status = "another numerical map is being computed on this server; try again shortly."
+            return
+        n = int(self.map_points.value)
+        grid = np.linspace(0.02, 0.95, n)
+        opts = self._map_options()
+        self._map_cancel = cancel = threading.Event()
+        doc = pn.state.curdoc
+        loop = None
+        if doc is not None and doc.session_context is not None:
+            loop = asyncio.get_event_loop()
+
+        def progress(done, total):
+            value = int(100 * done / max(total, 1))
+            if loop is None:
+                self.map_progress = value
+            else:
+                loop.call_soon_threadsafe(setattr, self, "map_progress", value)
+
+        def work():
+            try:
+                return core.sweep(grid, grid, self.map_scheduler, max_workers=runs.MAP_WORKERS, progress=progress,
+                                  cancel=cancel, timeout=runs.MAP_BUDGET_S, **opts)
+            finally:
+                runs.MAP_SLOT.release()
+
+        label = f"computed {n}×{n}, {opts['kernel']} kernel, {opts['periods']} periods"
+
+        def done(table=None, error=None):
+            if table is not None:
+                self.map_table, self.map_label = table, label
+                self.map_status = f"{label}: {len(table)} runs in {table.attrs.get('wall_s', float('nan')):.1f} s"
+            else:
+                self.map_status = error
+            self.map_running = False
+
+        self.map_progress, self.map_running, self.map_status = 0, True, "computing…"
+        if loop is None:  # headless: compute here
+            try:
+                done(work())
+            except (core.SweepCancelled, ValueError) as e:
+                done(error=f"map not computed: {e}")
+            return
+
+        async def run():
+            try:
+                table = await asyncio.wrap_future(runs.submit_map(work))
+            except (core.SweepCancelled, ValueError, RuntimeError) as e:
+                done(error=f"map not computed: {e}")
+            else:
+                done(table)
+
+        pn.state.execute(run)
+
+    @param.depends("map_running", "map_progress", watch=True)
+    def _show_map_progress(self):
+        self.map_bar.param.update(value=self.map_progress, visible=self.map_running)
+        self.map_button.disabled = self.map_running
+        self.map_cancel_button.disabled = not self.map_running
 
     # ------------------------------------------------------------------ downloads
     def _csv(self):
@@ -261,8 +366,9 @@ class Explorer(pn.viewable.Viewer):
         states = states.opts(hv.opts.Overlay(**plots.state_map_opts()))
         displacement = dm(pn.bind(self._displacement, frame=p.frame, **run))
         increments = dm(pn.bind(self._increments, **run))
-        shakedown_map = (plots.map_base() * dm(pn.bind(self._map_point, ft=live["ft"], w=live["w"],
-                                                        result=p.result))).opts(**plots.map_opts())
+        numerical = dm(pn.bind(plots.map_numerical, table=p.map_table))
+        shakedown_map = (numerical * plots.map_base() * dm(pn.bind(self._map_point, ft=live["ft"], w=live["w"],
+                                                                   result=p.result))).opts(**plots.map_opts())
         return dict(pressure=pressure, traction=traction, states=states, displacement=displacement,
                     increments=increments, map=shakedown_map)
 
@@ -354,7 +460,8 @@ class Explorer(pn.viewable.Viewer):
             player,
             pn.Row(fig(figs["pressure"]), fig(figs["traction"]), sizing_mode="stretch_width"),
             pn.Row(fig(figs["states"]), fig(figs["displacement"]), sizing_mode="stretch_width"),
-            pn.Row(fig(figs["map"]), fig(figs["increments"]), sizing_mode="stretch_width"),
+            pn.Row(pn.Column(fig(figs["map"]), self.map_controls(), sizing_mode="stretch_width"),
+                   fig(figs["increments"]), sizing_mode="stretch_width"),
             sizing_mode="stretch_width", name="Explorer",
         )
         tabs = pn.Tabs(explorer, ("About the model", self.about()), sizing_mode="stretch_width",
@@ -363,6 +470,13 @@ class Explorer(pn.viewable.Viewer):
                      pn.Column(cards, errors, notices, warnings, sizing_mode="stretch_width"),
                      sizing_mode="stretch_width")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
+
+    def map_controls(self) -> pn.Column:
+        """The 'compute the numerical map' action, its progress and its outcome."""
+        status = pn.pane.Markdown(pn.bind(lambda s, l: f"Map shown: **{l}**. {s}", self.param.map_status,
+                                          self.param.map_label), css_classes=["map-status"])
+        return pn.Column(pn.Row(self.map_points, self.map_button, self.map_cancel_button), self.map_bar, status,
+                         sizing_mode="stretch_width")
 
     def sidebar(self) -> list:
         """The input widgets."""

@@ -20,7 +20,8 @@ import core
 from core import approximations as approx
 
 __all__ = ["Units", "make_units", "pressure_plot", "traction_plot", "state_map", "state_marks",
-           "frame_marks", "displacement_plot", "increment_plot", "map_base", "map_point",
+           "frame_marks", "displacement_plot", "increment_plot", "map_base", "map_point", "map_numerical",
+           "grid_boundary",
            "time_axis", "ZONE_COLORS", "STATE_COLORS", "FONT"]
 
 hv.Store.set_current_backend("bokeh")
@@ -357,14 +358,47 @@ def map_base() -> hv.Overlay:
         colorbar_opts={"title": "c_sd / a (closure)"})
     return hv.Overlay([
         contours,
-        hv.Curve((ft, core.w_limit(ft)), kdims=kd[:1], vdims=kd[1:], label="exact limit, eq 35").opts(
+        hv.Curve((ft, core.w_limit(ft)), kdims=kd[:1], vdims=kd[1:], label="eq 35 exact limit").opts(
             color="black", line_width=LINE + 1),
         hv.Curve((ft, approx.w_limit_regression(ft)), kdims=kd[:1], vdims=kd[1:],
-                 label="regression 1 − ft^0.73, eq 36 (approx.)").opts(color="#ff7f0e", line_dash="dashed",
+                 label="eq 36 regression (approx.)").opts(color="#ff7f0e", line_dash="dashed",
                                                                        line_width=LINE),
         hv.Text(0.2, 0.25, "shakedown", fontsize=16).opts(color="#2ca02c"),
         hv.Text(0.8, 0.5, "ratcheting", fontsize=16).opts(color="#d62728"),
     ])
+
+
+def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
+    """The numerical boundary of a sweep table: per ``ft``, midway between the largest ``w`` that shook
+    down and the next ``w`` of the grid (the grid's resolution of the numerical limit)."""
+    fts, ws = [], []
+    if table is None or len(table) == 0:
+        return np.array(fts), np.array(ws)
+    for ft, group in table.sort_values(["ft", "w"]).groupby("ft", sort=True):
+        w = group["w"].to_numpy(float)
+        ok = (group["regime"] == "shakedown").to_numpy()
+        if ok.all() or not ok.any():
+            continue
+        k = int(np.argmin(ok))  # first grid w that did not shake down
+        fts.append(float(ft))
+        ws.append(0.5 * (w[k - 1] + w[k]) if k > 0 else 0.5 * w[0])
+    return np.array(fts), np.array(ws)
+
+
+def map_numerical(table, label: str = "solver") -> hv.Overlay:
+    """Sweep results in the (ft, w) plane: each run coloured by its regime, and the grid's boundary."""
+    kd = [hv.Dimension("ft", label="ft = Ft / (μ Fn)"), hv.Dimension("w", label="w = W / a")]
+    layers = []
+    for regime, color in (("shakedown", "#2ca02c"), ("ratcheting", "#d62728")):
+        pts = ([], []) if table is None else (
+            table.loc[table["regime"] == regime, "ft"].to_numpy(float),
+            table.loc[table["regime"] == regime, "w"].to_numpy(float))
+        layers.append(hv.Points(pts, kdims=kd, label=f"{regime} ({label})").opts(
+            color=color, marker="square", size=5, alpha=0.35, line_alpha=0))
+    layers.append(hv.Curve(grid_boundary(table), kdims=kd[:1], vdims=kd[1:],
+                           label=f"numerical limit ({label})").opts(color="#1f77b4", line_width=LINE,
+                                                                    line_dash="dotdash"))
+    return hv.Overlay(layers)
 
 
 def map_point(ft: float, w: float, regime: str | None = None) -> hv.Points:

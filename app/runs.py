@@ -18,7 +18,8 @@ import numpy as np
 
 import core
 
-__all__ = ["ResultCache", "RESULTS", "run_key", "solve", "submit", "Generation"]
+__all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "run_key", "solve", "submit", "Generation",
+           "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map"]
 
 
 def _env_int(name: str, default: int) -> int:
@@ -26,6 +27,10 @@ def _env_int(name: str, default: int) -> int:
         return max(1, int(os.environ.get(name, default)))
     except ValueError:
         return default
+
+
+#: Wall-time budget of one solve in the served app [s] (SHAKEDOWN_SOLVE_BUDGET_S).
+SOLVE_BUDGET_S = float(_env_int("SHAKEDOWN_SOLVE_BUDGET_S", 20))
 
 
 def result_nbytes(result: core.CycleResult) -> int:
@@ -112,25 +117,45 @@ def _warm_up():
 _WARM = _POOL.submit(_warm_up)
 
 
+#: Processes of one numerical-map sweep (SHAKEDOWN_MAP_WORKERS), its time budget [s]
+#: (SHAKEDOWN_MAP_BUDGET_S) and the largest grid per axis (SHAKEDOWN_MAP_MAX_POINTS).
+MAP_WORKERS = _env_int("SHAKEDOWN_MAP_WORKERS", 2)
+MAP_BUDGET_S = float(_env_int("SHAKEDOWN_MAP_BUDGET_S", 300))
+MAP_MAX_POINTS = _env_int("SHAKEDOWN_MAP_MAX_POINTS", 40)
+#: One numerical map at a time on the whole server.
+MAP_SLOT = threading.Semaphore(1)
+_MAP_POOL = ThreadPoolExecutor(max_workers=1, thread_name_prefix="map")
+
+
+def submit_map(fn) -> Future:
+    """Run a map computation ``fn()`` off the UI thread (one at a time)."""
+    return _MAP_POOL.submit(fn)
+
+
 def run_key(contact: core.Contact, options: dict) -> tuple:
     """A hashable key of everything a run depends on."""
     return tuple(sorted(contact.summary().items())) + tuple(sorted(options.items()))
 
 
-def solve(contact: core.Contact, options: dict, cache: ResultCache = RESULTS) -> core.CycleResult:
-    """Run (or fetch from ``cache``) :func:`core.simulate_contact` for ``contact`` and ``options``."""
+def solve(contact: core.Contact, options: dict, cache: ResultCache = RESULTS, cancel=None,
+          time_budget: float | None = SOLVE_BUDGET_S) -> core.CycleResult:
+    """Run (or fetch from ``cache``) :func:`core.simulate_contact` for ``contact`` and ``options``.
+
+    ``cancel()`` returning True, or the time budget [s] running out, stops the
+    solve with :class:`core.SolveCancelled`.
+    """
     key = run_key(contact, options)
     result = cache.get(key)
     if result is None:
-        result = core.simulate_contact(contact, **options)
+        result = core.simulate_contact(contact, **options, cancel=cancel, time_budget=time_budget)
         result.pressure  # noqa: B018 - computed once here, off the UI thread
         cache.put(key, result)
     return result
 
 
-def submit(contact: core.Contact, options: dict) -> Future:
+def submit(contact: core.Contact, options: dict, cancel=None) -> Future:
     """Solve in the shared worker pool; returns a future of the result."""
-    return _POOL.submit(solve, contact, options)
+    return _POOL.submit(solve, contact, options, RESULTS, cancel)
 
 
 class Generation:

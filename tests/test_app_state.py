@@ -216,3 +216,22 @@ def test_the_template_builds():
     tmpl = ex.template()
     assert tmpl.title.startswith("Shakedown Explorer")
     assert len(ex.about()) >= 5
+
+
+def test_the_shipped_map_shows_and_a_new_one_can_be_computed():
+    ex = Explorer(ExplorerState(periods=4, kernel="plane"))
+    assert len(ex.map_table) == 1600 and "shipped" in ex.map_label
+    fts, ws = plots.grid_boundary(ex.map_table)
+    assert np.abs(ws - core.w_limit(fts)).max() < 0.05  # the shipped numerical limit lies near eq 35
+    ex.map_scheduler = "serial"
+    ex.map_points.value = 3
+    ex.compute_map()
+    assert len(ex.map_table) == 9 and ex.map_label.startswith("computed 3×3, plane kernel")
+    assert not ex.map_running and "9 runs" in ex.map_status
+    hv.render(plots.map_numerical(ex.map_table), backend="bokeh")
+
+
+def test_map_uses_the_current_strip_run_options():
+    ex = Explorer(ExplorerState(periods=2))
+    opts = ex._map_options()
+    assert opts["kernel"] == "strip" and opts["L_over_a"] == pytest.approx(ex.contact.L / ex.contact.a)
