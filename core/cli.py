@@ -48,6 +48,7 @@ MAX_AXIS_VALUES = 10_000
 #: Longest text accepted for any option value (characters).
 MAX_TEXT = 200
 _MAX_PATH = 4096
+_REGIMES = ("shakedown", "ratcheting", "error")
 _EXIT_OK, _EXIT_FAILED, _EXIT_USAGE, _EXIT_INTERRUPTED = 0, 1, 2, 130
 
 
@@ -254,7 +255,8 @@ def _add_execution_options(parser):
     g.add_argument("--scheduler", type=_arg(_address), action=_Once, metavar="ADDRESS",
                    help="Dask scheduler address (tcp://host:8786) to run on a cluster; default: local processes")
     g.add_argument("--workers", type=_integer("workers", 1, 1024), action=_Once, metavar="N",
-                   help="local worker processes, in [1, 1024] (default: all cores; 1 runs in this process)")
+                   help="local worker processes, in [1, 1024] (default: all cores; 1 runs in this process; "
+                        "ignored with --scheduler)")
     g.add_argument("--no-progress", dest="progress", action="store_false",
                    help="no progress bar on stderr")
 
@@ -512,14 +514,15 @@ def _existing_rows(out: Path) -> pd.DataFrame | None:
     table = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
     if "regime" not in table.columns or "ft" not in table.columns:
         raise ValueError(f"{out} is not a sweep table (no ft/regime columns); use --overwrite or another --out")
-    return table
+    # a line cut short by a kill has no valid regime: drop it, its run is done again
+    return table[table["regime"].isin(_REGIMES)]
 
 
 def _merge(existing, new, points, key_columns) -> pd.DataFrame:
     """Existing and new rows, one per key (new wins), in grid order; rows of other grids at the end."""
     tables = [t for t in (existing, new) if t is not None and len(t)]
     if not tables:
-        return new
+        return new if new is not None else existing
     merged = pd.concat(tables, ignore_index=True) if len(tables) > 1 else tables[0]
     merged = normalise_table(merged)
     keys = _keys(merged.to_dict("records"), key_columns)
@@ -540,6 +543,11 @@ def _cmd_sweep(args) -> int:
         journal.unlink(missing_ok=True)
     else:
         existing = _existing_rows(args.out)
+    if existing is not None and journal.exists():
+        # fold the journal of an interrupted run into the output, so that this run's journal starts empty
+        existing = _merge(existing, None, points, key_columns)
+        _write_table(existing, args.out)
+        journal.unlink()
     if existing is not None:
         done = set(_keys(existing[existing["regime"] != "error"].to_dict("records"), key_columns))
         todo = [p for p, k in zip(points, _keys(points, key_columns)) if k not in done]

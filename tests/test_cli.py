@@ -93,6 +93,8 @@ def test_an_interrupted_sweep_resumes_from_its_journal(capsys, tmp_path, monkeyp
     journal = tmp_path / "map.parquet.partial.csv"
     assert code == 130 and "rerun the same command" in err
     assert not out.exists() and len(pd.read_csv(journal)) == 2
+    with journal.open("a") as f:  # a line cut short when the process was killed
+        f.write("0.5,0.6,4,0.02")
     monkeypatch.setattr(sweep_module, "_run_chunk", real)
     code, _, err = _run(capsys, "sweep", "--ft", "0.1,0.3,0.5", "--w", "0.2,0.6", "--out", str(out), *FAST)
     assert code == 0 and "2 already" in err and "4 to run" in err
