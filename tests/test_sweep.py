@@ -155,11 +155,13 @@ def test_progress_on_rows_and_cancel():
             stop.set()
 
     points = sweep_grid([0.1, 0.2], [0.1, 0.2], periods=2)
-    with pytest.raises(core.SweepCancelled, match="cancelled") as info:
+    # RuntimeError: under pytest's importlib mode core.sweep may be loaded twice, with two SweepCancelled classes
+    with pytest.raises(RuntimeError, match="cancelled") as info:
         core.run_points(points, "serial", progress=progress, on_rows=chunks.append, cancel=stop, chunksize=1)
+    assert type(info.value).__name__ == "SweepCancelled"
     assert seen[0] == (0, 4) and seen[-1] == (2, 4)
     assert len(info.value.table) == 2 and [len(c) for c in chunks] == [1, 1]
-    with pytest.raises(core.SweepCancelled, match="timed out"):
+    with pytest.raises(RuntimeError, match="timed out"):
         core.sweep([0.1, 0.2], 0.1, scheduler="serial", timeout=1e-9, periods=2)
     with pytest.raises(ValueError, match="cancel must be"):
         core.sweep(0.1, 0.1, scheduler="serial", cancel=1)
