@@ -59,6 +59,10 @@ class Explorer(pn.viewable.Viewer):
                                  doc="The solver run of the current inputs (None until solved, or if they are invalid).")
     contact = param.ClassSelector(class_=core.Contact, default=None, allow_None=True,
                                   doc="The current contact (None if the inputs are invalid).")
+    geometry = param.ClassSelector(class_=core.Contact, default=None, allow_None=True,
+                                   doc="The current contact at ft = w = 0: what the plot units depend on.")
+    plot_units = param.ClassSelector(class_=plots.Units, default=plots.Units("normalised"),
+                                     doc="Scales and labels of the figures.")
     frame = param.Integer(default=0, bounds=(0, None), doc="Step of the run shown by the cycle player.")
     solving = param.Boolean(default=False, doc="A solve for the current inputs is running.")
     error = param.String(default="", doc="Why the current inputs cannot be solved, if they cannot.")
@@ -75,7 +79,11 @@ class Explorer(pn.viewable.Viewer):
         self.state = state if state is not None else ExplorerState()
         self._generation = Generation()
         self._build_widgets()
+        self._player_sync = False
         self.state.param.watch(self._inputs_changed, _SOLVER_INPUTS)
+        self.state.param.watch(self._update_units, "units")
+        self.mu_slider.param.watch(self._update_units, "value")
+        self.param.watch(self._update_units, "geometry")
         self._update_contact()
         self._request_solve()
         self._map_cancel = threading.Event()
@@ -166,11 +174,13 @@ class Explorer(pn.viewable.Viewer):
 
     def _update_contact(self):
         try:
-            self.contact = self.state.contact()
-            self.error = ""
+            contact = self.state.contact()
         except ValueError as e:
-            self.contact = None
-            self.error = str(e)
+            self.param.update(contact=None, error=str(e))
+            return
+        geometry = contact.replace(ft=0.0, w=0.0)
+        self.param.update(contact=contact, error="",
+                          **({} if geometry == self.geometry else {"geometry": geometry}))
 
     def _request_solve(self):
         """Solve the current inputs (cached, else in the worker pool); drop the answer if the inputs moved on."""
@@ -212,12 +222,14 @@ class Explorer(pn.viewable.Viewer):
         if not self._generation.is_current(token):
             return  # a newer request is pending: never overwrite it with this stale run
         m = max(1, int(np.count_nonzero(result.period == 0)))
-        with param.parameterized.batch_call_watchers(self):
+        self._player_sync = True  # the widgets follow the run; the frame is set once, below
+        try:
             self.period_slider.param.update(end=max(1, result.periods - 1), value=result.periods - 1)
             self.player.param.update(end=max(1, m - 1), value=m - 1)
-            self.result = result
-            self.frame = result.xc.size - 1
-            self.solving = False
+        finally:
+            self._player_sync = False
+        self.param.update(result=result, frame=result.xc.size - 1, plot_units=self._compute_units(result),
+                          solving=False)
 
     def solve_now(self) -> core.CycleResult | None:
         """Solve the current inputs synchronously (headless use) and return the result."""
@@ -233,7 +245,7 @@ class Explorer(pn.viewable.Viewer):
 
     def _update_frame(self, *_):
         r = self.result
-        if r is None:
+        if r is None or self._player_sync:
             return
         starts = np.flatnonzero(r.period == min(self.period_slider.value, r.periods - 1))
         self.frame = int(min(starts[0] + self.player.value, r.xc.size - 1)) if starts.size else r.xc.size - 1
@@ -327,50 +339,43 @@ class Explorer(pn.viewable.Viewer):
         return io.StringIO(to_json(self.result, self.contact))
 
     # ------------------------------------------------------------------ figures
-    def _units(self, system, mu, result):
-        contact = None if self.contact is None else self.contact.replace(mu=mu)
+    def _compute_units(self, result=None) -> plots.Units:
+        result = self.result if result is None else result
+        geometry = None if self.geometry is None else self.geometry.replace(mu=self.mu_slider.value)
         kernel = result.kernel if result is not None else self.state.kernel
-        return plots.make_units(system, contact, kernel, None if result is None else result.u0)
+        return plots.make_units(self.state.units, geometry, kernel, None if result is None else result.u0)
 
-    def _pressure(self, w, mu, units, contact, result, frame):
-        xc = None if result is None else float(result.xc[min(frame, result.xc.size - 1)])
-        return plots.pressure_plot(w, self._units(units, mu, result), xc)
-
-    def _traction(self, ft, w, mu, units, contact, result, frame):
-        return plots.traction_plot(ft, w, self._units(units, mu, result), result, frame)
-
-    def _state_map(self, units, contact, result):
-        return plots.state_map(result, self._units(units, self.state.mu, result))
-
-    def _state_marks(self, units, contact, result):
-        return plots.state_marks(result, self._units(units, self.state.mu, result))
-
-    def _displacement(self, units, contact, result, frame):
-        return plots.displacement_plot(result, self._units(units, self.state.mu, result), frame)
-
-    def _increments(self, units, contact, result):
-        return plots.increment_plot(result, self._units(units, self.state.mu, result))
+    def _update_units(self, *_):
+        units = self._compute_units()
+        if units != self.plot_units:
+            self.plot_units = units
 
     def _map_point(self, ft, w, result):
         return plots.map_point(ft, w, None if result is None else result.regime)
 
     def _figures(self):
-        p, s = self.param, self.state.param
-        live = dict(ft=self.ft_slider.param.value, w=self.w_slider.param.value, mu=self.mu_slider.param.value)
-        run = dict(units=s.units, contact=p.contact, result=p.result)
+        """The figures: each a product of small DynamicMaps, so that a change re-runs only what depends on it."""
+        p = self.param
+        ft, w = self.ft_slider.param.value, self.w_slider.param.value
+        units, result, frame = p.plot_units, p.result, p.frame
         dm = hv.DynamicMap
-        pressure = dm(pn.bind(self._pressure, w=live["w"], mu=live["mu"], frame=p.frame, **run))
-        traction = dm(pn.bind(self._traction, **live, frame=p.frame, **run))
-        states = (dm(pn.bind(self._state_map, **run)) * dm(pn.bind(self._state_marks, **run))
-                  * dm(pn.bind(plots.frame_marks, result=p.result, frame=p.frame)))
-        states = states.opts(hv.opts.Overlay(**plots.state_map_opts()))
-        displacement = dm(pn.bind(self._displacement, frame=p.frame, **run))
-        increments = dm(pn.bind(self._increments, **run))
+        pressure = (dm(pn.bind(plots.pressure_plot, w=w, units=units))
+                    * dm(pn.bind(plots.pressure_step, units=units, result=result, frame=frame)))
+        traction = (dm(pn.bind(plots.traction_run, units=units, result=result, frame=frame))
+                    * dm(pn.bind(plots.traction_closure, ft=ft, w=w, units=units)))
+        states = (dm(pn.bind(plots.state_map, result=result, units=units))
+                  * dm(pn.bind(plots.state_marks, result=result, units=units))
+                  * dm(pn.bind(plots.frame_marks, result=result, frame=frame)))
+        displacement = (dm(pn.bind(plots.displacement_plot, result=result, units=units))
+                        * dm(pn.bind(plots.displacement_step, units=units, result=result, frame=frame)))
+        increments = dm(pn.bind(plots.increment_plot, result=result, units=units))
+        figs = {name: plots.style(obj, name) for name, obj in dict(
+            pressure=pressure, traction=traction, states=states, displacement=displacement,
+            increments=increments).items()}
         numerical = dm(pn.bind(plots.map_numerical, table=p.map_table))
-        shakedown_map = (numerical * plots.map_base() * dm(pn.bind(self._map_point, ft=live["ft"], w=live["w"],
-                                                                   result=p.result))).opts(**plots.map_opts())
-        return dict(pressure=pressure, traction=traction, states=states, displacement=displacement,
-                    increments=increments, map=shakedown_map)
+        figs["map"] = (numerical * plots.map_base()
+                       * dm(pn.bind(self._map_point, ft=ft, w=w, result=result))).opts(**plots.map_opts())
+        return figs
 
     # ------------------------------------------------------------------ cards
     def _badge(self, ft, w, result, error):

@@ -20,7 +20,8 @@ import core
 from core import approximations as approx
 
 __all__ = ["Units", "make_units", "pressure_plot", "traction_plot", "state_map", "state_marks",
-           "frame_marks", "displacement_plot", "increment_plot", "map_base", "map_point", "map_numerical",
+           "frame_marks", "displacement_plot", "displacement_step", "increment_plot", "pressure_step",
+           "traction_closure", "traction_run", "style", "FIGURES", "map_base", "map_point", "map_numerical",
            "grid_boundary",
            "time_axis", "ZONE_COLORS", "STATE_COLORS", "FONT"]
 
@@ -43,11 +44,22 @@ _BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True, fram
 _ELEMENTS = ("Curve", "Scatter", "Points", "Rectangles", "HLines", "VLines", "Image")
 
 
-def _style(overlay: hv.Overlay, title: str, legend: str = "bottom", **opts) -> hv.Overlay:
-    """Common style: projector fonts, legend below the figure, ranges recomputed on every update."""
+#: Title and extra options of each figure.
+FIGURES = {
+    "pressure": dict(title="Pressure (Hertz, uncoupled)"),
+    "traction": dict(title="Traction: numerical vs closure"),
+    "states": dict(title="Element states over the run"),
+    "displacement": dict(title="Displacement of the cylinder"),
+    "increments": dict(title="Increment per period (log scale)", logy=True),
+}
+
+
+def style(obj, figure: str):
+    """Style a figure (an overlay or a DynamicMap of overlays): projector fonts, legend below, ranges
+    recomputed on every update. Applied once to the composed DynamicMap, not per update."""
     per_element = [getattr(hv.opts, name)(framewise=True) for name in _ELEMENTS]
-    return overlay.opts(*per_element, hv.opts.Overlay(title=title, legend_position=legend, legend_cols=2,
-                                                       **_BASE, **opts))
+    return obj.opts(*per_element, hv.opts.Overlay(legend_position="bottom", legend_cols=2, **_BASE,
+                                                   **FIGURES[figure]))
 
 
 @dataclass(frozen=True)
@@ -103,8 +115,8 @@ def _curve(x, y, label, color, units_kdims, vdim, dash="solid", width=LINE, alph
 # --------------------------------------------------------------------------
 # pressure
 # --------------------------------------------------------------------------
-def pressure_plot(w: float, units: Units, xc_now: float | None = None) -> hv.Overlay:
-    """Hertz pressure at the centre and at the reversal points ``±W``, μ times the lowest pressure, and the current step.
+def pressure_plot(w: float, units: Units) -> hv.Overlay:
+    """Hertz pressure at the centre and at the reversal points ``±W``, and μ times the lowest pressure.
 
     Parameters
     ----------
@@ -112,22 +124,29 @@ def pressure_plot(w: float, units: Units, xc_now: float | None = None) -> hv.Ove
         ``W / a``.
     units : Units
         Display units.
-    xc_now : float, optional
-        Contact centre of the player's current step [a] (empty curve if None).
     """
     x = _x_grid(w)
     X, P = x * units.x, units.p
     kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("p", label=units.p_label)
-    layers = [
+    return hv.Overlay([
         _curve(X, P * core.hertz_pressure(x, 0.0), "centre, xc = 0", "#7f7f7f", kd, vd, dash="dashed", width=2),
         _curve(X, P * core.hertz_pressure(x, w), "reversal xc = +W", "#1f77b4", kd, vd),
         _curve(X, P * core.hertz_pressure(x, -w), "reversal xc = −W", "#ff7f0e", kd, vd),
         _curve(X, P * units.mu * core.lowest_pressure(x, w), "μ p_min (over the cycle)", "black", kd, vd,
                width=LINE + 1),
-        _curve(X if xc_now is not None else [], P * core.hertz_pressure(x, xc_now) if xc_now is not None else [],
-               "current step", "#d62728", kd, vd, dash="dotdash"),
-    ]
-    return _style(hv.Overlay(layers), "Pressure (Hertz, uncoupled)")
+    ])
+
+
+def pressure_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Curve:
+    """Hertz pressure at the player's step (empty without a run)."""
+    kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("p", label=units.p_label)
+    data = ([], [])
+    if result is not None:
+        k = result.xc.size - 1 if frame is None else int(np.clip(frame, 0, result.xc.size - 1))
+        xc = float(result.xc[k])
+        x = np.linspace(xc - 1.0, xc + 1.0, 201)
+        data = (x * units.x, units.p * core.hertz_pressure(x, xc))
+    return _curve(*data, "current step", "#d62728", kd, vd, dash="dotdash")
 
 
 # --------------------------------------------------------------------------
@@ -162,47 +181,65 @@ def traction_zones(result: core.CycleResult, frame: int) -> np.ndarray:
     return np.where(s == 1, 1, np.where(s >= 2, 2, np.where(ever, 3, 0)))
 
 
-def traction_plot(ft: float, w: float, units: Units, result: core.CycleResult | None = None,
-                  frame: int | None = None) -> hv.Overlay:
-    """Numerical traction (at the player's step) against the paper's closure, with ±μ p bounds and shaded zones.
+def traction_closure(ft: float, w: float, units: Units) -> hv.Overlay:
+    """The paper's closure for the shaken-down traction (eqs 22–30) and the bounds ±μ p_min.
 
     Parameters
     ----------
     ft, w : float
-        Current inputs (the closure follows them while a slider moves).
+        Current inputs (these layers follow a slider while it moves).
+    units : Units
+        Display units.
+    """
+    Q, X = units.q, units.x
+    kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("q", label=units.q_label)
+    x = _x_grid(w)
+    low = Q * core.lowest_pressure(x, w)
+    return hv.Overlay([
+        _curve(x * X, low, "±μ p_min", "black", kd, vd, dash="dotted", width=2),
+        _curve(x * X, -low, "", "black", kd, vd, dash="dotted", width=2),
+        _curve(x * X, Q * core.shakedown_traction(x, ft, w), "closure (paper, eqs 22–30)", "#9467bd", kd, vd,
+               dash="dashed", width=LINE + 1),
+    ])
+
+
+def traction_run(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Overlay:
+    """Numerical traction at the player's step, its bounds ±μ p, and the zones shaded.
+
+    Parameters
+    ----------
     units : Units
         Display units.
     result : CycleResult, optional
-        The solver run; without one only the analytical layers show.
+        The solver run (empty layers without one).
     frame : int, optional
         Step of ``result`` to show (default: the last).
     """
     Q, X = units.q, units.x
     kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("q", label=units.q_label)
-    x = _x_grid(w)
-    closure = core.shakedown_traction(x, ft, w)
-    layers = []
     ylim = 1.15 * Q
     if result is not None:
         k = result.xc.size - 1 if frame is None else int(np.clip(frame, 0, result.xc.size - 1))
-        layers += _zone_rectangles(result.edges, traction_zones(result, k), ylim, X, [kd, vd])
+        layers = _zone_rectangles(result.edges, traction_zones(result, k), ylim, X, [kd, vd])
         xe = result.x * X
         bound = result.pressure[k]
         num = (xe, Q * result.traction[k])
         upper, lower = (xe, Q * bound), (xe, -Q * bound)
     else:
-        layers += _zone_rectangles(np.zeros(1), np.zeros(0), ylim, X, [kd, vd])
+        layers = _zone_rectangles(np.zeros(1), np.zeros(0), ylim, X, [kd, vd])
         num = upper = lower = ([], [])
-    layers += [
+    return hv.Overlay(layers + [
         _curve(*upper, "±μ p (this step)", "#555555", kd, vd, dash="dashed", width=2),
         _curve(*lower, "", "#555555", kd, vd, dash="dashed", width=2),
-        _curve(x * X, Q * core.lowest_pressure(x, w), "±μ p_min", "black", kd, vd, dash="dotted", width=2),
-        _curve(x * X, -Q * core.lowest_pressure(x, w), "", "black", kd, vd, dash="dotted", width=2),
-        _curve(x * X, Q * closure, "closure (paper, eqs 22–30)", "#9467bd", kd, vd, dash="dashed", width=LINE + 1),
         hv.Curve(num, kdims=[kd], vdims=[vd], label="numerical").opts(
             color="#d62728", line_width=LINE, interpolation="steps-mid"),
-    ]
-    return _style(hv.Overlay(layers), "Traction: numerical vs closure")
+    ])
+
+
+def traction_plot(ft: float, w: float, units: Units, result: core.CycleResult | None = None,
+                  frame: int | None = None) -> hv.Overlay:
+    """The whole traction figure at once (:func:`traction_run` under :func:`traction_closure`), styled."""
+    return style(traction_run(units, result, frame) * traction_closure(ft, w, units), "traction")
 
 
 # --------------------------------------------------------------------------
@@ -237,12 +274,7 @@ def state_map(result: core.CycleResult | None, units: Units) -> hv.Image:
         cmap=list(STATE_COLORS), clim=(-0.5, 3.5), colorbar=True,
         colorbar_opts={"ticker": FixedTicker(ticks=[0, 1, 2, 3]), "major_label_overrides": labels,
                        "title": "element state"},
-        title="Element states over the run", **_BASE)
-
-
-def state_map_opts() -> dict:
-    """Options of the state map overlay (image, marks, player line)."""
-    return dict(legend_position="bottom", legend_cols=2, **_BASE)
+        **_BASE)
 
 
 def state_marks(result: core.CycleResult | None, units: Units) -> hv.Overlay:
@@ -285,29 +317,34 @@ def frame_marks(result: core.CycleResult | None, frame: int | None) -> hv.HLines
 # --------------------------------------------------------------------------
 # displacement
 # --------------------------------------------------------------------------
-def displacement_plot(result: core.CycleResult | None, units: Units, frame: int | None = None) -> hv.Overlay:
+def displacement_plot(result: core.CycleResult | None, units: Units) -> hv.Overlay:
     """Rigid-body displacement over time (the paper's Figs 6 and 7), with the paper's u_sd (eq 34)."""
     kd = hv.Dimension("t", label="time [periods]")
     vd = hv.Dimension("u", label=units.u_label)
-    curve = pt = ([], [])
+    curve = ([], [])
     usd = []
     if result is not None:
-        t = time_axis(result)
-        u = result.displacement * units.u
-        curve = (t, u)
-        if frame is not None:
-            k = int(np.clip(frame, 0, t.size - 1))
-            pt = ([t[k]], [u[k]])
+        curve = (time_axis(result), result.displacement * units.u)
         ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
         if result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w)):
             usd = [float(approx.shakedown_displacement_approx(ft, w)) * result.u0 * units.u]
-    return _style(hv.Overlay([
+    return hv.Overlay([
         hv.Curve(curve, kdims=[kd], vdims=[vd], label="numerical").opts(color="#d62728", line_width=LINE),
         hv.HLines(usd, kdims=[vd], label="u_sd, eq 34 (paper's regression)").opts(
             color="#9467bd", line_dash="dashed", line_width=2),
-        hv.Scatter(pt, kdims=[kd], vdims=[vd], label="player step").opts(color="#ffbf00", size=12,
-                                                                          line_color="black"),
-    ]), "Displacement of the cylinder")
+    ])
+
+
+def displacement_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Scatter:
+    """The player's step on the displacement curve."""
+    kd = hv.Dimension("t", label="time [periods]")
+    vd = hv.Dimension("u", label=units.u_label)
+    pt = ([], [])
+    if result is not None and frame is not None:
+        k = int(np.clip(frame, 0, result.xc.size - 1))
+        pt = ([time_axis(result)[k]], [result.displacement[k] * units.u])
+    return hv.Scatter(pt, kdims=[kd], vdims=[vd], label="player step").opts(color="#ffbf00", size=12,
+                                                                            line_color="black")
 
 
 def increment_plot(result: core.CycleResult | None, units: Units) -> hv.Overlay:
@@ -328,12 +365,12 @@ def increment_plot(result: core.CycleResult | None, units: Units) -> hv.Overlay:
             d = float(approx.ratchet_increment_approx(ft, w)) * result.u0 * abs(units.u)
             if d > 0:
                 eq38 = [d]
-    return _style(hv.Overlay([
+    return hv.Overlay([
         hv.Curve(pts, kdims=[kd], vdims=[vd], label="numerical").opts(color="#d62728", line_width=2),
         hv.Scatter(pts, kdims=[kd], vdims=[vd]).opts(color="#d62728", size=9),
         hv.HLines(eq38, kdims=[vd], label="eq 38 (paper's regression)").opts(
             color="#9467bd", line_dash="dashed", line_width=2),
-    ]), "Increment per period (log scale)", logy=True)
+    ])
 
 
 # --------------------------------------------------------------------------

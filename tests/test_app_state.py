@@ -185,11 +185,13 @@ def test_figures_keep_their_structure_with_and_without_a_run():
     ex = Explorer(ExplorerState(periods=2))
     r = ex.result
     u = plots.make_units("normalised", ex.contact, "strip", r.u0)
+    assert _layers(plots.traction_run(u)) == _layers(plots.traction_run(u, r, 5))
     assert _layers(plots.traction_plot(0.3, 0.5, u)) == _layers(plots.traction_plot(0.3, 0.5, u, r, 5))
-    assert _layers(plots.displacement_plot(None, u)) == _layers(plots.displacement_plot(r, u, 3))
+    assert _layers(plots.displacement_plot(None, u)) == _layers(plots.displacement_plot(r, u))
+    assert len(plots.displacement_step(u, r, 3)) == 1 and len(plots.displacement_step(u)) == 0
     assert _layers(plots.increment_plot(None, u)) == _layers(plots.increment_plot(r, u))
     assert _layers(plots.state_marks(None, u)) == _layers(plots.state_marks(r, u))
-    assert _layers(plots.pressure_plot(0.5, u)) == _layers(plots.pressure_plot(0.5, u, 0.2))
+    assert len(plots.pressure_step(u, r, 7)) == 201 and len(plots.pressure_step(u)) == 0
     # above the limit the closure is empty (NaN), the rest still draws
     hv.render(plots.traction_plot(0.9, 0.9, u, r), backend="bokeh")
 

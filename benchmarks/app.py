@@ -1,0 +1,116 @@
+"""Time the served explorer in a real browser: first load, analytical slider latency, numerical re-solve.
+
+Usage: python benchmarks/app.py [--repeats 15]
+
+How it measures (headless Chromium via Playwright, server = ``panel serve
+app/main.py --liveness`` on loopback, both on this machine):
+
+* first load: from ``page.goto`` to the regime badge showing the solver's
+  verdict and all six figures drawn (canvas present). The first session after
+  the server starts is reported apart (it pays for importing and compiling).
+* analytical latency: in the page, set the ft slider's ``value`` (what a drag
+  does, no release) on the Bokeh model, then poll every millisecond until the
+  traction figure's data sources are replaced by the server's update (the
+  closure curve follows ft); ``performance.now()`` before and after. This is
+  the full round trip: browser -> server callback -> HoloViews -> Bokeh patch
+  -> browser. Drawing happens on the next animation frame (<= 16 ms more).
+* numerical re-solve: set ``value`` and ``value_throttled`` (a release) to an
+  ft never solved before (no cache hit), and wait the same way for the
+  displacement figure's data: solve + render + round trip. The solver's own
+  time for the same run (``CycleResult.runtime``) is printed beside it.
+
+Targets (issue 4): first load < 3 s, analytical < 100 ms, re-solve < 300 ms.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import core  # noqa: E402
+from app.serving import chromium, served_app  # noqa: E402
+from app.state import ExplorerState  # noqa: E402
+
+BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
+FT_TITLE = "ft = Ft/(μ Fn)"
+
+# set the ft slider, then wait until a figure's data sources are replaced; returns elapsed ms
+_ROUND_TRIP = """
+async ([title, figTitle, value, release]) => {
+  const models = () => { const out = []; for (const d of Bokeh.documents) for (const m of d.all_models) out.push(m); return out; };
+  const all = models();
+  const slider = all.find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
+  const fig = all.find((m) => m.title != null && m.title.text === figTitle);
+  const sources = () => fig.renderers.map((r) => r.data_source).filter((s) => s != null);
+  const before = sources().map((s) => s.data);
+  const t0 = performance.now();
+  slider.value = value;
+  if (release) slider.value_throttled = value;
+  while (performance.now() - t0 < 10000) {
+    const now = sources().map((s) => s.data);
+    if (now.length !== before.length || now.some((d, i) => d !== before[i])) return performance.now() - t0;
+    await new Promise((r) => setTimeout(r, 1));
+  }
+  return NaN;
+}
+"""
+
+
+def _load(browser, url) -> float:
+    page = browser.new_page(viewport={"width": 1600, "height": 1000})
+    t0 = time.perf_counter()
+    page.goto(url)
+    page.locator(BADGE).first.wait_for(timeout=120_000)
+    page.locator(".bk-Canvas, canvas").nth(5).wait_for(timeout=60_000)
+    elapsed = time.perf_counter() - t0
+    page.close()
+    return elapsed
+
+
+def _stats(values) -> str:
+    v = sorted(values)
+    p90 = v[min(len(v) - 1, int(round(0.9 * (len(v) - 1))))]
+    return f"median {statistics.median(v):7.1f} ms, p90 {p90:7.1f} ms, min {v[0]:6.1f} ms  (n = {len(v)})"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=15)
+    args = ap.parse_args(argv)
+    n = args.repeats
+    t_start = time.perf_counter()
+    with served_app() as url, chromium() as browser:
+        t_ready = time.perf_counter() - t_start
+        cold = _load(browser, url)
+        warm = [_load(browser, url) for _ in range(3)]
+        page = browser.new_page(viewport={"width": 1600, "height": 1000})
+        page.goto(url + "?ft=0.3&w=0.5")
+        page.locator(BADGE).first.wait_for(timeout=60_000)
+        page.locator(".bk-Canvas, canvas").nth(5).wait_for(timeout=60_000)
+        analytical = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction: numerical vs closure",
+                                                  0.2 + 0.01 * (i % 20), False]) for i in range(n)]
+        fts = [0.2013 + 0.0107 * i for i in range(n)]  # never solved before: no cache hits
+        resolve = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Displacement of the cylinder", ft, True]) for ft in fts]
+        page.close()
+    state = ExplorerState()
+    c = state.contact()
+    solver = [core.simulate_contact(c.replace(ft=ft), **state.solver_options()).runtime * 1e3 for ft in fts]
+    print(__doc__.split("Targets")[0].strip().split("\n\n", 1)[1])
+    print()
+    print(f"server ready (/liveness answers)          : {t_ready:6.2f} s")
+    print(f"first load, first session after start     : {cold:6.2f} s")
+    print(f"first load, later sessions (median of 3)  : {statistics.median(warm):6.2f} s   target < 3 s")
+    print(f"analytical slider -> plot data            : {_stats(analytical)}   target < 100 ms")
+    print(f"numerical re-solve -> plot data (default) : {_stats(resolve)}   target < 300 ms")
+    print(f"  of which the solver alone (same runs)   : {_stats(solver)}")
+    print(f"  default run: {state.resolution} elements per a, {state.periods} periods, kernel {state.kernel}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
