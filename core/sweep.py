@@ -430,6 +430,11 @@ class _Dask(_Futures):
         if isinstance(scheduler, distributed.Client):
             self.client, self._own = scheduler, False
         else:
+            if isinstance(scheduler, str):
+                _check_address(scheduler)
+            elif not hasattr(scheduler, "scheduler_address"):
+                raise ValueError("scheduler must be None, 'processes', 'serial', a concurrent.futures.Executor, "
+                                 f"a Dask address, Client or cluster; got {type(scheduler).__name__}")
             try:
                 self.client = distributed.Client(scheduler, set_as_default=False, timeout="10s")
             except (OSError, TimeoutError, ValueError) as e:
@@ -455,6 +460,20 @@ class _Dask(_Futures):
     def close(self):
         if self._own:
             self.client.close()
+
+
+def _check_address(address: str) -> None:
+    """Refuse a malformed Dask address before a Client is made (a failed Client lingers at exit)."""
+    from distributed.comm import parse_address
+    from distributed.comm.addressing import parse_host_port
+
+    scheme, location = parse_address(address)
+    if scheme in ("tcp", "tls", "ws", "wss"):
+        try:
+            parse_host_port(location)
+        except ValueError as e:
+            raise ValueError(f"scheduler must be a Dask address such as tcp://host:8786, got {address!r:.100} "
+                             f"({e})") from e
 
 
 def _backend(scheduler, max_workers, max_tasks):

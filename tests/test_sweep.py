@@ -128,6 +128,16 @@ def test_dask_gives_the_serial_table(serial_table, dask_client):
         pd.testing.assert_frame_equal(_without_runtime(table), _without_runtime(serial_table))
 
 
+@pytest.mark.parametrize("scheduler, match", [
+    (123, "scheduler must be"), ("tcp://", "tcp://host:8786"), ("bogus", "tcp://host:8786"),
+    ("tcp://host:port", "tcp://host:8786"), ("x" * 400, "at most 300 characters"),
+])
+def test_bad_schedulers_are_refused(scheduler, match):
+    pytest.importorskip("distributed")
+    with pytest.raises(ValueError, match=match):
+        core.sweep(0.1, 0.1, scheduler=scheduler, periods=2)
+
+
 def test_a_caller_executor_is_used_and_left_running(serial_table):
     from concurrent.futures import ThreadPoolExecutor
 
