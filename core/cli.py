@@ -22,6 +22,7 @@ rerun of the same command skips every row already in ``OUT`` or the journal
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import math
 import os
@@ -201,6 +202,8 @@ def _output(suffixes):
             raise ValueError(f"--out is a directory: {_short(text)}")
         if not path.parent.is_dir():
             raise ValueError(f"--out: the directory {_short(str(path.parent))} does not exist")
+        if path.name.lower().endswith(".parquet") and importlib.util.find_spec("pyarrow") is None:
+            raise ValueError("--out: Parquet needs pyarrow (pip install pyarrow); or write .csv / .csv.gz")
         return path
     return _arg(parse)
 
