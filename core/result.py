@@ -7,7 +7,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .analytical import hertz_pressure_element_mean
+from .analytical import _ellipse_primitive
 
 __all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
            "STATE_NAMES", "SolverError", "SolveCancelled"]
@@ -131,9 +131,10 @@ class CycleResult:
     # ---- per step ----------------------------------------------------------
     @cached_property
     def pressure(self) -> np.ndarray:
-        """Element-mean Hertz pressure per step, shape (steps, n) [p0]."""
-        return np.stack([hertz_pressure_element_mean(self.edges, xc, np.sqrt(P), np.sqrt(P))
-                         for xc, P in zip(self.xc, self.P)])
+        """Element-mean Hertz pressure per step, shape (steps, n) [p0] (the traction bound in mu p0)."""
+        a = np.sqrt(self.P)[:, None]  # half-width and peak pressure both scale as sqrt(P)
+        F = _ellipse_primitive((self.edges[None, :] - self.xc[:, None]) / a)
+        return np.clip(a * a * np.diff(F, axis=1) / self.dx, 0.0, None)
 
     @property
     def u(self) -> np.ndarray | None:
