@@ -39,7 +39,7 @@ from .contact import Contact
 from .schedule import SHAPES
 from .kernels import KERNELS
 from .solver import DEFAULT_DX, simulate_contact, simulate_cycles
-from .sweep import (MAX_CELLS, MAX_RUNS, ProgressBar, _input_columns, normalise_table, numerical_limit_curve,
+from .sweeps import (MAX_CELLS, MAX_RUNS, ProgressBar, _input_columns, normalise_table, numerical_limit_curve,
                     run_points, sweep_grid)
 
 __all__ = ["main", "parse_range", "build_parser", "MAX_AXIS_VALUES", "MAX_TEXT"]

@@ -13,7 +13,7 @@ from hypothesis import given, settings, strategies as st
 
 import core
 from core.cli import main, parse_range
-from core.sweep import normalise_table
+from core.sweeps import normalise_table
 
 FAST = ["--periods", "4", "--workers", "1", "--no-progress"]
 
@@ -77,7 +77,7 @@ def test_sweep_resumes_and_skips_rows_already_done(capsys, tmp_path):
 
 
 def test_an_interrupted_sweep_resumes_from_its_journal(capsys, tmp_path, monkeypatch):
-    sweep_module = sys.modules["core.sweep"]
+    sweep_module = sys.modules["core.sweeps"]
     real, calls = sweep_module._run_chunk, []
 
     def interrupted(points):

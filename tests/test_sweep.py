@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 import core
-from core.sweep import ProgressBar, normalise_table, sweep_grid
+from core.sweeps import ProgressBar, normalise_table, sweep_grid
 
 # a small grid with a failing axis value: the strip runs stop on a tiny time budget except the shortest
 FT = [0.1, 0.5]
@@ -237,5 +237,5 @@ def test_default_map_loads_and_matches_eq35():
     far = np.abs(margin) > 0.01
     expected = np.where(margin < 0, "shakedown", "ratcheting")
     assert (m["regime"][far] == expected[far]).all()
-    module = importlib.import_module("core.sweep")  # core.sweep is the function
+    module = importlib.import_module("core.sweeps")
     assert list(m.columns) == list(module.INPUT_COLUMNS) + list(module.RESULT_COLUMNS)

@@ -45,7 +45,6 @@ import queue
 import sys
 import threading
 import time
-import types
 import concurrent.futures as cf
 from dataclasses import dataclass, field
 from importlib import resources
@@ -226,7 +225,7 @@ def sweep_grid(ft, w, *, max_runs: int | None = None, max_cells: int | None = No
 
     Examples
     --------
-    >>> from core.sweep import sweep_grid
+    >>> from core.sweeps import sweep_grid
     >>> [(p["ft"], p["w"], p["periods"]) for p in sweep_grid([0.1, 0.2], 0.5, periods=[5, 10])]
     [(0.1, 0.5, 5), (0.1, 0.5, 10), (0.2, 0.5, 5), (0.2, 0.5, 10)]
     """
@@ -719,7 +718,7 @@ def sweep(ft, w, scheduler=None, *, max_workers=None, progress=None, cancel=None
 
     Examples
     --------
-    >>> from core.sweep import sweep  # also core.sweep
+    >>> from core.sweeps import sweep  # also core.sweep
     >>> table = sweep([0.1, 0.6], 0.5, scheduler="serial", periods=6)
     >>> table[["ft", "w", "regime"]]
         ft    w      regime
@@ -1062,22 +1061,3 @@ def load_default_map() -> pd.DataFrame:
         table = normalise_table(pd.read_csv(p))
     table.attrs["source"] = f"core/data/{DEFAULT_MAP}"
     return table
-
-
-# --------------------------------------------------------------------------
-# ``core.sweep`` names both this module and its main function
-# --------------------------------------------------------------------------
-class _SweepModule(types.ModuleType):
-    """This module, callable as :func:`sweep`.
-
-    ``core/__init__.py`` binds ``core.sweep`` to the function, but anything that
-    loads this file afresh as ``core.sweep`` (pytest's ``--import-mode=importlib``
-    when it meets the file before the package) rebinds the name to the module.
-    Calling the module calls the function, so ``core.sweep(...)`` works either way.
-    """
-
-    def __call__(self, *args, **kwargs):
-        return sweep(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _SweepModule
