@@ -9,7 +9,8 @@ result that arrives for stale inputs is dropped.
 
 from __future__ import annotations
 
-import asyncio
+import contextlib
+import functools
 import html
 import io
 import math
@@ -21,6 +22,7 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import param
+from panel.io.state import set_curdoc
 
 import core
 from core.export import to_csv, to_json
@@ -52,6 +54,12 @@ def _fmt(v, unit="", digits=4) -> str:
     return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
 
 
+@functools.lru_cache(maxsize=1)
+def _shipped_map():
+    """The numerical map shipped with core (read once, shared read-only by all sessions)."""
+    return core.load_default_map()
+
+
 class Explorer(pn.viewable.Viewer):
     """The shakedown explorer over an :class:`ExplorerState` (one per browser session)."""
 
@@ -64,6 +72,8 @@ class Explorer(pn.viewable.Viewer):
     plot_units = param.ClassSelector(class_=plots.Units, default=plots.Units("normalised"),
                                      doc="Scales and labels of the figures.")
     frame = param.Integer(default=0, bounds=(0, None), doc="Step of the run shown by the cycle player.")
+    ft_live = param.Number(default=0.3, doc="ft while its slider moves (the analytical layers follow it) [-].")
+    w_live = param.Number(default=0.5, doc="w while its slider moves (the analytical layers follow it) [-].")
     solving = param.Boolean(default=False, doc="A solve for the current inputs is running.")
     error = param.String(default="", doc="Why the current inputs cannot be solved, if they cannot.")
     notices = param.List(default=[], doc="Messages about rejected URL parameters.")
@@ -74,22 +84,28 @@ class Explorer(pn.viewable.Viewer):
     map_progress = param.Integer(default=0, bounds=(0, 100), doc="Progress of the map computation [%].")
     map_status = param.String(default="", doc="Outcome of the last map computation.")
 
-    def __init__(self, state: ExplorerState | None = None, **params):
+    def __init__(self, state: ExplorerState | None = None, query: str | None = None, **params):
         super().__init__(**params)
         self.state = state if state is not None else ExplorerState()
+        if query:
+            self.apply_query(query)
         self._generation = Generation()
         self._build_widgets()
         self._player_sync = False
+        self._doc = pn.state.curdoc  # the session's document (None when headless)
+        self.param.update(ft_live=self.state.ft, w_live=self.state.w)
+        self.ft_slider.param.watch(self._live_changed, "value")
+        self.w_slider.param.watch(self._live_changed, "value")
         self.state.param.watch(self._inputs_changed, _SOLVER_INPUTS)
         self.state.param.watch(self._update_units, "units")
         self.mu_slider.param.watch(self._update_units, "value")
         self.param.watch(self._update_units, "geometry")
         self._update_contact()
-        self._request_solve()
+        self.solve_now()  # the first run is in the page as it is first sent: no update before the browser connects
         self._map_cancel = threading.Event()
         self.map_scheduler = None  # core.sweep's default: a local process pool
         try:
-            self.map_table = core.load_default_map()
+            self.map_table = _shipped_map()
             self.map_label = "shipped 40×40, plane kernel"
         except (OSError, ValueError) as e:  # pragma: no cover - a broken install
             self.map_status = f"shipped map not available: {e}"
@@ -154,6 +170,33 @@ class Explorer(pn.viewable.Viewer):
         self.map_button.on_click(lambda e: self.compute_map())
         self.map_cancel_button.on_click(lambda e: self._map_cancel.set())
 
+    @contextlib.contextmanager
+    def _frozen(self):
+        """Batch figure updates: apply them now, in this session's document, and let Bokeh recompute the
+        document's model graph once at the end (not once per figure, each on a later tick)."""
+        doc = self._doc
+        if doc is None or doc.session_context is None:
+            yield
+            return
+        with set_curdoc(doc), doc.models.freeze():
+            yield
+
+    def _in_session(self, fn, *args, **kwargs) -> None:
+        """Run ``fn`` in a Bokeh callback of this session (document locked), so its changes are sent at once.
+
+        Work finished in a thread or a coroutine must come back this way: changes made outside a
+        locked callback wait for the next one before they reach the browser. Thread-safe.
+        """
+        doc = self._doc
+        if doc is None or doc.session_context is None:
+            fn(*args, **kwargs)
+        else:
+            doc.add_next_tick_callback(functools.partial(fn, *args, **kwargs))
+
+    def _live_changed(self, *_):
+        with self._frozen():
+            self.param.update(ft_live=self.ft_slider.value, w_live=self.w_slider.value)
+
     def _apply_preset(self, event):
         if event.new in PRESETS:
             self.state.apply_preset(event.new)
@@ -169,8 +212,9 @@ class Explorer(pn.viewable.Viewer):
 
     # ------------------------------------------------------------------ solving
     def _inputs_changed(self, *events):
-        self._update_contact()
-        self._request_solve()
+        with self._frozen():
+            self._update_contact()
+            self._request_solve()
 
     def _update_contact(self):
         try:
@@ -200,17 +244,19 @@ class Explorer(pn.viewable.Viewer):
         def stale():
             return not self._generation.is_current(token)
 
-        async def run():
-            try:
-                result = await asyncio.wrap_future(submit(contact, options, cancel=stale))
-            except (core.SolverError, core.SolveCancelled, ValueError) as e:
-                if not stale():  # a stale run was cancelled on purpose: say nothing
-                    self.error = f"solver: {e}"
-                    self.solving = False
-                return
-            self._finish(token, contact, options, result)
+        def failed(message):
+            if not stale():  # a stale run was cancelled on purpose: say nothing
+                self.param.update(error=f"solver: {message}", solving=False)
 
-        pn.state.execute(run)
+        def done(future):  # in the solver thread
+            try:
+                result = future.result()
+            except (core.SolverError, core.SolveCancelled, ValueError) as e:
+                self._in_session(failed, str(e))
+            else:
+                self._in_session(self._finish, token, contact, options, result)
+
+        submit(contact, options, cancel=stale).add_done_callback(done)
 
     def _finish(self, token, contact, options, result=None):
         if result is None:
@@ -222,14 +268,15 @@ class Explorer(pn.viewable.Viewer):
         if not self._generation.is_current(token):
             return  # a newer request is pending: never overwrite it with this stale run
         m = max(1, int(np.count_nonzero(result.period == 0)))
-        self._player_sync = True  # the widgets follow the run; the frame is set once, below
-        try:
-            self.period_slider.param.update(end=max(1, result.periods - 1), value=result.periods - 1)
-            self.player.param.update(end=max(1, m - 1), value=m - 1)
-        finally:
-            self._player_sync = False
-        self.param.update(result=result, frame=result.xc.size - 1, plot_units=self._compute_units(result),
-                          solving=False)
+        with self._frozen():
+            self._player_sync = True  # the widgets follow the run; the frame is set once, below
+            try:
+                self.period_slider.param.update(end=max(1, result.periods - 1), value=result.periods - 1)
+                self.player.param.update(end=max(1, m - 1), value=m - 1)
+            finally:
+                self._player_sync = False
+            self.param.update(result=result, frame=result.xc.size - 1, plot_units=self._compute_units(result),
+                              solving=False)
 
     def solve_now(self) -> core.CycleResult | None:
         """Solve the current inputs synchronously (headless use) and return the result."""
@@ -248,7 +295,8 @@ class Explorer(pn.viewable.Viewer):
         if r is None or self._player_sync:
             return
         starts = np.flatnonzero(r.period == min(self.period_slider.value, r.periods - 1))
-        self.frame = int(min(starts[0] + self.player.value, r.xc.size - 1)) if starts.size else r.xc.size - 1
+        with self._frozen():
+            self.frame = int(min(starts[0] + self.player.value, r.xc.size - 1)) if starts.size else r.xc.size - 1
 
     # ------------------------------------------------------------------ the numerical map
     def _map_options(self) -> dict:
@@ -274,17 +322,10 @@ class Explorer(pn.viewable.Viewer):
         grid = np.linspace(0.02, 0.95, n)
         opts = self._map_options()
         self._map_cancel = cancel = threading.Event()
-        doc = pn.state.curdoc
-        loop = None
-        if doc is not None and doc.session_context is not None:
-            loop = asyncio.get_event_loop()
+        headless = self._doc is None or self._doc.session_context is None
 
         def progress(done, total):
-            value = int(100 * done / max(total, 1))
-            if loop is None:
-                self.map_progress = value
-            else:
-                loop.call_soon_threadsafe(setattr, self, "map_progress", value)
+            self._in_session(setattr, self, "map_progress", int(100 * done / max(total, 1)))
 
         def work():
             try:
@@ -304,22 +345,22 @@ class Explorer(pn.viewable.Viewer):
             self.map_running = False
 
         self.map_progress, self.map_running, self.map_status = 0, True, "computing…"
-        if loop is None:  # headless: compute here
+        if headless:  # compute here
             try:
                 done(work())
             except (core.SweepCancelled, ValueError) as e:
                 done(error=f"map not computed: {e}")
             return
 
-        async def run():
+        def finished(future):  # in the map thread
             try:
-                table = await asyncio.wrap_future(runs.submit_map(work))
+                table = future.result()
             except (core.SweepCancelled, ValueError, RuntimeError) as e:
-                done(error=f"map not computed: {e}")
+                self._in_session(done, error=f"map not computed: {e}")
             else:
-                done(table)
+                self._in_session(done, table)
 
-        pn.state.execute(run)
+        runs.submit_map(work).add_done_callback(finished)
 
     @param.depends("map_running", "map_progress", watch=True)
     def _show_map_progress(self):
@@ -348,33 +389,27 @@ class Explorer(pn.viewable.Viewer):
     def _update_units(self, *_):
         units = self._compute_units()
         if units != self.plot_units:
-            self.plot_units = units
+            with self._frozen():
+                self.plot_units = units
 
-    def _map_point(self, ft, w, result):
-        return plots.map_point(ft, w, None if result is None else result.regime)
+    def _map_figure(self, table, ft, w, result):
+        return plots.map_figure(table, ft, w, None if result is None else result.regime)
 
     def _figures(self):
-        """The figures: each a product of small DynamicMaps, so that a change re-runs only what depends on it."""
+        """The figures, one DynamicMap each; their layers are memoised, so a change redraws only what depends on it."""
         p = self.param
-        ft, w = self.ft_slider.param.value, self.w_slider.param.value
+        ft, w = p.ft_live, p.w_live
         units, result, frame = p.plot_units, p.result, p.frame
         dm = hv.DynamicMap
-        pressure = (dm(pn.bind(plots.pressure_plot, w=w, units=units))
-                    * dm(pn.bind(plots.pressure_step, units=units, result=result, frame=frame)))
-        traction = (dm(pn.bind(plots.traction_run, units=units, result=result, frame=frame))
-                    * dm(pn.bind(plots.traction_closure, ft=ft, w=w, units=units)))
-        states = (dm(pn.bind(plots.state_map, result=result, units=units))
-                  * dm(pn.bind(plots.state_marks, result=result, units=units))
-                  * dm(pn.bind(plots.frame_marks, result=result, frame=frame)))
-        displacement = (dm(pn.bind(plots.displacement_plot, result=result, units=units))
-                        * dm(pn.bind(plots.displacement_step, units=units, result=result, frame=frame)))
-        increments = dm(pn.bind(plots.increment_plot, result=result, units=units))
-        figs = {name: plots.style(obj, name) for name, obj in dict(
-            pressure=pressure, traction=traction, states=states, displacement=displacement,
-            increments=increments).items()}
-        numerical = dm(pn.bind(plots.map_numerical, table=p.map_table))
-        figs["map"] = (numerical * plots.map_base()
-                       * dm(pn.bind(self._map_point, ft=ft, w=w, result=result))).opts(**plots.map_opts())
+        run = dict(units=units, result=result)
+        figs = dict(
+            pressure=dm(pn.bind(plots.pressure_figure, w=w, frame=frame, **run)),
+            traction=dm(pn.bind(plots.traction_plot, ft=ft, w=w, frame=frame, **run)),
+            states=dm(pn.bind(plots.states_figure, frame=frame, **run)),
+            displacement=dm(pn.bind(plots.displacement_figure, frame=frame, **run)),
+            increments=dm(pn.bind(plots.increments_figure, **run)),
+        )
+        figs["map"] = dm(pn.bind(self._map_figure, table=p.map_table, ft=ft, w=w, result=result))
         return figs
 
     # ------------------------------------------------------------------ cards
@@ -440,7 +475,7 @@ class Explorer(pn.viewable.Viewer):
 
     def main_area(self) -> pn.viewable.Viewable:
         """The badge, cards, player and figures, without the sidebar (for notebooks)."""
-        live = dict(ft=self.ft_slider.param.value, w=self.w_slider.param.value)
+        live = dict(ft=self.param.ft_live, w=self.param.w_live)
         badge = pn.pane.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error),
                              css_classes=["regime"], margin=(6, 10), min_width=300, stylesheets=[_CSS])
         cards = pn.pane.HTML(pn.bind(self._cards, **live, mu=self.mu_slider.param.value,

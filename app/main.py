@@ -26,7 +26,6 @@ def _sync_url(explorer: Explorer) -> None:
     location = pn.state.location
     if location is None:
         return
-    explorer.apply_query(location.search or "")
 
     def rejected(values):  # values that Panel's own sync could not apply (kept out of the state)
         names = ", ".join(sorted(map(str, values)))
@@ -35,6 +34,7 @@ def _sync_url(explorer: Explorer) -> None:
     location.sync(explorer.state, {p: p for p in URL_PARAMETERS}, on_error=rejected)
 
 
-explorer = Explorer()
+# URL parameters are validated and applied before the first solve, so the page is sent complete
+explorer = Explorer(query=pn.state.location.search if pn.state.location else None)
 _sync_url(explorer)
 explorer.template().servable()

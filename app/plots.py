@@ -8,6 +8,7 @@ every curve comes from :mod:`core`; this module only scales, labels and styles.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -21,11 +22,15 @@ from core import approximations as approx
 
 __all__ = ["Units", "make_units", "pressure_plot", "traction_plot", "state_map", "state_marks",
            "frame_marks", "displacement_plot", "displacement_step", "increment_plot", "pressure_step",
-           "traction_closure", "traction_run", "style", "FIGURES", "map_base", "map_point", "map_numerical",
+           "traction_closure", "traction_run", "style", "FIGURES", "pressure_figure", "states_figure",
+           "displacement_figure", "increments_figure", "map_figure", "map_base", "map_point", "map_numerical",
            "grid_boundary",
            "time_axis", "ZONE_COLORS", "STATE_COLORS", "FONT"]
 
 hv.Store.set_current_backend("bokeh")
+# Plain canvas: these figures are small, and WebGL without a GPU (projector laptops, headless
+# browsers) spends seconds copying its buffers into the page on every update.
+hv.plotting.bokeh.BokehRenderer.webgl = False
 
 #: Font sizes readable on a projector.
 FONT = {"title": 17, "labels": 16, "xticks": 14, "yticks": 14, "legend": 14, "cticks": 13}
@@ -51,15 +56,34 @@ FIGURES = {
     "states": dict(title="Element states over the run"),
     "displacement": dict(title="Displacement of the cylinder"),
     "increments": dict(title="Increment per period (log scale)", logy=True),
+    "map": dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
 }
 
 
-def style(obj, figure: str):
-    """Style a figure (an overlay or a DynamicMap of overlays): projector fonts, legend below, ranges
-    recomputed on every update. Applied once to the composed DynamicMap, not per update."""
-    per_element = [getattr(hv.opts, name)(framewise=True) for name in _ELEMENTS]
-    return obj.opts(*per_element, hv.opts.Overlay(legend_position="bottom", legend_cols=2, **_BASE,
-                                                   **FIGURES[figure]))
+def _group(figure: str) -> str:
+    return figure.capitalize()
+
+
+# Styles are registered once, by overlay group, rather than applied to every new frame (which costs
+# more than drawing it); every element recomputes its ranges on each update (framewise).
+hv.opts.defaults(
+    *[getattr(hv.opts, name)(framewise=True) for name in _ELEMENTS],
+    *[hv.opts.Overlay(_group(name), legend_position="bottom", legend_cols=2, **_BASE, **opts)
+      for name, opts in FIGURES.items()],
+)
+
+
+def style(layers, figure: str) -> hv.Overlay:
+    """The overlay of a figure, styled by its group (see :data:`FIGURES`)."""
+    items = []
+    for layer in layers:
+        items.extend(layer if isinstance(layer, hv.Overlay) else [layer])
+    return hv.Overlay(items, group=_group(figure))
+
+
+def _memo(fn):
+    """Keep the last few outputs: an unchanged layer is returned as the same object, so the plot skips it."""
+    return functools.lru_cache(maxsize=4)(fn)
 
 
 @dataclass(frozen=True)
@@ -115,6 +139,7 @@ def _curve(x, y, label, color, units_kdims, vdim, dash="solid", width=LINE, alph
 # --------------------------------------------------------------------------
 # pressure
 # --------------------------------------------------------------------------
+@_memo
 def pressure_plot(w: float, units: Units) -> hv.Overlay:
     """Hertz pressure at the centre and at the reversal points ``±W``, and μ times the lowest pressure.
 
@@ -137,6 +162,7 @@ def pressure_plot(w: float, units: Units) -> hv.Overlay:
     ])
 
 
+@_memo
 def pressure_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Curve:
     """Hertz pressure at the player's step (empty without a run)."""
     kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("p", label=units.p_label)
@@ -181,6 +207,7 @@ def traction_zones(result: core.CycleResult, frame: int) -> np.ndarray:
     return np.where(s == 1, 1, np.where(s >= 2, 2, np.where(ever, 3, 0)))
 
 
+@_memo
 def traction_closure(ft: float, w: float, units: Units) -> hv.Overlay:
     """The paper's closure for the shaken-down traction (eqs 22–30) and the bounds ±μ p_min.
 
@@ -203,6 +230,7 @@ def traction_closure(ft: float, w: float, units: Units) -> hv.Overlay:
     ])
 
 
+@_memo
 def traction_run(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Overlay:
     """Numerical traction at the player's step, its bounds ±μ p, and the zones shaded.
 
@@ -238,8 +266,30 @@ def traction_run(units: Units, result: core.CycleResult | None = None, frame: in
 
 def traction_plot(ft: float, w: float, units: Units, result: core.CycleResult | None = None,
                   frame: int | None = None) -> hv.Overlay:
-    """The whole traction figure at once (:func:`traction_run` under :func:`traction_closure`), styled."""
-    return style(traction_run(units, result, frame) * traction_closure(ft, w, units), "traction")
+    """The traction figure: :func:`traction_run` under :func:`traction_closure`."""
+    return style([traction_run(units, result, frame), traction_closure(ft, w, units)], "traction")
+
+
+def pressure_figure(w: float, units: Units, result: core.CycleResult | None = None,
+                    frame: int | None = None) -> hv.Overlay:
+    """The pressure figure: :func:`pressure_plot` and :func:`pressure_step`."""
+    return style([pressure_plot(w, units), pressure_step(units, result, frame)], "pressure")
+
+
+def states_figure(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Overlay:
+    """The space-time map: :func:`state_map`, :func:`state_marks` and :func:`frame_marks`."""
+    return style([state_map(result, units), state_marks(result, units), frame_marks(result, frame)], "states")
+
+
+def displacement_figure(units: Units, result: core.CycleResult | None = None,
+                        frame: int | None = None) -> hv.Overlay:
+    """The displacement figure: :func:`displacement_plot` and :func:`displacement_step`."""
+    return style([displacement_plot(result, units), displacement_step(units, result, frame)], "displacement")
+
+
+def increments_figure(units: Units, result: core.CycleResult | None = None) -> hv.Overlay:
+    """The increment-per-period figure (:func:`increment_plot`)."""
+    return style([increment_plot(result, units)], "increments")
 
 
 # --------------------------------------------------------------------------
@@ -255,6 +305,7 @@ def time_axis(result: core.CycleResult) -> np.ndarray:
     return (np.arange(result.xc.size) + 1 - n_load) / m
 
 
+@_memo
 def state_map(result: core.CycleResult | None, units: Units) -> hv.Image:
     """Element states over the run: released / stick / slip forward / slip backward, x against time."""
     kd = [hv.Dimension("x", label=units.x_label), hv.Dimension("t", label="time [periods]")]
@@ -264,7 +315,7 @@ def state_map(result: core.CycleResult | None, units: Units) -> hv.Image:
     else:
         t = time_axis(result)
         stride = max(1, int(np.ceil(t.size / _MAX_ROWS)))
-        rows = result.state[::stride].astype(float)
+        rows = result.state[::stride].astype(np.uint8)
         dt = (t[1] - t[0]) if t.size > 1 else 1.0
         y0, y1 = t[0] - dt, t[0] - dt + rows.shape[0] * stride * dt
         e = result.edges * units.x
@@ -273,10 +324,10 @@ def state_map(result: core.CycleResult | None, units: Units) -> hv.Image:
     return img.opts(
         cmap=list(STATE_COLORS), clim=(-0.5, 3.5), colorbar=True,
         colorbar_opts={"ticker": FixedTicker(ticks=[0, 1, 2, 3]), "major_label_overrides": labels,
-                       "title": "element state"},
-        **_BASE)
+                       "title": "element state"})
 
 
+@_memo
 def state_marks(result: core.CycleResult | None, units: Units) -> hv.Overlay:
     """Marks of the state map: contact edges xc ± a, ±b = ±(a − W), ±c_sd (numerical and closure)."""
     kd = [hv.Dimension("x", label=units.x_label), hv.Dimension("t", label="time [periods]")]
@@ -305,6 +356,7 @@ def state_marks(result: core.CycleResult | None, units: Units) -> hv.Overlay:
     ])
 
 
+@_memo
 def frame_marks(result: core.CycleResult | None, frame: int | None) -> hv.HLines:
     """A horizontal line at the player's step on the state map."""
     ys = []
@@ -317,6 +369,7 @@ def frame_marks(result: core.CycleResult | None, frame: int | None) -> hv.HLines
 # --------------------------------------------------------------------------
 # displacement
 # --------------------------------------------------------------------------
+@_memo
 def displacement_plot(result: core.CycleResult | None, units: Units) -> hv.Overlay:
     """Rigid-body displacement over time (the paper's Figs 6 and 7), with the paper's u_sd (eq 34)."""
     kd = hv.Dimension("t", label="time [periods]")
@@ -335,6 +388,7 @@ def displacement_plot(result: core.CycleResult | None, units: Units) -> hv.Overl
     ])
 
 
+@_memo
 def displacement_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Scatter:
     """The player's step on the displacement curve."""
     kd = hv.Dimension("t", label="time [periods]")
@@ -347,6 +401,7 @@ def displacement_step(units: Units, result: core.CycleResult | None = None, fram
                                                                             line_color="black")
 
 
+@_memo
 def increment_plot(result: core.CycleResult | None, units: Units) -> hv.Overlay:
     """|Increment per period| on a log scale, with the paper's ratcheting regression (eq 38)."""
     kd = hv.Dimension("period", label="period")
@@ -446,7 +501,18 @@ def map_point(ft: float, w: float, regime: str | None = None) -> hv.Points:
         color=color, size=18, marker="circle", line_color="black", line_width=2)
 
 
-def map_opts() -> dict:
-    """Options of the shakedown map overlay."""
-    return dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1), legend_position="bottom",
-                legend_cols=2, **{k: v for k, v in _BASE.items() if k != "framewise"})
+_NUMERICAL_MEMO: list = [None, None]  # (table, its layers): the map's numerical layers for the last table
+
+
+def map_figure(table, ft: float, w: float, regime: str | None = None) -> hv.Overlay:
+    """The shakedown map: numerical runs (:func:`map_numerical`), :func:`map_base` and :func:`map_point`."""
+    table_seen, layers = _NUMERICAL_MEMO
+    if table_seen is not table or layers is None:
+        layers = map_numerical(table)
+        _NUMERICAL_MEMO[:] = [table, layers]
+    return style([layers, map_base(), _point(ft, w, regime)], "map")
+
+
+@_memo
+def _point(ft, w, regime):
+    return map_point(ft, w, regime)
