@@ -7,7 +7,6 @@ range, so that the API, the command line and the app all speak the same way.
 
 from __future__ import annotations
 
-import math
 from numbers import Real
 
 import numpy as np
@@ -43,6 +42,7 @@ def check_range(
     lo_closed: bool = True,
     hi_closed: bool = True,
     allow_nan: bool = False,
+    allow_inf: bool = False,
 ) -> np.ndarray:
     """Return ``value`` as a float array after checking ``lo <= value <= hi``.
 
@@ -58,6 +58,8 @@ def check_range(
         Whether each bound is itself allowed.
     allow_nan : bool
         Whether NaN entries pass (they are then ignored by the range check).
+    allow_inf : bool
+        Whether +-inf may pass (if inside the range); by default they are refused.
 
     Raises
     ------
@@ -72,31 +74,28 @@ def check_range(
         raise ValueError(f"{name} must be a number in {rng}, got NaN")
     ok = ~nan
     vals = arr[ok]
+    if not allow_inf and np.isinf(vals).any():
+        raise ValueError(f"{name} must be a finite number in {rng}, got {float(vals[np.isinf(vals)].flat[0])}")
     bad = np.zeros(vals.shape, dtype=bool)
     if lo is not None:
         bad |= (vals < lo) if lo_closed else (vals <= lo)
     if hi is not None:
         bad |= (vals > hi) if hi_closed else (vals >= hi)
-    if lo is None and hi is None:
-        bad |= ~np.isfinite(vals)
     if bad.any():
         first = vals[bad].flat[0]
         raise ValueError(f"{name} must be in {rng}, got {float(first)!r}")
     return arr
 
 
-def check_scalar(name: str, value, lo=None, hi=None, *, lo_closed=True, hi_closed=True) -> float:
+def check_scalar(name: str, value, lo=None, hi=None, *, lo_closed=True, hi_closed=True, allow_inf=False) -> float:
     """Check a scalar real parameter and return it as a Python float."""
     if isinstance(value, bool) or not isinstance(value, (Real, np.floating, np.integer)):
         if isinstance(value, np.ndarray) and value.ndim == 0:
             value = value.item()
         else:
             raise ValueError(f"{name} must be a real number, got {value!r:.60}")
-    arr = check_range(name, float(value), lo, hi, lo_closed=lo_closed, hi_closed=hi_closed)
-    out = float(arr)
-    if math.isinf(out) and (lo is not None and hi is not None):
-        raise ValueError(f"{name} must be finite, got {out}")
-    return out
+    return float(check_range(name, float(value), lo, hi, lo_closed=lo_closed, hi_closed=hi_closed,
+                             allow_inf=allow_inf))
 
 
 def check_int(name: str, value, lo: int, hi: int | None = None) -> int:

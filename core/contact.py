@@ -93,18 +93,15 @@ class Contact:
     def __init__(self, R1, L, Fn, mu, E2, nu2, R2=math.inf, E1=math.inf, nu1=0.3,
                  Ft=None, ft=None, W=None, w=None):
         set_ = object.__setattr__
-        set_(self, "R1", check_scalar("R1", R1, 0.0, None, lo_closed=False))
-        set_(self, "R2", check_scalar("R2", R2, 0.0, None, lo_closed=False))
+        set_(self, "R1", check_scalar("R1", R1, 0.0, None, lo_closed=False, allow_inf=True))
+        set_(self, "R2", check_scalar("R2", R2, 0.0, None, lo_closed=False, allow_inf=True))
         set_(self, "L", check_scalar("L", L, 0.0, None, lo_closed=False))
         set_(self, "Fn", check_scalar("Fn", Fn, 0.0, None, lo_closed=False))
         set_(self, "mu", check_scalar("mu", mu, 0.0, 10.0, lo_closed=False))
-        set_(self, "E1", check_scalar("E1", E1, 0.0, None, lo_closed=False))
+        set_(self, "E1", check_scalar("E1", E1, 0.0, None, lo_closed=False, allow_inf=True))
         set_(self, "nu1", check_scalar("nu1", nu1, 0.0, 0.5))
         set_(self, "E2", check_scalar("E2", E2, 0.0, None, lo_closed=False))
         set_(self, "nu2", check_scalar("nu2", nu2, 0.0, 0.5))
-        for name, v in (("R1", self.R1), ("L", self.L), ("Fn", self.Fn), ("E2", self.E2)):
-            if math.isinf(v):
-                raise ValueError(f"{name} must be finite, got {v}")
         if math.isinf(self.R1) and math.isinf(self.R2):
             raise ValueError("R1 and R2 cannot both be infinite")
         if Ft is not None and ft is not None:

@@ -154,7 +154,7 @@ def influence_matrix(n, dx, kernel="plane", **options):
     """
     n = check_int("n", n, 1, 100_000)
     if kernel not in KERNELS:
-        raise ValueError(f"kernel must be one of {sorted(KERNELS)}, got {kernel!r}")
+        raise ValueError(f"kernel must be one of {sorted(KERNELS)}, got {kernel!r:.60}")
     column = KERNELS[kernel](np.arange(n) * float(dx), dx, **options)
     return np.ascontiguousarray(toeplitz(column))
 

@@ -140,7 +140,7 @@ def rocking_schedule(ft, w, periods=10, dW=0.025, shape="triangle", load_steps=1
     periods = check_int("periods", periods, 1, 10_000)
     dW = check_scalar("dW", dW, 0.0, 1.0, lo_closed=False)
     if shape not in SHAPES:
-        raise ValueError(f"shape must be one of {SHAPES}, got {shape!r}")
+        raise ValueError(f"shape must be one of {SHAPES}, got {shape!r:.60}")
     load_steps = check_int("load_steps", load_steps, 1, 10_000)
     m = _steps_per_period(w, dW, shape)
     total = load_steps + m * periods

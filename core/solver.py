@@ -506,7 +506,7 @@ def make_grid(reach, dx):
 
 def _kernel_options(kernel, L_over_a, nu):
     if kernel not in KERNELS:
-        raise ValueError(f"kernel must be one of {sorted(KERNELS)}, got {kernel!r}")
+        raise ValueError(f"kernel must be one of {sorted(KERNELS)}, got {kernel!r:.60}")
     if kernel == "plane":
         return {}
     if L_over_a is None:
