@@ -145,7 +145,7 @@ LONG = "9" * 5000
 
 @pytest.mark.parametrize("argv, message", [
     (["run", "--ft", "nan", "--w", "0.3"], "ft must be a number"),
-    (["run", "--ft", "inf", "--w", "0.3"], "ft must be in"),
+    (["run", "--ft", "inf", "--w", "0.3"], "ft must be a finite number in"),
     (["run", "--ft", "-0.1", "--w", "0.3"], "ft must be in"),
     (["run", "--ft", "1", "--w", "0.3"], "ft must be in [0, 1)"),
     (["run", "--ft", "0.3", "--w", "1.0"], "w must be in [0, 1)"),
