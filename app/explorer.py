@@ -36,6 +36,8 @@ __all__ = ["Explorer"]
 
 _ABOUT = Path(__file__).with_name("about.md")
 _SOLVER_INPUTS = [p for p in URL_PARAMETERS if p != "units"]
+#: A solve shows the loading indicator only after this long [ms].
+_SPINNER_DELAY_MS = 150
 _CSS = """
 .regime-badge {display: inline-block; padding: 10px 22px; border-radius: 12px; color: white;
                font-size: 26px; font-weight: 700; letter-spacing: 0.04em;}
@@ -92,6 +94,7 @@ class Explorer(pn.viewable.Viewer):
         self._generation = Generation()
         self._build_widgets()
         self._player_sync = False
+        self.result_token = 0  # the request whose result is shown
         self._doc = pn.state.curdoc  # the session's document (None when headless)
         self.param.update(ft_live=self.state.ft, w_live=self.state.w)
         self.ft_slider.param.watch(self._live_changed, "value")
@@ -142,7 +145,7 @@ class Explorer(pn.viewable.Viewer):
         self.status = pn.pane.HTML("", css_classes=["solve-status"], margin=(8, 4))
         # the cycle player: a period, then the steps of that period
         self.period_slider = pn.widgets.IntSlider(label="Period", start=0, end=1, value=0, width=260)
-        self.player = pn.widgets.Player(label="Step in the period", start=0, end=1, value=0, interval=80,
+        self.player = pn.widgets.Player(label="Step in the period", start=0, end=1, value=0, interval=150,
                                         loop_policy="loop", width=430, show_loop_controls=False,
                                         css_classes=["cycle-player"])
         self.period_slider.param.watch(self._update_frame, "value")
@@ -234,12 +237,17 @@ class Explorer(pn.viewable.Viewer):
             return
         contact, options = self.contact, self.state.solver_options()
         cached = RESULTS.get(run_key(contact, options))
-        doc = pn.state.curdoc
+        doc = self._doc
         if cached is not None or doc is None or doc.session_context is None:
             # cached, or headless (tests, notebooks without a server): solve here
             self._finish(token, contact, options, cached)
             return
-        self.solving = True
+
+        def show_spinner():  # only if the solve is not over in a blink (saves two page updates)
+            if self._generation.is_current(token) and self.result_token != token:
+                self.solving = True
+
+        doc.add_timeout_callback(show_spinner, _SPINNER_DELAY_MS)
 
         def stale():
             return not self._generation.is_current(token)
@@ -267,6 +275,7 @@ class Explorer(pn.viewable.Viewer):
                 return
         if not self._generation.is_current(token):
             return  # a newer request is pending: never overwrite it with this stale run
+        self.result_token = token
         m = max(1, int(np.count_nonzero(result.period == 0)))
         with self._frozen():
             self._player_sync = True  # the widgets follow the run; the frame is set once, below

@@ -449,7 +449,7 @@ def map_base() -> hv.Overlay:
         cmap="viridis", line_width=2, colorbar=True, show_legend=False,
         colorbar_opts={"title": "c_sd / a (closure)"})
     return hv.Overlay([
-        contours,
+        contours.opts(framewise=False),
         hv.Curve((ft, core.w_limit(ft)), kdims=kd[:1], vdims=kd[1:], label="eq 35 exact limit").opts(
             color="black", line_width=LINE + 1),
         hv.Curve((ft, approx.w_limit_regression(ft)), kdims=kd[:1], vdims=kd[1:],
@@ -457,7 +457,7 @@ def map_base() -> hv.Overlay:
                                                                        line_width=LINE),
         hv.Text(0.2, 0.25, "shakedown", fontsize=16).opts(color="#2ca02c"),
         hv.Text(0.8, 0.5, "ratcheting", fontsize=16).opts(color="#d62728"),
-    ])
+    ]).opts(_FIXED_RANGES)
 
 
 def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
@@ -501,6 +501,8 @@ def map_point(ft: float, w: float, regime: str | None = None) -> hv.Points:
         color=color, size=18, marker="circle", line_color="black", line_width=2)
 
 
+#: The map's axes are fixed: its layers need no range recomputation on update.
+_FIXED_RANGES = [getattr(hv.opts, name)(framewise=False) for name in ("Curve", "Points", "Contours", "Text")]
 _NUMERICAL_MEMO: list = [None, None]  # (table, its layers): the map's numerical layers for the last table
 
 
@@ -508,11 +510,11 @@ def map_figure(table, ft: float, w: float, regime: str | None = None) -> hv.Over
     """The shakedown map: numerical runs (:func:`map_numerical`), :func:`map_base` and :func:`map_point`."""
     table_seen, layers = _NUMERICAL_MEMO
     if table_seen is not table or layers is None:
-        layers = map_numerical(table)
+        layers = map_numerical(table).opts(_FIXED_RANGES)
         _NUMERICAL_MEMO[:] = [table, layers]
     return style([layers, map_base(), _point(ft, w, regime)], "map")
 
 
 @_memo
 def _point(ft, w, regime):
-    return map_point(ft, w, regime)
+    return map_point(ft, w, regime).opts(framewise=False)
