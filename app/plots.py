@@ -266,8 +266,10 @@ def traction_run(units: Units, result: core.CycleResult | None = None, frame: in
 
 def traction_plot(ft: float, w: float, units: Units, result: core.CycleResult | None = None,
                   frame: int | None = None) -> hv.Overlay:
-    """The traction figure: :func:`traction_run` under :func:`traction_closure`."""
-    return style([traction_run(units, result, frame), traction_closure(ft, w, units)], "traction")
+    """The traction figure: zones and bounds of :func:`traction_run`, then :func:`traction_closure`, then the
+    numerical traction on top."""
+    *zones_and_bounds, numerical = list(traction_run(units, result, frame))
+    return style([*zones_and_bounds, traction_closure(ft, w, units), numerical], "traction")
 
 
 def pressure_figure(w: float, units: Units, result: core.CycleResult | None = None,

@@ -3,7 +3,7 @@
 Usage: python scripts/screenshot.py [--url-query "?ft=0.3&w=0.5"] [--out docs/screenshot.png]
 
 Serves ``app/main.py`` on a free loopback port, opens it in headless Chromium
-at projector size (1600 x 1000 CSS pixels), waits until the solver's verdict and
+1600 CSS pixels wide and tall enough for every figure (1950), waits until the solver's verdict and
 the figures are drawn, and saves a PNG (palette-quantised to stay small).
 """
 
@@ -26,7 +26,7 @@ def main(argv=None) -> int:
     ap.add_argument("--query", default="?ft=0.3&w=0.5", help="URL query of the view to capture")
     ap.add_argument("--out", default=str(ROOT / "docs" / "screenshot.png"), help="output PNG")
     ap.add_argument("--width", type=int, default=1600)
-    ap.add_argument("--height", type=int, default=1000)
+    ap.add_argument("--height", type=int, default=1950)
     ap.add_argument("--full-page", action="store_true", help="capture the whole page, not the viewport")
     args = ap.parse_args(argv)
     with served_app() as url, chromium() as browser:

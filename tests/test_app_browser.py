@@ -174,3 +174,11 @@ def test_bad_url_parameter_shows_a_notice(open_app):
     assert page.get_by_text("Traceback").count() == 0
     assert regime(page) == "shakedown"
     assert errors == [], errors
+
+
+def test_about_tab_renders_the_equations(open_app):
+    page, errors = open_app()
+    page.get_by_text("About the model").first.click()
+    page.get_by_text("What is exact and what is approximate").first.wait_for(timeout=20_000)
+    page.locator(".katex").first.wait_for(timeout=20_000)  # KaTeX, served by Panel itself (no CDN)
+    assert errors == [], errors
