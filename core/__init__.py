@@ -5,6 +5,6 @@ from . import approximations  # noqa: F401
 from .kernels import influence_matrix, strip_u0  # noqa: F401
 from .schedule import Schedule, rocking_schedule  # noqa: F401
 from .result import CycleResult, SolverError, SolveCancelled, STATE_NAMES  # noqa: F401
-from .solver import simulate_cycles, simulate_contact, solve_schedule  # noqa: F401
+from .solver import simulate_cycles, simulate_contact, solve_schedule, strip_options  # noqa: F401
 from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                     numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)

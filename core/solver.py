@@ -48,7 +48,7 @@ from .kernels import KERNELS, influence_matrix, strip_b_coefficient, strip_u0
 from .result import CycleResult, SolveCancelled, SolverError
 from .schedule import Schedule, rocking_schedule
 
-__all__ = ["simulate_cycles", "simulate_contact", "solve_schedule", "solve_static", "shakedown_state",
+__all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
            "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_STORED_VALUES", "KKT_TOL"]
 
 #: Default element width [a]: 80 elements across the contact. The increment per
@@ -75,7 +75,7 @@ _REBUILD_EVERY = 20000
 # The loops below run over slices with range() indices: numba then knows the
 # indices are non-negative and LLVM vectorises them (4-5x faster than indexing
 # with offsets, see benchmarks/solver.py).
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _dot(a, b):
     s = 0.0
     for t in range(a.size):
@@ -83,14 +83,14 @@ def _dot(a, b):
     return s
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _axpy(alpha, x, y):
     """``y += alpha * x`` in place."""
     for t in range(y.size):
         y[t] += alpha * x[t]
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _inverse_add(K, B, fidx, pos, m, i, work):
     """Border the inverse ``B = K[F, F]^-1`` with element ``i``; return the new size (-1 if not PD)."""
     Bv = work[:m]
@@ -114,7 +114,7 @@ def _inverse_add(K, B, fidx, pos, m, i, work):
     return m + 1
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _inverse_remove(B, fidx, pos, m, i):
     """Remove element ``i`` from the inverse (swap it last, then a rank-one downdate)."""
     k = pos[i]
@@ -140,7 +140,7 @@ def _inverse_remove(B, fidx, pos, m, i):
     return last
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _inverse_rebuild(K, B, fidx, pos, kind):
     """Recompute ``B = K[F, F]^-1`` from scratch for the free set ``F``; return its size."""
     n = kind.size
@@ -161,7 +161,7 @@ def _inverse_rebuild(K, B, fidx, pos, kind):
     return m
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _inverse_sync(K, B, fidx, pos, m, kind, work):
     """Bring the inverse to the current free set; return (size, updates done), size -1 on loss of definiteness."""
     n = kind.size
@@ -182,7 +182,7 @@ def _inverse_sync(K, B, fidx, pos, m, kind, work):
 # --------------------------------------------------------------------------
 # one step
 # --------------------------------------------------------------------------
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _element_bounds(edges, xc, P, g):
     """Traction bound ``mu p`` per element [mu p0]: the exact element mean of the Hertz pressure at ``xc``."""
     a = math.sqrt(P)
@@ -194,13 +194,13 @@ def _element_bounds(edges, xc, P, g):
         g[i] = max(a * a * (F2 - F1) / (edges[i + 1] - edges[i]), 0.0)
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _row_dot(K, i, v, lo, hi):
     """``K[i, lo:hi] @ v[lo:hi]`` (v is zero outside [lo, hi))."""
     return _dot(K[i, lo:hi], v[lo:hi])
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def solve_increment(K, g, q_prev, target, dx, kind, B, fidx, pos, m0, tol, maxiter,
                     q, dq, slip, codes, work):
     """Solve one increment of the tangential contact problem (see the module docstring).
@@ -423,7 +423,7 @@ def solve_increment(K, g, q_prev, target, dx, kind, B, fidx, pos, m0, tol, maxit
 # --------------------------------------------------------------------------
 # a whole schedule
 # --------------------------------------------------------------------------
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _run_steps(K, edges, xc, P, Q, period, dx, tol, maxiter, detect_periodic, k0, k1,
                q_prev, kind, B, fidx, pos, work, q_block_end, counters, total_arr,
                traction, state, disp, diss, iters, resid):
@@ -823,6 +823,37 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
                           time_budget=time_budget, cancel=cancel, progress=progress)
 
 
+def strip_options(contact):
+    """The strip-kernel options of :func:`simulate_cycles` for a physical contact.
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact (SI units).
+
+    Returns
+    -------
+    dict
+        ``L_over_a`` (strip length over half-width) and ``nu``, the Poisson
+        ratio of a substrate under a rigid cylinder with the same strip kernel:
+        ``2 nu / (1 - nu) = E* sum(nu_i / G_i)`` (exact for a rigid cylinder or
+        two equal bodies, an equivalent value otherwise).
+
+    Examples
+    --------
+    >>> import core
+    >>> opts = core.strip_options(core.PAPER_SIMULATION)
+    >>> round(opts["L_over_a"], 1), opts["nu"]
+    (292.6, 0.5)
+    """
+    from .contact import Contact
+
+    if not isinstance(contact, Contact):
+        raise ValueError(f"contact must be a core.Contact, got {type(contact).__name__}")
+    b = contact.E_star * contact.nu / contact.G
+    return {"L_over_a": contact.L / contact.a, "nu": b / (2.0 + b)}  # 2 nu/(1 - nu) = b <=> nu = b/(2 + b)
+
+
 def simulate_contact(contact, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="strip", **options):
     """Simulate a :class:`~core.contact.Contact` given in physical units.
 
@@ -847,10 +878,8 @@ def simulate_contact(contact, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="str
         raise ValueError(f"contact must be a core.Contact, got {type(contact).__name__}")
     dx = check_scalar("dx", dx, 1e-4, 0.5)
     if kernel == "strip":
-        b = contact.E_star * contact.nu / contact.G
-        options.setdefault("L_over_a", contact.L / contact.a)
-        nu_eff = b / (2.0 + b)  # 2 nu/(1 - nu) = b  <=>  nu = b / (2 + b)
-        options.setdefault("nu", nu_eff)
+        for key, value in strip_options(contact).items():
+            options.setdefault(key, value)
     result = simulate_cycles(contact.ft, contact.w, periods, dx, dW, kernel=kernel, **options)
     result.params.update({f"contact_{k}": v for k, v in contact.summary().items()})
     return result
