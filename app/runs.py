@@ -8,7 +8,6 @@ cannot queue unbounded work.
 
 from __future__ import annotations
 
-import os
 import threading
 from collections import OrderedDict
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -18,19 +17,13 @@ import numpy as np
 
 import core
 
+from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WORKERS,  # noqa: F401
+                     SOLVE_BUDGET_S, SOLVER_THREADS)
+
 __all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "run_key", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map"]
 
 
-def _env_int(name: str, default: int) -> int:
-    try:
-        return max(1, int(os.environ.get(name, default)))
-    except ValueError:
-        return default
-
-
-#: Wall-time budget of one solve in the served app [s] (SHAKEDOWN_SOLVE_BUDGET_S).
-SOLVE_BUDGET_S = float(_env_int("SHAKEDOWN_SOLVE_BUDGET_S", 20))
 
 
 def result_nbytes(result: core.CycleResult) -> int:
@@ -102,9 +95,9 @@ class ResultCache:
 
 
 #: The results shared by all sessions (bounds: SHAKEDOWN_CACHE_ITEMS, SHAKEDOWN_CACHE_MB).
-RESULTS = ResultCache(_env_int("SHAKEDOWN_CACHE_ITEMS", 32), _env_int("SHAKEDOWN_CACHE_MB", 512) * 2**20)
+RESULTS = ResultCache(CACHE_ITEMS, CACHE_MB * 2**20)
 #: Threads that run solves for all sessions (SHAKEDOWN_SOLVER_THREADS).
-_POOL = ThreadPoolExecutor(max_workers=_env_int("SHAKEDOWN_SOLVER_THREADS", 2), thread_name_prefix="solver")
+_POOL = ThreadPoolExecutor(max_workers=SOLVER_THREADS, thread_name_prefix="solver")
 
 
 def _warm_up():
@@ -117,11 +110,6 @@ def _warm_up():
 _WARM = _POOL.submit(_warm_up)
 
 
-#: Processes of one numerical-map sweep (SHAKEDOWN_MAP_WORKERS), its time budget [s]
-#: (SHAKEDOWN_MAP_BUDGET_S) and the largest grid per axis (SHAKEDOWN_MAP_MAX_POINTS).
-MAP_WORKERS = _env_int("SHAKEDOWN_MAP_WORKERS", 2)
-MAP_BUDGET_S = float(_env_int("SHAKEDOWN_MAP_BUDGET_S", 300))
-MAP_MAX_POINTS = _env_int("SHAKEDOWN_MAP_MAX_POINTS", 40)
 #: One numerical map at a time on the whole server.
 MAP_SLOT = threading.Semaphore(1)
 _MAP_POOL = ThreadPoolExecutor(max_workers=1, thread_name_prefix="map")

@@ -20,6 +20,8 @@ import param
 
 import core
 
+from .limits import MAX_PERIODS, MAX_RESOLUTION
+
 __all__ = ["ExplorerState", "PRESETS", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
 
 #: Longest query-string value that is even looked at (longer ones are rejected).
@@ -64,10 +66,14 @@ class ExplorerState(param.Parameterized):
     nu1 = param.Number(0.3, bounds=(0.0, 0.5), softbounds=(0.0, 0.5), step=0.01, label="ν cylinder",
                        doc="Poisson ratio of the cylinder ν1 [-], in [0, 0.5]; used when not rigid.")
     # ---- solver -------------------------------------------------------------
-    periods = param.Integer(10, bounds=(1, 200), softbounds=(1, 30), step=1, label="Periods",
-                            doc="Rocking periods simulated after the loading [-], in [1, 200].")
-    resolution = param.Integer(40, bounds=(5, 400), softbounds=(10, 100), step=5, label="Elements per a",
-                               doc="Grid resolution: elements per half-width a [-] (dx = a/resolution), in [5, 400].")
+    periods = param.Integer(10, bounds=(1, MAX_PERIODS), softbounds=(1, min(30, MAX_PERIODS)), step=1,
+                            label="Periods",
+                            doc=f"Rocking periods simulated after the loading [-], in [1, {MAX_PERIODS}] "
+                                "(SHAKEDOWN_MAX_PERIODS).")
+    resolution = param.Integer(40, bounds=(5, MAX_RESOLUTION), softbounds=(10, min(100, MAX_RESOLUTION)), step=5,
+                               label="Elements per a",
+                               doc=f"Grid resolution: elements per half-width a [-] (dx = a/resolution), in "
+                                   f"[5, {MAX_RESOLUTION}] (SHAKEDOWN_MAX_RESOLUTION).")
     kernel = param.Selector(default="strip", objects=["strip", "plane"], label="Kernel",
                             doc="Influence kernel: 'strip' (truncated 3D strip of length L, gives U/U0) "
                                 "or 'plane' (plane strain; displacement defined up to a constant).")
