@@ -55,7 +55,8 @@ def _alive(url: str) -> bool:
 
 
 @contextlib.contextmanager
-def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None = None):
+def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None = None,
+               log_path: str | os.PathLike | None = None, info: dict | None = None):
     """Serve ``app/main.py`` on 127.0.0.1 and yield its URL; stop the server on exit.
 
     Parameters
@@ -66,24 +67,38 @@ def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None 
         Seconds to wait for ``/liveness``.
     env : dict, optional
         Extra environment variables for the server.
+    log_path : path, optional
+        File that receives the server's output (default: discarded, or the
+        terminal when ``SHAKEDOWN_SERVER_LOG`` is set).
+    info : dict, optional
+        Filled with ``pid`` (the server process), ``base`` (its root URL) and,
+        after the server stopped, ``returncode`` and ``stop_seconds``.
     """
     port = port or free_port()
     cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / "app" / "main.py"), "--port", str(port),
            "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness"]
-    log = open(os.devnull, "w") if not os.environ.get("SHAKEDOWN_SERVER_LOG") else None
-    proc = subprocess.Popen(cmd, cwd=ROOT, env={**os.environ, **(env or {})}, stdout=log, stderr=log)
+    if log_path is not None:
+        log = open(log_path, "w")
+    else:
+        log = open(os.devnull, "w") if not os.environ.get("SHAKEDOWN_SERVER_LOG") else None
+    proc = subprocess.Popen(cmd, cwd=ROOT, env={**os.environ, **(env or {})}, stdout=log,
+                            stderr=subprocess.STDOUT if log is not None else None)
+    info = {} if info is None else info
+    base = f"http://127.0.0.1:{port}"
+    info.update(pid=proc.pid, base=base)
     try:
-        base = f"http://127.0.0.1:{port}"
         wait_until(lambda: proc.poll() is None and _alive(f"{base}/liveness"), timeout,
                    message=f"{base}/liveness")
         yield f"{base}/main"
     finally:
+        t0 = time.monotonic()
         proc.terminate()
         try:
             proc.wait(10)
         except subprocess.TimeoutExpired:
             proc.kill()
             proc.wait()
+        info.update(returncode=proc.returncode, stop_seconds=time.monotonic() - t0)
         if log is not None:
             log.close()
 
