@@ -56,7 +56,8 @@ def _alive(url: str) -> bool:
 
 @contextlib.contextmanager
 def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None = None,
-               log_path: str | os.PathLike | None = None, info: dict | None = None):
+               log_path: str | os.PathLike | None = None, info: dict | None = None,
+               extra_args: list[str] | tuple[str, ...] = ()):
     """Serve ``app/main.py`` on 127.0.0.1 and yield its URL; stop the server on exit.
 
     Parameters
@@ -70,13 +71,16 @@ def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None 
     log_path : path, optional
         File that receives the server's output (default: discarded, or the
         terminal when ``SHAKEDOWN_SERVER_LOG`` is set).
+    extra_args : sequence of str
+        Further ``panel serve`` options (e.g. ``["--num-threads", "4"]``).
     info : dict, optional
         Filled with ``pid`` (the server process), ``base`` (its root URL) and,
         after the server stopped, ``returncode`` and ``stop_seconds``.
     """
     port = port or free_port()
     cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / "app" / "main.py"), "--port", str(port),
-           "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness"]
+           "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness",
+           *map(str, extra_args)]
     if log_path is not None:
         log = open(log_path, "w")
     else:

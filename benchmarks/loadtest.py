@@ -227,7 +227,7 @@ async def _run(url, base, pid, sessions, seconds):
 
 
 def run_load(sessions: int = 20, seconds: float = 60.0, env: dict | None = None,
-             keep_log: str | None = None) -> dict:
+             keep_log: str | None = None, serve_args: tuple[str, ...] = ()) -> dict:
     """Serve the app, drive ``sessions`` concurrent sessions for ``seconds``; return the figures.
 
     Returns
@@ -242,7 +242,7 @@ def run_load(sessions: int = 20, seconds: float = 60.0, env: dict | None = None,
     with tempfile.TemporaryDirectory() as tmp:
         log_path = Path(tmp) / "server.log"
         info: dict = {}
-        with served_app(env=env, log_path=log_path, info=info) as url:
+        with served_app(env=env, log_path=log_path, info=info, extra_args=serve_args) as url:
             stats = asyncio.run(_run(url, info["base"], info["pid"], sessions, seconds))
         log = log_path.read_text(errors="replace")
         if keep_log:
@@ -253,7 +253,7 @@ def run_load(sessions: int = 20, seconds: float = 60.0, env: dict | None = None,
     stats["returncode"] = info.get("returncode")
     stats["stop_s"] = info.get("stop_seconds", float("nan"))
     stats["cache_mb"] = limits.CACHE_MB
-    stats["sessions"], stats["seconds"] = sessions, seconds
+    stats["sessions"], stats["seconds"], stats["serve_args"] = sessions, seconds, list(serve_args)
     return stats
 
 
@@ -267,6 +267,7 @@ def _summary(values, unit="ms"):
 def report(stats: dict) -> str:
     growth = stats["rss_after_mb"] - stats["rss_before_mb"]
     lines = [
+        f"server options: {' '.join(stats['serve_args']) or '(defaults)'}\n"
         f"sessions: {stats['sessions']}, activity: {stats['seconds']:.0f} s (wall {stats['wall_s']:.1f} s)",
         f"errors: {len(stats['errors'])}" + "".join(f"\n  - {e}" for e in stats["errors"][:20]),
         f"opening all sessions at once: {stats['open_s']:.1f} s; page load per session: "
@@ -288,8 +289,9 @@ def main(argv=None) -> int:
     ap.add_argument("--seconds", type=float, default=60.0)
     ap.add_argument("--json", help="also write the figures to this JSON file")
     ap.add_argument("--log", help="keep the server's log in this file")
+    ap.add_argument("--serve-args", default="", help="further 'panel serve' options, e.g. '--num-threads 4'")
     args = ap.parse_args(argv)
-    stats = run_load(args.sessions, args.seconds, keep_log=args.log)
+    stats = run_load(args.sessions, args.seconds, keep_log=args.log, serve_args=tuple(args.serve_args.split()))
     print(report(stats))
     if args.json:
         Path(args.json).write_text(json.dumps(stats, indent=1))
