@@ -6,6 +6,7 @@ every parameter is kept in sync with the URL under its own name, so a link
 reproduces the view.
 """
 
+import contextlib
 import sys
 from pathlib import Path
 
@@ -37,4 +38,6 @@ def _sync_url(explorer: Explorer) -> None:
 # URL parameters are validated and applied before the first solve, so the page is sent complete
 explorer = Explorer(query=pn.state.location.search if pn.state.location else None)
 _sync_url(explorer)
-explorer.template().servable()
+# one recomputation of the document's model graph for all the template's roots, not one per root (0.5 s)
+with pn.state.curdoc.models.freeze() if pn.state.curdoc else contextlib.nullcontext():
+    explorer.template().servable()
