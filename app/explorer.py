@@ -18,7 +18,6 @@ import re
 import threading
 from pathlib import Path
 
-import holoviews as hv
 import numpy as np
 import panel as pn
 import param
@@ -29,6 +28,7 @@ from core.export import to_csv, to_json
 
 from . import plots
 from . import runs
+from .live import LiveFigure
 from .runs import RESULTS, Generation, run_key, solve, submit
 from .state import PRESETS, URL_PARAMETERS, ExplorerState, parse_query
 
@@ -60,6 +60,13 @@ def _fmt(v, unit="", digits=4) -> str:
 def _shipped_map():
     """The numerical map shipped with core (read once, shared read-only by all sessions)."""
     return core.load_default_map()
+
+
+#: The explorer parameter behind each input of the figures (:class:`app.plots.Inputs`).
+_FIGURE_INPUTS = {"ft": "ft_live", "w": "w_live", "units": "plot_units", "result": "result", "frame": "frame",
+                  "table": "map_table"}
+#: Range padding (x, y) of the axes that follow the data; None: the figure's own fixed ranges.
+_PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
 
 
 class Explorer(pn.viewable.Viewer):
@@ -103,6 +110,9 @@ class Explorer(pn.viewable.Viewer):
         self.state.param.watch(self._update_units, "units")
         self.mu_slider.param.watch(self._update_units, "value")
         self.param.watch(self._update_units, "geometry")
+        self._live: dict[str, LiveFigure] = {}  # built with the layout (figures())
+        self._panes: dict[str, pn.pane.Bokeh] = {}
+        self.param.watch(self._redraw, list(_FIGURE_INPUTS.values()))
         self._update_contact()
         self.solve_now()  # the first run is in the page as it is first sent: no update before the browser connects
         self._map_cancel = threading.Event()
@@ -174,14 +184,15 @@ class Explorer(pn.viewable.Viewer):
         self.map_cancel_button.on_click(lambda e: self._map_cancel.set())
 
     @contextlib.contextmanager
-    def _frozen(self):
-        """Batch figure updates: apply them now, in this session's document, and let Bokeh recompute the
-        document's model graph once at the end (not once per figure, each on a later tick)."""
+    def _held(self):
+        """Batch the updates of one change: apply them now, in this session's document, held, and send them
+        to the browser together when the block ends. (Not a model freeze: leaving a freeze recomputes the
+        document's whole model graph, 40 ms, even when only data changed.)"""
         doc = self._doc
         if doc is None or doc.session_context is None:
             yield
             return
-        with set_curdoc(doc), doc.models.freeze():
+        with set_curdoc(doc), pn.io.hold(doc):
             yield
 
     def _in_session(self, fn, *args, **kwargs) -> None:
@@ -197,7 +208,7 @@ class Explorer(pn.viewable.Viewer):
             doc.add_next_tick_callback(functools.partial(fn, *args, **kwargs))
 
     def _live_changed(self, *_):
-        with self._frozen():
+        with self._held():
             self.param.update(ft_live=self.ft_slider.value, w_live=self.w_slider.value)
 
     def _apply_preset(self, event):
@@ -215,7 +226,7 @@ class Explorer(pn.viewable.Viewer):
 
     # ------------------------------------------------------------------ solving
     def _inputs_changed(self, *events):
-        with self._frozen():
+        with self._held():
             self._update_contact()
             self._request_solve()
 
@@ -277,7 +288,7 @@ class Explorer(pn.viewable.Viewer):
             return  # a newer request is pending: never overwrite it with this stale run
         self.result_token = token
         m = max(1, int(np.count_nonzero(result.period == 0)))
-        with self._frozen():
+        with self._held():
             self._player_sync = True  # the widgets follow the run; the frame is set once, below
             try:
                 self.period_slider.param.update(end=max(1, result.periods - 1), value=result.periods - 1)
@@ -304,7 +315,7 @@ class Explorer(pn.viewable.Viewer):
         if r is None or self._player_sync:
             return
         starts = np.flatnonzero(r.period == min(self.period_slider.value, r.periods - 1))
-        with self._frozen():
+        with self._held():
             self.frame = int(min(starts[0] + self.player.value, r.xc.size - 1)) if starts.size else r.xc.size - 1
 
     # ------------------------------------------------------------------ the numerical map
@@ -398,28 +409,36 @@ class Explorer(pn.viewable.Viewer):
     def _update_units(self, *_):
         units = self._compute_units()
         if units != self.plot_units:
-            with self._frozen():
+            with self._held():
                 self.plot_units = units
 
-    def _map_figure(self, table, ft, w, result):
-        return plots.map_figure(table, ft, w, None if result is None else result.regime)
+    def _inputs(self) -> plots.Inputs:
+        return plots.Inputs(**{field: getattr(self, name) for field, name in _FIGURE_INPUTS.items()})
 
-    def _figures(self):
-        """The figures, one DynamicMap each; their layers are memoised, so a change redraws only what depends on it."""
-        p = self.param
-        ft, w = p.ft_live, p.w_live
-        units, result, frame = p.plot_units, p.result, p.frame
-        dm = hv.DynamicMap
-        run = dict(units=units, result=result)
-        figs = dict(
-            pressure=dm(pn.bind(plots.pressure_figure, w=w, frame=frame, **run)),
-            traction=dm(pn.bind(plots.traction_plot, ft=ft, w=w, frame=frame, **run)),
-            states=dm(pn.bind(plots.states_figure, frame=frame, **run)),
-            displacement=dm(pn.bind(plots.displacement_figure, frame=frame, **run)),
-            increments=dm(pn.bind(plots.increments_figure, **run)),
-        )
-        figs["map"] = dm(pn.bind(self._map_figure, table=p.map_table, ft=ft, w=w, result=result))
-        return figs
+    def _redraw(self, *events):
+        """Push the layers that changed into the figures that depend on the changed inputs."""
+        changed = {e.name for e in events}
+        inputs, rebuilt = self._inputs(), []
+        with self._held():
+            for name, live in self._live.items():
+                if changed.intersection(_FIGURE_INPUTS[i] for i in plots.FIGURES[name]["inputs"]):
+                    if live.update(plots.specs(name, inputs.units), plots.layers(name, inputs)):
+                        rebuilt.append(name)
+            if rebuilt:  # new axis labels (units): new figures, one model-graph recomputation for all
+                doc = self._doc
+                with (doc.models.freeze() if doc is not None else contextlib.nullcontext()):
+                    for name in rebuilt:
+                        self._panes[name].object = self._live[name].figure
+
+    def figures(self) -> dict[str, pn.pane.Bokeh]:
+        """The six figures: Bokeh figures rendered once, then updated in place (:class:`~app.live.LiveFigure`)."""
+        inputs = self._inputs()
+        self._live = {name: LiveFigure(plots.specs(name, inputs.units), plots.layers(name, inputs), plots.group(name),
+                                       padding=_PADDING.get(name, (0.0, 0.1)))
+                      for name in plots.FIGURES}
+        self._panes = {name: pn.pane.Bokeh(live.figure, sizing_mode="stretch_width")
+                       for name, live in self._live.items()}
+        return self._panes
 
     # ------------------------------------------------------------------ cards
     def _badge(self, ft, w, result, error):
@@ -501,16 +520,15 @@ class Explorer(pn.viewable.Viewer):
                                         + "\n".join(f"- {html.escape(m)}" for m in n), self.param.notices),
                                 alert_type="warning", visible=self.param.notices.rx.bool(),
                                 sizing_mode="stretch_width", css_classes=["url-notice"])
-        figs = self._figures()
+        figs = self.figures()
         player = pn.Row(pn.pane.Markdown("**Cycle player**", margin=(18, 10, 0, 10)), self.period_slider,
                         self.player, sizing_mode="stretch_width")
-        fig = lambda o: pn.pane.HoloViews(o, sizing_mode="stretch_width", linked_axes=False)  # noqa: E731
         explorer = pn.Column(
             player,
-            pn.Row(fig(figs["pressure"]), fig(figs["traction"]), sizing_mode="stretch_width"),
-            pn.Row(fig(figs["states"]), fig(figs["displacement"]), sizing_mode="stretch_width"),
-            pn.Row(pn.Column(fig(figs["map"]), self.map_controls(), sizing_mode="stretch_width"),
-                   fig(figs["increments"]), sizing_mode="stretch_width"),
+            pn.Row(figs["pressure"], figs["traction"], sizing_mode="stretch_width"),
+            pn.Row(figs["states"], figs["displacement"], sizing_mode="stretch_width"),
+            pn.Row(pn.Column(figs["map"], self.map_controls(), sizing_mode="stretch_width"),
+                   figs["increments"], sizing_mode="stretch_width"),
             sizing_mode="stretch_width", name="Explorer",
         )
         tabs = pn.Tabs(explorer, ("About the model", self.about()), sizing_mode="stretch_width",

@@ -1,9 +1,20 @@
 """HoloViews figures of the explorer: pure functions of the inputs and of a solver result.
 
-Every function returns an element or overlay of the same structure whatever
-its inputs (empty layers where a curve does not apply), so that a
-``hv.DynamicMap`` over it updates the Bokeh figure in place. No physics here:
-every curve comes from :mod:`core`; this module only scales, labels and styles.
+Each figure is a list of layers. Its *layer data* (plain numpy arrays) come
+from memoised pure functions of the inputs (``*_layers``), its *look*
+(element type, dimensions with units, legend label, style) from a list of
+:class:`Layer` (``*_specs``), and ``*_figure`` joins them into a
+``hv.Overlay``. The explorer renders that overlay once and afterwards pushes
+only the layer data that changed into the live Bokeh figure
+(:class:`app.live.LiveFigure`): an unchanged layer is the same object (memoised),
+so it is skipped. Every figure has the same layers whatever its inputs (empty
+data where a curve does not apply). No physics here: every curve comes from
+:mod:`core`; this module only scales, labels and styles.
+
+Layer data by element type: ``Curve``, ``Scatter``, ``Points``: a tuple of
+columns ``(x, y)``; ``Rectangles``: rows ``(x0, y0, x1, y1)``; ``HLines``,
+``VLines``: positions; ``Image``: ``(array, bounds)``; a static layer: None.
+A layer whose glyph colour encodes a state is a :class:`~app.live.Styled`.
 """
 
 from __future__ import annotations
@@ -11,6 +22,7 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import NamedTuple
 
 import holoviews as hv
 import holoviews.plotting.bokeh  # noqa: F401 - registers the Bokeh backend and its options
@@ -20,12 +32,13 @@ from bokeh.models import FixedTicker
 import core
 from core import approximations as approx
 
-__all__ = ["Units", "make_units", "pressure_plot", "traction_plot", "state_map", "state_marks",
-           "frame_marks", "displacement_plot", "displacement_step", "increment_plot", "pressure_step",
-           "traction_closure", "traction_run", "style", "FIGURES", "pressure_figure", "states_figure",
-           "displacement_figure", "increments_figure", "map_figure", "map_base", "map_point", "map_numerical",
-           "grid_boundary",
-           "time_axis", "ZONE_COLORS", "STATE_COLORS", "FONT"]
+from .live import Layer, Styled, overlay
+
+__all__ = ["Units", "make_units", "Inputs", "FIGURES", "figure", "layers", "specs", "group",
+           "pressure_curves", "pressure_step", "traction_zones", "traction_run", "traction_bounds",
+           "traction_closure", "state_image", "state_marks", "frame_marks", "time_axis", "displacement_curves",
+           "displacement_step", "increment_layers", "map_base", "map_numerical", "map_point", "grid_boundary",
+           "ZONE_COLORS", "STATE_COLORS", "REGIME_COLORS", "FONT"]
 
 hv.Store.set_current_backend("bokeh")
 # Plain canvas: these figures are small, and WebGL without a GPU (projector laptops, headless
@@ -41,49 +54,27 @@ STATE_COLORS = ("#e6e6e6", "#2ca02c", "#d62728", "#1f77b4")
 #: Shading of the zones stick / slip / zero traction.
 ZONE_COLORS = {"stick": "#2ca02c", "slip": "#ff7f0e", "zero traction": "#9e9e9e"}
 _ZONE_CODES = {"stick": 1, "slip": 2, "zero traction": 3}
+#: Colour of the current point on the map, by numerical regime (None: not solved yet).
+REGIME_COLORS = {"shakedown": "#2ca02c", "ratcheting": "#d62728", None: "#7f7f7f"}
 _NX = 401
+_EMPTY = (np.zeros(0), np.zeros(0))
 
-_BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True, framewise=True,
+_BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True,
              toolbar="above", default_tools=["pan", "wheel_zoom", "box_zoom", "reset", "save"],
              backend_opts={"plot.toolbar.autohide": True})
-_ELEMENTS = ("Curve", "Scatter", "Points", "Rectangles", "HLines", "VLines", "Image")
-
-
-#: Title and extra options of each figure.
-FIGURES = {
-    "pressure": dict(title="Pressure (Hertz, uncoupled)"),
-    "traction": dict(title="Traction: numerical vs closure"),
-    "states": dict(title="Element states over the run"),
-    "displacement": dict(title="Displacement of the cylinder"),
-    "increments": dict(title="Increment per period (log scale)", logy=True),
-    "map": dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
-}
-
-
-def _group(figure: str) -> str:
-    return figure.capitalize()
-
-
-# Styles are registered once, by overlay group, rather than applied to every new frame (which costs
-# more than drawing it); every element recomputes its ranges on each update (framewise).
-hv.opts.defaults(
-    *[getattr(hv.opts, name)(framewise=True) for name in _ELEMENTS],
-    *[hv.opts.Overlay(_group(name), legend_position="bottom", legend_cols=2, **_BASE, **opts)
-      for name, opts in FIGURES.items()],
-)
-
-
-def style(layers, figure: str) -> hv.Overlay:
-    """The overlay of a figure, styled by its group (see :data:`FIGURES`)."""
-    items = []
-    for layer in layers:
-        items.extend(layer if isinstance(layer, hv.Overlay) else [layer])
-    return hv.Overlay(items, group=_group(figure))
 
 
 def _memo(fn):
-    """Keep the last few outputs: an unchanged layer is returned as the same object, so the plot skips it."""
+    """Keep the last few outputs: an unchanged layer is returned as the same object, so the figure skips it."""
     return functools.lru_cache(maxsize=4)(fn)
+
+
+def _line(label, color, kd, vd, dash="solid", width=LINE, alpha=1.0) -> Layer:
+    return Layer(hv.Curve, (kd,), (vd,), label, dict(color=color, line_dash=dash, line_width=width, alpha=alpha))
+
+
+def _dim(name: str, label: str) -> hv.Dimension:
+    return hv.Dimension(name, label=label)
 
 
 @dataclass(frozen=True)
@@ -131,16 +122,39 @@ def _x_grid(w: float) -> np.ndarray:
     return np.linspace(-1.08 * reach, 1.08 * reach, _NX)
 
 
-def _curve(x, y, label, color, units_kdims, vdim, dash="solid", width=LINE, alpha=1.0):
-    return hv.Curve((x, y), kdims=[units_kdims], vdims=[vdim], label=label).opts(
-        color=color, line_dash=dash, line_width=width, alpha=alpha)
+def _step(result: core.CycleResult, frame: int | None) -> int:
+    """The step shown: ``frame`` within the run, or the last step."""
+    last = result.xc.size - 1
+    return last if frame is None else int(np.clip(frame, 0, last))
+
+
+class Inputs(NamedTuple):
+    """Everything the figures depend on."""
+
+    ft: float
+    w: float
+    units: Units
+    result: core.CycleResult | None = None
+    frame: int | None = None
+    table: object = None  # sweep table (pandas DataFrame) shown on the map
 
 
 # --------------------------------------------------------------------------
 # pressure
 # --------------------------------------------------------------------------
+def _pressure_specs(units: Units) -> list:
+    kd, vd = _dim("x", units.x_label), _dim("p", units.p_label)
+    return [
+        _line("centre, xc = 0", "#7f7f7f", kd, vd, dash="dashed", width=2),
+        _line("reversal xc = +W", "#1f77b4", kd, vd),
+        _line("reversal xc = −W", "#ff7f0e", kd, vd),
+        _line("μ p_min (over the cycle)", "black", kd, vd, width=LINE + 1),
+        _line("current step", "#d62728", kd, vd, dash="dotdash"),
+    ]
+
+
 @_memo
-def pressure_plot(w: float, units: Units) -> hv.Overlay:
+def pressure_curves(w: float, units: Units) -> tuple:
     """Hertz pressure at the centre and at the reversal points ``±W``, and μ times the lowest pressure.
 
     Parameters
@@ -152,45 +166,39 @@ def pressure_plot(w: float, units: Units) -> hv.Overlay:
     """
     x = _x_grid(w)
     X, P = x * units.x, units.p
-    kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("p", label=units.p_label)
-    return hv.Overlay([
-        _curve(X, P * core.hertz_pressure(x, 0.0), "centre, xc = 0", "#7f7f7f", kd, vd, dash="dashed", width=2),
-        _curve(X, P * core.hertz_pressure(x, w), "reversal xc = +W", "#1f77b4", kd, vd),
-        _curve(X, P * core.hertz_pressure(x, -w), "reversal xc = −W", "#ff7f0e", kd, vd),
-        _curve(X, P * units.mu * core.lowest_pressure(x, w), "μ p_min (over the cycle)", "black", kd, vd,
-               width=LINE + 1),
-    ])
+    return ((X, P * core.hertz_pressure(x, 0.0)), (X, P * core.hertz_pressure(x, w)),
+            (X, P * core.hertz_pressure(x, -w)), (X, P * units.mu * core.lowest_pressure(x, w)))
 
 
 @_memo
-def pressure_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Curve:
+def pressure_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> tuple:
     """Hertz pressure at the player's step (empty without a run)."""
-    kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("p", label=units.p_label)
-    data = ([], [])
-    if result is not None:
-        k = result.xc.size - 1 if frame is None else int(np.clip(frame, 0, result.xc.size - 1))
-        xc = float(result.xc[k])
-        x = np.linspace(xc - 1.0, xc + 1.0, 201)
-        data = (x * units.x, units.p * core.hertz_pressure(x, xc))
-    return _curve(*data, "current step", "#d62728", kd, vd, dash="dotdash")
+    if result is None:
+        return _EMPTY
+    xc = float(result.xc[_step(result, frame)])
+    x = np.linspace(xc - 1.0, xc + 1.0, 201)
+    return (x * units.x, units.p * core.hertz_pressure(x, xc))
+
+
+def _pressure_layers(i: Inputs) -> tuple:
+    return (*pressure_curves(i.w, i.units), pressure_step(i.units, i.result, i.frame))
 
 
 # --------------------------------------------------------------------------
 # traction
 # --------------------------------------------------------------------------
-def _zone_rectangles(x_edges, codes, ylim, scale, kdims):
-    """One Rectangles element per zone kind: contiguous runs of equal zone code."""
+def _zone_rectangles(x_edges, codes, ylim, scale) -> tuple:
+    """Rows (x0, y0, x1, y1) per zone kind: contiguous runs of equal zone code."""
     out = []
-    for name, code in _ZONE_CODES.items():
+    for code in _ZONE_CODES.values():
         mask = codes == code
         rects = []
         if mask.any():
             d = np.diff(np.concatenate([[0], mask.astype(int), [0]]))
             starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
             rects = [(x_edges[s] * scale, -ylim, x_edges[e] * scale, ylim) for s, e in zip(starts, ends)]
-        out.append(hv.Rectangles(rects, kdims=[*kdims, "x1", "y1"], label=f"zone: {name}").opts(
-            color=ZONE_COLORS[name], alpha=0.16, line_alpha=0))
-    return out
+        out.append(rects)
+    return tuple(out)
 
 
 def traction_zones(result: core.CycleResult, frame: int) -> np.ndarray:
@@ -207,32 +215,47 @@ def traction_zones(result: core.CycleResult, frame: int) -> np.ndarray:
     return np.where(s == 1, 1, np.where(s >= 2, 2, np.where(ever, 3, 0)))
 
 
+def _traction_specs(units: Units) -> list:
+    kd, vd = _dim("x", units.x_label), _dim("q", units.q_label)
+    zones = [Layer(hv.Rectangles, (kd, vd, "x1", "y1"), (), f"zone: {name}",
+                   dict(color=ZONE_COLORS[name], alpha=0.16, line_alpha=0)) for name in _ZONE_CODES]
+    return [
+        *zones,
+        _line("±μ p (this step)", "#555555", kd, vd, dash="dashed", width=2),
+        _line("", "#555555", kd, vd, dash="dashed", width=2),
+        _line("±μ p_min", "black", kd, vd, dash="dotted", width=2),
+        _line("", "black", kd, vd, dash="dotted", width=2),
+        _line("closure (paper, eqs 22–30)", "#9467bd", kd, vd, dash="dashed", width=LINE + 1),
+        _line("numerical", "#d62728", kd, vd),
+    ]
+
+
 @_memo
-def traction_closure(ft: float, w: float, units: Units) -> hv.Overlay:
-    """The paper's closure for the shaken-down traction (eqs 22–30) and the bounds ±μ p_min.
+def traction_bounds(w: float, units: Units) -> tuple:
+    """The bounds ±μ p_min of the shaken-down traction (they follow the w slider)."""
+    x = _x_grid(w)
+    low = units.q * core.lowest_pressure(x, w)
+    return ((x * units.x, low), (x * units.x, -low))
+
+
+@_memo
+def traction_closure(ft: float, w: float, units: Units) -> tuple:
+    """The paper's closure for the shaken-down traction (eqs 22–30); it follows the ft and w sliders.
 
     Parameters
     ----------
     ft, w : float
-        Current inputs (these layers follow a slider while it moves).
+        Current inputs.
     units : Units
         Display units.
     """
-    Q, X = units.q, units.x
-    kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("q", label=units.q_label)
     x = _x_grid(w)
-    low = Q * core.lowest_pressure(x, w)
-    return hv.Overlay([
-        _curve(x * X, low, "±μ p_min", "black", kd, vd, dash="dotted", width=2),
-        _curve(x * X, -low, "", "black", kd, vd, dash="dotted", width=2),
-        _curve(x * X, Q * core.shakedown_traction(x, ft, w), "closure (paper, eqs 22–30)", "#9467bd", kd, vd,
-               dash="dashed", width=LINE + 1),
-    ])
+    return (x * units.x, units.q * core.shakedown_traction(x, ft, w))
 
 
 @_memo
-def traction_run(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Overlay:
-    """Numerical traction at the player's step, its bounds ±μ p, and the zones shaded.
+def traction_run(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> tuple:
+    """Zones (stick, slip, zero traction), the bounds ±μ p and the numerical traction at the player's step.
 
     Parameters
     ----------
@@ -242,56 +265,26 @@ def traction_run(units: Units, result: core.CycleResult | None = None, frame: in
         The solver run (empty layers without one).
     frame : int, optional
         Step of ``result`` to show (default: the last).
+
+    Returns
+    -------
+    tuple
+        Three zone layers, the upper and lower bound, and the numerical traction,
+        drawn as stairs over the elements.
     """
     Q, X = units.q, units.x
-    kd, vd = hv.Dimension("x", label=units.x_label), hv.Dimension("q", label=units.q_label)
-    ylim = 1.15 * Q
-    if result is not None:
-        k = result.xc.size - 1 if frame is None else int(np.clip(frame, 0, result.xc.size - 1))
-        layers = _zone_rectangles(result.edges, traction_zones(result, k), ylim, X, [kd, vd])
-        xe = result.x * X
-        bound = result.pressure[k]
-        num = (xe, Q * result.traction[k])
-        upper, lower = (xe, Q * bound), (xe, -Q * bound)
-    else:
-        layers = _zone_rectangles(np.zeros(1), np.zeros(0), ylim, X, [kd, vd])
-        num = upper = lower = ([], [])
-    return hv.Overlay(layers + [
-        _curve(*upper, "±μ p (this step)", "#555555", kd, vd, dash="dashed", width=2),
-        _curve(*lower, "", "#555555", kd, vd, dash="dashed", width=2),
-        hv.Curve(num, kdims=[kd], vdims=[vd], label="numerical").opts(
-            color="#d62728", line_width=LINE, interpolation="steps-mid"),
-    ])
+    if result is None:
+        return (*_zone_rectangles(np.zeros(1), np.zeros(0), 1.15 * Q, X), _EMPTY, _EMPTY, _EMPTY)
+    k = _step(result, frame)
+    zones = _zone_rectangles(result.edges, traction_zones(result, k), 1.15 * Q, X)
+    xe, bound = result.x * X, Q * result.pressure[k]
+    stairs = (np.repeat(result.edges * X, 2)[1:-1], np.repeat(Q * result.traction[k], 2))
+    return (*zones, (xe, bound), (xe, -bound), stairs)
 
 
-def traction_plot(ft: float, w: float, units: Units, result: core.CycleResult | None = None,
-                  frame: int | None = None) -> hv.Overlay:
-    """The traction figure: zones and bounds of :func:`traction_run`, then :func:`traction_closure`, then the
-    numerical traction on top."""
-    *zones_and_bounds, numerical = list(traction_run(units, result, frame))
-    return style([*zones_and_bounds, traction_closure(ft, w, units), numerical], "traction")
-
-
-def pressure_figure(w: float, units: Units, result: core.CycleResult | None = None,
-                    frame: int | None = None) -> hv.Overlay:
-    """The pressure figure: :func:`pressure_plot` and :func:`pressure_step`."""
-    return style([pressure_plot(w, units), pressure_step(units, result, frame)], "pressure")
-
-
-def states_figure(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Overlay:
-    """The space-time map: :func:`state_map`, :func:`state_marks` and :func:`frame_marks`."""
-    return style([state_map(result, units), state_marks(result, units), frame_marks(result, frame)], "states")
-
-
-def displacement_figure(units: Units, result: core.CycleResult | None = None,
-                        frame: int | None = None) -> hv.Overlay:
-    """The displacement figure: :func:`displacement_plot` and :func:`displacement_step`."""
-    return style([displacement_plot(result, units), displacement_step(units, result, frame)], "displacement")
-
-
-def increments_figure(units: Units, result: core.CycleResult | None = None) -> hv.Overlay:
-    """The increment-per-period figure (:func:`increment_plot`)."""
-    return style([increment_plot(result, units)], "increments")
+def _traction_layers(i: Inputs) -> tuple:
+    *zones_and_bounds, numerical = traction_run(i.units, i.result, i.frame)
+    return (*zones_and_bounds, *traction_bounds(i.w, i.units), traction_closure(i.ft, i.w, i.units), numerical)
 
 
 # --------------------------------------------------------------------------
@@ -307,133 +300,150 @@ def time_axis(result: core.CycleResult) -> np.ndarray:
     return (np.arange(result.xc.size) + 1 - n_load) / m
 
 
-@_memo
-def state_map(result: core.CycleResult | None, units: Units) -> hv.Image:
-    """Element states over the run: released / stick / slip forward / slip backward, x against time."""
-    kd = [hv.Dimension("x", label=units.x_label), hv.Dimension("t", label="time [periods]")]
-    vd = hv.Dimension("state", range=(-0.5, 3.5))
-    if result is None:
-        img = hv.Image(np.zeros((2, 2)), bounds=(-1, 0, 1, 1), kdims=kd, vdims=[vd])
-    else:
-        t = time_axis(result)
-        stride = max(1, int(np.ceil(t.size / _MAX_ROWS)))
-        rows = result.state[::stride].astype(np.uint8)
-        dt = (t[1] - t[0]) if t.size > 1 else 1.0
-        y0, y1 = t[0] - dt, t[0] - dt + rows.shape[0] * stride * dt
-        e = result.edges * units.x
-        img = hv.Image(np.flipud(rows), bounds=(e[0], y0, e[-1], y1), kdims=kd, vdims=[vd])
+def _states_specs(units: Units) -> list:
+    kx, kt = _dim("x", units.x_label), _dim("t", "time [periods]")
     labels = {i: name for i, name in enumerate(core.STATE_NAMES)}
-    return img.opts(
+    image = Layer(hv.Image, (kx, kt), (hv.Dimension("state", range=(-0.5, 3.5)),), "", dict(
         cmap=list(STATE_COLORS), clim=(-0.5, 3.5), colorbar=True,
         colorbar_opts={"ticker": FixedTicker(ticks=[0, 1, 2, 3]), "major_label_overrides": labels,
-                       "title": "element state"})
+                       "title": "element state"}))
+
+    def vlines(label, color, dash):
+        return Layer(hv.VLines, (kx,), (), label, dict(color=color, line_dash=dash, line_width=LINE))
+    return [
+        image,
+        Layer(hv.Curve, (kx,), (kt,), "contact edges xc ± a", dict(color="black", line_width=2)),
+        Layer(hv.Curve, (kx,), (kt,), "", dict(color="black", line_width=2)),
+        vlines("±b = ±(a − W)", "#8c564b", "dashed"),
+        vlines("±c_sd numerical", "#b000b0", "solid"),
+        vlines("±c_sd closure", "#4b0082", "dotted"),
+        Layer(hv.HLines, (kt,), (), "player step", dict(color="#ffbf00", line_width=LINE + 1)),
+    ]
 
 
 @_memo
-def state_marks(result: core.CycleResult | None, units: Units) -> hv.Overlay:
-    """Marks of the state map: contact edges xc ± a, ±b = ±(a − W), ±c_sd (numerical and closure)."""
-    kd = [hv.Dimension("x", label=units.x_label), hv.Dimension("t", label="time [periods]")]
-    X = units.x
+def state_image(result: core.CycleResult | None, units: Units) -> tuple:
+    """Element states over the run (released / stick / slip forward / slip backward), x against time:
+    ``(array, bounds)`` of an image."""
     if result is None:
-        edges_l = edges_r = ([], [])
-        b = c_num = c_cl = np.nan
-    else:
-        t = time_axis(result)
-        a_now = np.sqrt(result.P)
-        edges_l, edges_r = ((result.xc - a_now) * X, t), ((result.xc + a_now) * X, t)
-        ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
-        b = (1.0 - w) * X
-        c_num = result.stick_halfwidth * X
-        c_cl = float(core.shakedown_stick_halfwidth(abs(ft), w)) * X
-    def vlines(v, label, color, dash):
-        xs = [] if not np.isfinite(v) else [-v, v]
-        return hv.VLines(xs, kdims=kd[:1], label=label).opts(color=color, line_dash=dash, line_width=LINE)
-    return hv.Overlay([
-        hv.Curve(edges_l, kdims=kd[:1], vdims=kd[1:], label="contact edges xc ± a").opts(
-            color="black", line_width=2),
-        hv.Curve(edges_r, kdims=kd[:1], vdims=kd[1:]).opts(color="black", line_width=2),
-        vlines(b, "±b = ±(a − W)", "#8c564b", "dashed"),
-        vlines(c_num, "±c_sd numerical", "#b000b0", "solid"),
-        vlines(c_cl, "±c_sd closure", "#4b0082", "dotted"),
-    ])
+        return np.zeros((2, 2)), (-1, 0, 1, 1)
+    t = time_axis(result)
+    stride = max(1, int(np.ceil(t.size / _MAX_ROWS)))
+    rows = result.state[::stride].astype(np.uint8)
+    dt = (t[1] - t[0]) if t.size > 1 else 1.0
+    y0, y1 = t[0] - dt, t[0] - dt + rows.shape[0] * stride * dt
+    e = result.edges * units.x
+    return np.flipud(rows), (e[0], y0, e[-1], y1)
 
 
 @_memo
-def frame_marks(result: core.CycleResult | None, frame: int | None) -> hv.HLines:
-    """A horizontal line at the player's step on the state map."""
-    ys = []
-    if result is not None and frame is not None:
-        ys = [float(time_axis(result)[int(np.clip(frame, 0, result.xc.size - 1))])]
-    return hv.HLines(ys, kdims=[hv.Dimension("t", label="time [periods]")], label="player step").opts(
-        color="#ffbf00", line_width=LINE + 1)
+def state_marks(result: core.CycleResult | None, units: Units) -> tuple:
+    """Marks of the state map: contact edges xc ± a, ±b = ±(a − W), ±c_sd (numerical and closure)."""
+    if result is None:
+        return _EMPTY, _EMPTY, [], [], []
+    X = units.x
+    t = time_axis(result)
+    a_now = np.sqrt(result.P)
+    ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
+    c_closure = float(core.shakedown_stick_halfwidth(abs(ft), w)) * X
+
+    def pair(v):
+        return [] if not np.isfinite(v) else [-v, v]
+    return (((result.xc - a_now) * X, t), ((result.xc + a_now) * X, t),
+            pair((1.0 - w) * X), pair(result.stick_halfwidth * X), pair(c_closure))
+
+
+@_memo
+def frame_marks(result: core.CycleResult | None, frame: int | None) -> list:
+    """The time of the player's step on the state map (a horizontal line)."""
+    if result is None or frame is None:
+        return []
+    return [float(time_axis(result)[_step(result, frame)])]
+
+
+def _states_layers(i: Inputs) -> tuple:
+    return (state_image(i.result, i.units), *state_marks(i.result, i.units), frame_marks(i.result, i.frame))
 
 
 # --------------------------------------------------------------------------
 # displacement
 # --------------------------------------------------------------------------
+def _displacement_specs(units: Units) -> list:
+    kd, vd = _dim("t", "time [periods]"), _dim("u", units.u_label)
+    return [
+        Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color="#d62728", line_width=LINE)),
+        Layer(hv.HLines, (vd,), (), "u_sd, eq 34 (paper's regression)",
+              dict(color="#9467bd", line_dash="dashed", line_width=2)),
+        Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color="#ffbf00", size=12, line_color="black")),
+    ]
+
+
 @_memo
-def displacement_plot(result: core.CycleResult | None, units: Units) -> hv.Overlay:
+def displacement_curves(result: core.CycleResult | None, units: Units) -> tuple:
     """Rigid-body displacement over time (the paper's Figs 6 and 7), with the paper's u_sd (eq 34)."""
-    kd = hv.Dimension("t", label="time [periods]")
-    vd = hv.Dimension("u", label=units.u_label)
-    curve = ([], [])
+    if result is None:
+        return _EMPTY, []
     usd = []
-    if result is not None:
-        curve = (time_axis(result), result.displacement * units.u)
-        ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
-        if result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w)):
-            usd = [float(approx.shakedown_displacement_approx(ft, w)) * result.u0 * units.u]
-    return hv.Overlay([
-        hv.Curve(curve, kdims=[kd], vdims=[vd], label="numerical").opts(color="#d62728", line_width=LINE),
-        hv.HLines(usd, kdims=[vd], label="u_sd, eq 34 (paper's regression)").opts(
-            color="#9467bd", line_dash="dashed", line_width=2),
-    ])
+    ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
+    if result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w)):
+        usd = [float(approx.shakedown_displacement_approx(ft, w)) * result.u0 * units.u]
+    return (time_axis(result), result.displacement * units.u), usd
 
 
 @_memo
-def displacement_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> hv.Scatter:
+def displacement_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> tuple:
     """The player's step on the displacement curve."""
-    kd = hv.Dimension("t", label="time [periods]")
-    vd = hv.Dimension("u", label=units.u_label)
-    pt = ([], [])
-    if result is not None and frame is not None:
-        k = int(np.clip(frame, 0, result.xc.size - 1))
-        pt = ([time_axis(result)[k]], [result.displacement[k] * units.u])
-    return hv.Scatter(pt, kdims=[kd], vdims=[vd], label="player step").opts(color="#ffbf00", size=12,
-                                                                            line_color="black")
+    if result is None or frame is None:
+        return _EMPTY
+    k = _step(result, frame)
+    return [time_axis(result)[k]], [result.displacement[k] * units.u]
+
+
+def _displacement_layers(i: Inputs) -> tuple:
+    return (*displacement_curves(i.result, i.units), displacement_step(i.units, i.result, i.frame))
+
+
+# --------------------------------------------------------------------------
+# increment per period
+# --------------------------------------------------------------------------
+def _increments_specs(units: Units) -> list:
+    kd = _dim("period", "period")
+    vd = _dim("du", f"|ΔU| per period [{units.u_label.split('[')[-1].rstrip(']')}]"
+              if "[" in units.u_label else "|Δu| per period [U0]")
+    return [
+        Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color="#d62728", line_width=2)),
+        Layer(hv.Scatter, (kd,), (vd,), "", dict(color="#d62728", size=9)),
+        Layer(hv.HLines, (vd,), (), "eq 38 (paper's regression)",
+              dict(color="#9467bd", line_dash="dashed", line_width=2)),
+    ]
 
 
 @_memo
-def increment_plot(result: core.CycleResult | None, units: Units) -> hv.Overlay:
-    """|Increment per period| on a log scale, with the paper's ratcheting regression (eq 38)."""
-    kd = hv.Dimension("period", label="period")
-    vd = hv.Dimension("du", label=f"|ΔU| per period [{units.u_label.split('[')[-1].rstrip(']')}]"
-                      if "[" in units.u_label else "|Δu| per period [U0]")
-    pts = ([], [])
+def increment_layers(result: core.CycleResult | None, units: Units) -> tuple:
+    """|Increment per period| (curve and markers, for a log scale), and the paper's ratcheting regression (eq 38)."""
+    if result is None:
+        return _EMPTY, _EMPTY, []
+    inc = np.abs(result.increment_per_period) * abs(units.u)
+    top = float(inc.max()) if inc.size and inc.max() > 0 else 1.0
+    pts = (np.arange(1, inc.size + 1), np.maximum(inc, top * 1e-12))
     eq38 = []
-    floor = 1e-12
-    if result is not None:
-        inc = np.abs(result.increment_per_period) * abs(units.u)
-        top = float(inc.max()) if inc.size and inc.max() > 0 else 1.0
-        floor = top * 1e-12
-        pts = (np.arange(1, inc.size + 1), np.maximum(inc, floor))
-        ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
-        if result.u0 and 0 <= ft < 1:
-            d = float(approx.ratchet_increment_approx(ft, w)) * result.u0 * abs(units.u)
-            if d > 0:
-                eq38 = [d]
-    return hv.Overlay([
-        hv.Curve(pts, kdims=[kd], vdims=[vd], label="numerical").opts(color="#d62728", line_width=2),
-        hv.Scatter(pts, kdims=[kd], vdims=[vd]).opts(color="#d62728", size=9),
-        hv.HLines(eq38, kdims=[vd], label="eq 38 (paper's regression)").opts(
-            color="#9467bd", line_dash="dashed", line_width=2),
-    ])
+    ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
+    if result.u0 and 0 <= ft < 1:
+        d = float(approx.ratchet_increment_approx(ft, w)) * result.u0 * abs(units.u)
+        if d > 0:
+            eq38 = [d]
+    return pts, pts, eq38
+
+
+def _increments_layers(i: Inputs) -> tuple:
+    return increment_layers(i.result, i.units)
 
 
 # --------------------------------------------------------------------------
 # the shakedown map
 # --------------------------------------------------------------------------
 _CSD_LEVELS = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
+_MAP_DIMS = (hv.Dimension("ft", label="ft = Ft / (μ Fn)"), hv.Dimension("w", label="w = W / a"))
 
 
 @lru_cache(maxsize=1)
@@ -451,7 +461,7 @@ def map_base() -> hv.Overlay:
         cmap="viridis", line_width=2, colorbar=True, show_legend=False,
         colorbar_opts={"title": "c_sd / a (closure)"})
     return hv.Overlay([
-        contours.opts(framewise=False),
+        contours,
         hv.Curve((ft, core.w_limit(ft)), kdims=kd[:1], vdims=kd[1:], label="eq 35 exact limit").opts(
             color="black", line_width=LINE + 1),
         hv.Curve((ft, approx.w_limit_regression(ft)), kdims=kd[:1], vdims=kd[1:],
@@ -459,7 +469,7 @@ def map_base() -> hv.Overlay:
                                                                        line_width=LINE),
         hv.Text(0.2, 0.25, "shakedown", fontsize=16).opts(color="#2ca02c"),
         hv.Text(0.8, 0.5, "ratcheting", fontsize=16).opts(color="#d62728"),
-    ]).opts(_FIXED_RANGES)
+    ])
 
 
 def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
@@ -479,44 +489,88 @@ def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
     return np.array(fts), np.array(ws)
 
 
-def map_numerical(table, label: str = "solver") -> hv.Overlay:
-    """Sweep results in the (ft, w) plane: each run coloured by its regime, and the grid's boundary."""
-    kd = [hv.Dimension("ft", label="ft = Ft / (μ Fn)"), hv.Dimension("w", label="w = W / a")]
-    layers = []
-    for regime, color in (("shakedown", "#2ca02c"), ("ratcheting", "#d62728")):
-        pts = ([], []) if table is None else (
-            table.loc[table["regime"] == regime, "ft"].to_numpy(float),
-            table.loc[table["regime"] == regime, "w"].to_numpy(float))
-        layers.append(hv.Points(pts, kdims=kd, label=f"{regime} ({label})").opts(
-            color=color, marker="square", size=5, alpha=0.35, line_alpha=0))
-    layers.append(hv.Curve(grid_boundary(table), kdims=kd[:1], vdims=kd[1:],
-                           label=f"numerical limit ({label})").opts(color="#1f77b4", line_width=LINE,
-                                                                    line_dash="dotdash"))
-    return hv.Overlay(layers)
+def _map_specs(label: str = "solver") -> list:
+    kd = _MAP_DIMS
+    return [
+        *[Layer(hv.Points, kd, (), f"{regime} ({label})",
+                dict(color=REGIME_COLORS[regime], marker="square", size=5, alpha=0.35, line_alpha=0))
+          for regime in ("shakedown", "ratcheting")],
+        Layer(hv.Curve, kd[:1], kd[1:], f"numerical limit ({label})",
+              dict(color="#1f77b4", line_width=LINE, line_dash="dotdash")),
+        *map_base(),
+        Layer(hv.Points, kd, (), "current point", dict(size=18, marker="circle", line_color="black", line_width=2)),
+    ]
 
 
-def map_point(ft: float, w: float, regime: str | None = None) -> hv.Points:
-    """The current (ft, w), coloured by the numerical regime when known."""
-    kd = [hv.Dimension("ft", label="ft = Ft / (μ Fn)"), hv.Dimension("w", label="w = W / a")]
-    color = {"shakedown": "#2ca02c", "ratcheting": "#d62728"}.get(regime, "#7f7f7f")
-    return hv.Points([(ft, w)], kdims=kd, label="current point").opts(
-        color=color, size=18, marker="circle", line_color="black", line_width=2)
-
-
-#: The map's axes are fixed: its layers need no range recomputation on update.
-_FIXED_RANGES = [getattr(hv.opts, name)(framewise=False) for name in ("Curve", "Points", "Contours", "Text")]
 _NUMERICAL_MEMO: list = [None, None]  # (table, its layers): the map's numerical layers for the last table
 
 
-def map_figure(table, ft: float, w: float, regime: str | None = None) -> hv.Overlay:
-    """The shakedown map: numerical runs (:func:`map_numerical`), :func:`map_base` and :func:`map_point`."""
+def map_numerical(table) -> tuple:
+    """Sweep results in the (ft, w) plane: the runs that shook down, those that ratcheted, and the grid's
+    boundary between them (:func:`grid_boundary`)."""
     table_seen, layers = _NUMERICAL_MEMO
-    if table_seen is not table or layers is None:
-        layers = map_numerical(table).opts(_FIXED_RANGES)
-        _NUMERICAL_MEMO[:] = [table, layers]
-    return style([layers, map_base(), _point(ft, w, regime)], "map")
+    if table_seen is table and layers is not None:
+        return layers
+    runs = [_EMPTY if table is None else tuple(table.loc[table["regime"] == regime, c].to_numpy(float)
+                                              for c in ("ft", "w"))
+            for regime in ("shakedown", "ratcheting")]
+    layers = (*runs, grid_boundary(table))
+    _NUMERICAL_MEMO[:] = [table, layers]
+    return layers
 
 
 @_memo
-def _point(ft, w, regime):
-    return map_point(ft, w, regime).opts(framewise=False)
+def map_point(ft: float, w: float, regime: str | None = None) -> Styled:
+    """The current (ft, w), coloured by the numerical regime when known."""
+    return Styled(([ft], [w]), {"fill_color": REGIME_COLORS.get(regime, REGIME_COLORS[None])})
+
+
+def _map_layers(i: Inputs) -> tuple:
+    regime = None if i.result is None else i.result.regime
+    return (*map_numerical(i.table), *[None] * len(map_base()), map_point(i.ft, i.w, regime))
+
+
+# --------------------------------------------------------------------------
+# the figures
+# --------------------------------------------------------------------------
+#: Each figure: its title and options, its layers' looks (a function of the units), its layers' data (a function
+#: of :class:`Inputs`), and the inputs these depend on.
+FIGURES = {
+    "pressure": dict(opts=dict(title="Pressure (Hertz, uncoupled)"), specs=_pressure_specs,
+                     layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
+    "traction": dict(opts=dict(title="Traction: numerical vs closure"), specs=_traction_specs,
+                     layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame")),
+    "states": dict(opts=dict(title="Element states over the run"), specs=_states_specs,
+                   layers=_states_layers, inputs=("units", "result", "frame")),
+    "displacement": dict(opts=dict(title="Displacement of the cylinder"), specs=_displacement_specs,
+                         layers=_displacement_layers, inputs=("units", "result", "frame")),
+    "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True), specs=_increments_specs,
+                       layers=_increments_layers, inputs=("units", "result")),
+    "map": dict(opts=dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
+                specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table")),
+}
+
+
+def group(name: str) -> str:
+    """The HoloViews overlay group of figure ``name`` (it carries the figure's title and options)."""
+    return name.capitalize()
+
+
+hv.opts.defaults(*[hv.opts.Overlay(group(name), legend_position="bottom", legend_cols=2, **_BASE, **f["opts"])
+                   for name, f in FIGURES.items()])
+
+
+@functools.lru_cache(maxsize=32)
+def specs(name: str, units: Units) -> list:
+    """How the layers of figure ``name`` are drawn in ``units`` (read-only, shared)."""
+    return FIGURES[name]["specs"](units)
+
+
+def layers(name: str, inputs: Inputs) -> tuple:
+    """The data of each layer of figure ``name``."""
+    return FIGURES[name]["layers"](inputs)
+
+
+def figure(name: str, inputs: Inputs) -> hv.Overlay:
+    """Figure ``name`` as a HoloViews overlay (for a notebook, an export, or the first render)."""
+    return overlay(specs(name, inputs.units), layers(name, inputs), group(name))

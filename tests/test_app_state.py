@@ -2,16 +2,19 @@
 
 import io
 import math
+import re
 
 import holoviews as hv
 import numpy as np
 import pandas as pd
 import param
 import pytest
+from bokeh.model import Model
 
 import core
 from app import plots
 from app.explorer import Explorer
+from app.live import LiveFigure
 from app.runs import Generation, ResultCache, result_nbytes
 from app.state import PRESETS, URL_PARAMETERS, ExplorerState, parse_query
 
@@ -181,19 +184,81 @@ def _layers(overlay):
     return [type(e).__name__ for e in overlay]
 
 
+def _run_inputs(ex, result=None, frame=None, ft=0.3, w=0.5, table=None):
+    u = plots.make_units("normalised", ex.contact, "strip", ex.result.u0)
+    return plots.Inputs(ft, w, u, result, frame, table)
+
+
 def test_figures_keep_their_structure_with_and_without_a_run():
     ex = Explorer(ExplorerState(periods=2))
     r = ex.result
-    u = plots.make_units("normalised", ex.contact, "strip", r.u0)
-    assert _layers(plots.traction_run(u)) == _layers(plots.traction_run(u, r, 5))
-    assert _layers(plots.traction_plot(0.3, 0.5, u)) == _layers(plots.traction_plot(0.3, 0.5, u, r, 5))
-    assert _layers(plots.displacement_plot(None, u)) == _layers(plots.displacement_plot(r, u))
-    assert len(plots.displacement_step(u, r, 3)) == 1 and len(plots.displacement_step(u)) == 0
-    assert _layers(plots.increment_plot(None, u)) == _layers(plots.increment_plot(r, u))
-    assert _layers(plots.state_marks(None, u)) == _layers(plots.state_marks(r, u))
-    assert len(plots.pressure_step(u, r, 7)) == 201 and len(plots.pressure_step(u)) == 0
+    empty, run = _run_inputs(ex), _run_inputs(ex, r, 5, table=ex.map_table)
+    for name in plots.FIGURES:
+        assert _layers(plots.figure(name, empty)) == _layers(plots.figure(name, run)), name
+        assert len(plots.layers(name, run)) == len(plots.specs(name, run.units)), name
+    u = run.units
+    assert len(plots.displacement_step(u, r, 3)[0]) == 1 and len(plots.displacement_step(u)[0]) == 0
+    assert len(plots.pressure_step(u, r, 7)[0]) == 201 and len(plots.pressure_step(u)[0]) == 0
+    # the numerical traction is drawn as stairs over the elements
+    xs, qs = plots.traction_run(u, r, 5)[-1]
+    assert xs.size == qs.size == 2 * (r.edges.size - 1) and xs[0] == r.edges[0] and xs[-1] == r.edges[-1]
     # above the limit the closure is empty (NaN), the rest still draws
-    hv.render(plots.traction_plot(0.9, 0.9, u, r), backend="bokeh")
+    hv.render(plots.figure("traction", _run_inputs(ex, r, ft=0.9, w=0.9)), backend="bokeh")
+
+
+def _glyph_props(glyph):
+    """A glyph's properties, without the ids of the models they refer to."""
+    return {k: re.sub(r"id='p\d+'", "", repr(v)) for k, v in glyph.properties_with_values().items()
+            if not isinstance(v, Model)}
+
+
+def test_live_figures_show_what_a_fresh_render_shows():
+    """Updating a live figure in place (only the changed layers' data) gives the data and glyphs of a fresh
+    HoloViews render of the same inputs, through runs, player steps, regimes and the map."""
+    ex = Explorer(ExplorerState(periods=3))
+    r1 = ex.result
+    r2 = core.simulate_contact(ex.contact.replace(ft=0.6), **ex.state.solver_options())  # ratchets
+    steps = [_run_inputs(ex), _run_inputs(ex, r1, None, table=ex.map_table),
+             _run_inputs(ex, r2, 50, ft=0.35, w=0.6, table=ex.map_table), _run_inputs(ex, r2, 51, ft=0.35, w=0.6),
+             _run_inputs(ex, r1, 3, ft=0.9, w=0.9)]
+    live = {name: LiveFigure(plots.specs(name, steps[0].units), plots.layers(name, steps[0]), plots.group(name))
+            for name in plots.FIGURES}
+    for inputs in steps:
+        for name, fig in live.items():
+            assert not fig.update(plots.specs(name, inputs.units), plots.layers(name, inputs))
+            fresh = hv.renderer("bokeh").get_plot(plots.figure(name, inputs))
+            for i, (mine, ref) in enumerate(zip(fig._subplots, fresh.subplots.values())):
+                a, b = mine.handles["source"].data, ref.handles["source"].data
+                assert a.keys() == b.keys(), (name, i)
+                for col in a:
+                    assert repr(np.asarray(a[col], dtype=object)) == repr(np.asarray(b[col], dtype=object)), \
+                        (name, i, col)
+                assert _glyph_props(mine.handles["glyph"]) == _glyph_props(ref.handles["glyph"]), (name, i)
+
+
+def test_live_figure_is_rebuilt_for_new_axis_labels_only():
+    ex = Explorer()
+    inputs = _run_inputs(ex, ex.result)
+    fig = LiveFigure(plots.specs("traction", inputs.units), plots.layers("traction", inputs), "Traction")
+    first = fig.figure
+    assert not fig.update(plots.specs("traction", inputs.units), plots.layers("traction", inputs._replace(ft=0.2)))
+    assert fig.figure is first
+    physical = inputs._replace(units=plots.make_units("physical", ex.contact, "strip", ex.result.u0))
+    assert fig.update(plots.specs("traction", physical.units), plots.layers("traction", physical))
+    assert fig.figure is not first and fig.figure.xaxis[0].axis_label == "x [mm]"
+
+
+def test_explorer_pushes_only_what_changed():
+    """Moving ft replaces the closure and the map point, and nothing of the run."""
+    ex = Explorer()
+    ex.main_area()
+    before = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
+    ex.ft_live = 0.25
+    after = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
+    changed = {name: [i for i, (a, b) in enumerate(zip(before[name], after[name])) if a is not b] for name in before}
+    n_traction = len(before["traction"])
+    assert changed == {"pressure": [], "traction": [n_traction - 2], "states": [], "displacement": [],
+                       "increments": [], "map": [len(before["map"]) - 1]}
 
 
 def test_physical_units_scale_from_the_contact():
@@ -230,7 +295,7 @@ def test_the_shipped_map_shows_and_a_new_one_can_be_computed():
     ex.compute_map()
     assert len(ex.map_table) == 9 and ex.map_label.startswith("computed 3×3, plane kernel")
     assert not ex.map_running and "9 runs" in ex.map_status
-    hv.render(plots.map_numerical(ex.map_table), backend="bokeh")
+    hv.render(plots.figure("map", _run_inputs(ex, ex.result, table=ex.map_table)), backend="bokeh")
 
 
 def test_map_uses_the_current_strip_run_options():

@@ -1,0 +1,150 @@
+"""Live figures: a Bokeh figure rendered once by HoloViews, then updated by replacing its layers' data.
+
+Re-rendering a HoloViews overlay on every change rebuilds every element,
+recomputes its ranges, restyles every glyph and axis and sends all of it to the
+browser (about 35 ms a figure on the server, more in the browser). A
+:class:`LiveFigure` renders the overlay once, keeps the Bokeh figure, and on
+:meth:`LiveFigure.update` writes only the layers whose data changed (by
+identity: the layer functions of :mod:`app.plots` are memoised, so an
+unchanged layer is the same object) into their ``ColumnDataSource``, one
+``data`` assignment each. Lines and markers are written directly (their
+columns are the element's dimensions); other layers go through their
+HoloViews plot's own ``get_data``, so the result equals a fresh render.
+
+Axes that follow the data are ``DataRange1d``: the browser fits them to the new
+data and, once the user zooms or pans, keeps the user's view until *reset*.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import holoviews as hv
+import numpy as np
+from bokeh.models import DataRange1d
+
+__all__ = ["Layer", "Styled", "overlay", "LiveFigure"]
+
+#: Elements whose layer data are their columns, in dimension order (written without HoloViews).
+_COLUMNAR = (hv.Curve, hv.Scatter, hv.Points)
+
+
+class Styled(NamedTuple):
+    """Layer data with glyph properties that change with it (e.g. a colour that encodes a regime)."""
+
+    data: object
+    glyph: dict
+
+
+@dataclass(frozen=True, eq=False)
+class Layer:
+    """How one layer of a figure is drawn: element type, dimensions (with units), legend label, style.
+
+    Layer data by element type: ``Curve``, ``Scatter``, ``Points``: a tuple of
+    columns ``(x, y)``; ``Rectangles``: rows ``(x0, y0, x1, y1)``; ``HLines``,
+    ``VLines``: positions; ``Image``: ``(array, bounds)``; or a :class:`Styled`
+    of these.
+    """
+
+    kind: type
+    kdims: tuple
+    vdims: tuple = ()
+    label: str = ""
+    opts: dict = field(default_factory=dict)
+
+    def element(self, data) -> hv.Element:
+        """The HoloViews element of this layer showing ``data``."""
+        opts = self.opts
+        if isinstance(data, Styled):
+            data, opts = data.data, {**opts, **data.glyph}
+        kw = dict(kdims=list(self.kdims), vdims=list(self.vdims), label=self.label)
+        if self.kind is hv.Image:
+            array, bounds = data
+            return hv.Image(array, bounds=bounds, **kw).opts(**opts)
+        return self.kind(data, **kw).opts(**opts)
+
+    @property
+    def labels(self) -> tuple:
+        return tuple(getattr(d, "pprint_label", d) for d in (*self.kdims, *self.vdims))
+
+
+def overlay(specs, data, group: str) -> hv.Overlay:
+    """The overlay of layers ``specs`` showing ``data``; a spec that is a HoloViews element is static."""
+    return hv.Overlay([s.element(d) if isinstance(s, Layer) else s for s, d in zip(specs, data)], group=group)
+
+
+def _labels(specs) -> tuple:
+    return tuple(s.labels if isinstance(s, Layer) else None for s in specs)
+
+
+class LiveFigure:
+    """A Bokeh figure over a list of layers, updated in place.
+
+    Parameters
+    ----------
+    specs : list of Layer or hv.Element
+        The figure's layers (an element is a static layer).
+    data : sequence
+        The data of each layer.
+    group : str
+        HoloViews group of the overlay (it carries the figure's title and options).
+    padding : tuple of float or None
+        Range padding (x, y) of axes fitted to the data in the browser, as a
+        fraction of the data's span; None keeps the overlay's own fixed ranges.
+    """
+
+    def __init__(self, specs, data, group: str, padding: tuple[float, float] | None = (0.0, 0.1)):
+        self.group, self.padding = group, padding
+        self._build(specs, data)
+
+    def _build(self, specs, data) -> None:
+        plot = hv.renderer("bokeh").get_plot(overlay(specs, data, self.group))
+        self._specs, self._labels, self._data = specs, _labels(specs), list(data)
+        self._subplots = list(plot.subplots.values())  # in the overlay's order
+        if len(self._subplots) != len(specs):  # pragma: no cover - a HoloViews change
+            raise RuntimeError(f"{len(specs)} layers but {len(self._subplots)} subplots")
+        self.plot, self.figure = plot, plot.state
+        if self.padding is not None:
+            px, py = self.padding
+            self.figure.x_range = DataRange1d(range_padding=px)
+            self.figure.y_range = DataRange1d(range_padding=py)
+
+    def update(self, specs, data) -> bool:
+        """Show ``data``: replace the data of the layers that changed.
+
+        Returns
+        -------
+        bool
+            True if the figure had to be rebuilt (``specs`` with other axis
+            labels, e.g. another unit system): :attr:`figure` is then a new
+            Bokeh model to show.
+        """
+        if specs is not self._specs and _labels(specs) != self._labels:
+            self._build(specs, data)
+            return True
+        self._specs = specs
+        for i, new in enumerate(data):
+            if new is self._data[i]:
+                continue
+            self._write(i, specs[i], new)
+            self._data[i] = new
+        return False
+
+    def _write(self, i, spec, new) -> None:
+        sub = self._subplots[i]
+        glyph = {}
+        if isinstance(new, Styled):
+            new, glyph = new.data, new.glyph
+        if spec.kind in _COLUMNAR:
+            names = [d.name if isinstance(d, hv.Dimension) else d for d in (*spec.kdims, *spec.vdims)]
+            data = {n: np.asarray(c) for n, c in zip(names, new)}
+        else:
+            data, _, _ = sub.get_data(spec.element(new), sub.current_ranges or {}, sub.style[sub.cyclic_index])
+        if glyph:
+            sub.handles["glyph"].update(**glyph)
+        sub.handles["source"].data = data
+
+    def sources(self) -> list:
+        """The ``ColumnDataSource`` of each layer, in order."""
+        return [sub.handles["source"] for sub in self._subplots]
