@@ -17,9 +17,17 @@ import time
 import urllib.request
 from pathlib import Path
 
-__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "wait_until", "free_port", "served_app", "chromium"]
+__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "wait_until", "free_port", "served_app",
+           "chromium"]
 
 ROOT = Path(__file__).resolve().parent.parent
+#: The ``panel serve`` options the app is served with, here, in the README and in the Dockerfile
+#: (tests/test_dockerfile.py keeps them in step). ``--liveness`` gives /liveness for health checks.
+#: A session whose page is built but whose websocket has not connected yet is kept for 120 s, not
+#: Bokeh's default 15 s: under a class's load pages take longer than 15 s, and a discarded session
+#: is built a second time, without its stylesheet paths, so the page fetched Panel's CSS from the
+#: public CDN (benchmarks/loadtest.py saw it in 2 to 4 sessions of 10).
+SERVE_OPTIONS = ("--liveness", "--unused-session-lifetime", "120000")
 #: Debian's Chromium (Playwright drives it; no browser download needed).
 CHROMIUM = os.environ.get("SHAKEDOWN_CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -79,7 +87,7 @@ def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None 
     """
     port = port or free_port()
     cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / "app" / "main.py"), "--port", str(port),
-           "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness",
+           "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", *SERVE_OPTIONS,
            *map(str, extra_args)]
     if log_path is not None:
         log = open(log_path, "w")

@@ -37,3 +37,15 @@ def test_serves_on_all_interfaces_with_liveness(text):
     cmd = json.loads(re.search(r"^CMD (\[.*\])$", text, re.M).group(1))  # JSON (exec) form
     assert cmd[:3] == ["panel", "serve", "app/main.py"]
     assert "0.0.0.0" in cmd and "--liveness" in cmd and "5006" in cmd
+
+
+def test_readme_dockerfile_and_tests_serve_with_the_same_options(text):
+    """The options the tests and the load test serve with are those users get (README, Docker)."""
+    from app.serving import SERVE_OPTIONS
+
+    cmd = json.loads(re.search(r"^CMD (\[.*\])$", text, re.M).group(1))
+    readme = (DOCKERFILE.parent / "README.md").read_text(encoding="utf-8")
+    run_line = next(line for line in readme.splitlines() if "panel serve app/main.py" in line)
+    for option in SERVE_OPTIONS:
+        assert option in cmd, f"Dockerfile CMD lacks {option}"
+        assert option in run_line.split(), f"README run command lacks {option}"
