@@ -230,6 +230,8 @@ def parse_query(query: str | Mapping[str, object]) -> tuple[dict, list[str], lis
             ignored.append(str(key)[:MAX_QUERY_VALUE_LENGTH])
             continue
         values = [v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v) for v in raw]
+        if not values:  # a key with no value at all (possible in a mapping): as if absent
+            continue
         p = ExplorerState.param[key]
         try:
             if len(set(values)) > 1:
