@@ -17,6 +17,7 @@ import math
 import re
 import threading
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 import panel as pn
@@ -60,6 +61,25 @@ def _fmt(v, unit="", digits=4) -> str:
 def _shipped_map():
     """The numerical map shipped with core (read once, shared read-only by all sessions)."""
     return core.load_default_map()
+
+
+class _Prompt:
+    """Mixin: the widget's value changes reach the explorer at once. Panel waits 50 ms for more changes
+    by default (half the latency budget of a slider move); the figures' updates are cheap enough not to."""
+
+    _priority_changes: ClassVar[list[str]] = ["value", "value_throttled"]
+
+
+class FloatSlider(_Prompt, pn.widgets.FloatSlider):
+    pass
+
+
+class IntSlider(_Prompt, pn.widgets.IntSlider):
+    pass
+
+
+class Player(_Prompt, pn.widgets.Player):
+    pass
 
 
 #: The explorer parameter behind each input of the figures (:class:`app.plots.Inputs`).
@@ -127,9 +147,9 @@ class Explorer(pn.viewable.Viewer):
     def _build_widgets(self):
         s = self.state
         slider = dict(sizing_mode="stretch_width", throttled=True)
-        self.ft_slider = pn.widgets.FloatSlider.from_param(s.param.ft, **slider)
-        self.w_slider = pn.widgets.FloatSlider.from_param(s.param.w, **slider)
-        self.mu_slider = pn.widgets.FloatSlider.from_param(s.param.mu, **slider)
+        self.ft_slider = FloatSlider.from_param(s.param.ft, **slider)
+        self.w_slider = FloatSlider.from_param(s.param.w, **slider)
+        self.mu_slider = FloatSlider.from_param(s.param.mu, **slider)
         self.units_toggle = pn.widgets.RadioButtonGroup.from_param(s.param.units, color="primary",
                                                                    sizing_mode="stretch_width")
         self.preset = pn.widgets.Select(label="Preset", options=["(custom)", *PRESETS], value="(custom)",
@@ -145,8 +165,8 @@ class Explorer(pn.viewable.Viewer):
             w.disabled = s.rigid
         s.param.watch(lambda e: [setattr(w, "disabled", e.new) for w in self.cylinder_inputs], "rigid")
         self.solver_inputs = [
-            pn.widgets.IntSlider.from_param(s.param.periods, **slider),
-            pn.widgets.IntSlider.from_param(s.param.resolution, **slider),
+            IntSlider.from_param(s.param.periods, **slider),
+            IntSlider.from_param(s.param.resolution, **slider),
             pn.widgets.RadioButtonGroup.from_param(s.param.kernel, sizing_mode="stretch_width"),
             pn.widgets.RadioButtonGroup.from_param(s.param.schedule, sizing_mode="stretch_width"),
         ]
@@ -154,8 +174,8 @@ class Explorer(pn.viewable.Viewer):
                                                     css_classes=["solve-spinner"])
         self.status = pn.pane.HTML("", css_classes=["solve-status"], margin=(8, 4))
         # the cycle player: a period, then the steps of that period
-        self.period_slider = pn.widgets.IntSlider(label="Period", start=0, end=1, value=0, width=260)
-        self.player = pn.widgets.Player(label="Step in the period", start=0, end=1, value=0, interval=150,
+        self.period_slider = IntSlider(label="Period", start=0, end=1, value=0, width=260)
+        self.player = Player(label="Step in the period", start=0, end=1, value=0, interval=150,
                                         loop_policy="loop", width=430, show_loop_controls=False,
                                         css_classes=["cycle-player"])
         self.period_slider.param.watch(self._update_frame, "value")
@@ -173,7 +193,7 @@ class Explorer(pn.viewable.Viewer):
         self.csv_table.param.watch(lambda e: setattr(self.csv_download, "filename", f"shakedown_{e.new}.csv"),
                                    "value")
         # the numerical map
-        self.map_points = pn.widgets.IntSlider(label="Map grid (points per axis)", start=3,
+        self.map_points = IntSlider(label="Map grid (points per axis)", start=3,
                                                end=runs.MAP_MAX_POINTS, value=min(12, runs.MAP_MAX_POINTS),
                                                sizing_mode="stretch_width")
         self.map_button = pn.widgets.Button(label="Compute the numerical map", color="primary",
@@ -505,10 +525,10 @@ class Explorer(pn.viewable.Viewer):
         """The badge, cards, player and figures, without the sidebar (for notebooks)."""
         live = dict(ft=self.param.ft_live, w=self.param.w_live)
         badge = pn.pane.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error),
-                             css_classes=["regime"], margin=(6, 10), min_width=300, stylesheets=[_CSS])
+                             css_classes=["regime"], margin=(6, 10), min_width=300, height=120, stylesheets=[_CSS])
         cards = pn.pane.HTML(pn.bind(self._cards, **live, mu=self.mu_slider.param.value,
                                      contact=self.param.contact, result=self.param.result),
-                             css_classes=["summary-cards"], margin=(0, 10), stylesheets=[_CSS])
+                             css_classes=["summary-cards"], margin=(0, 10), height=180, stylesheets=[_CSS])
         model_warnings = pn.bind(self._warnings, **live, contact=self.param.contact, result=self.param.result)
         warnings = pn.pane.Alert(pn.bind(lambda m: "\n".join(f"- {html.escape(x)}" for x in m), model_warnings),
                                  visible=pn.bind(bool, model_warnings), alert_type="warning",
