@@ -340,15 +340,15 @@ class Explorer(pn.viewable.Viewer):
 
     # ------------------------------------------------------------------ the numerical map
     def _map_options(self) -> dict:
-        """Solver options of a map sweep: the current solver settings (strip: the current run's L/a and nu)."""
+        """Solver options of a map sweep: the current solver settings; the strip kernel's L/a and ν are the current
+        contact's (:func:`core.strip_options`), whatever run is shown."""
         opts = dict(periods=self.state.periods, dx=self.state.dx, kernel=self.state.kernel,
                     shape=self.state.schedule)
         if opts["kernel"] == "strip":
-            r = self.result
-            if r is None or r.kernel != "strip":
+            if self.contact is None:  # invalid geometry: no strip to take L/a from
                 opts["kernel"] = "plane"
             else:
-                opts.update(L_over_a=r.params["L_over_a"], nu=r.params["nu"])
+                opts.update(core.strip_options(self.contact))
         return opts
 
     def compute_map(self) -> None:

@@ -298,7 +298,10 @@ def test_the_shipped_map_shows_and_a_new_one_can_be_computed():
     hv.render(plots.figure("map", _run_inputs(ex, ex.result, table=ex.map_table)), backend="bokeh")
 
 
-def test_map_uses_the_current_strip_run_options():
+def test_map_uses_the_current_strip_options():
     ex = Explorer(ExplorerState(periods=2))
     opts = ex._map_options()
     assert opts["kernel"] == "strip" and opts["L_over_a"] == pytest.approx(ex.contact.L / ex.contact.a)
+    assert opts["nu"] == core.strip_options(ex.contact)["nu"]
+    ex.state.L = 1.0  # invalid geometry: the map falls back to plane strain
+    assert ex.contact is None and ex._map_options()["kernel"] == "plane"
