@@ -4,7 +4,9 @@
 Analytical layers follow the sliders while they move (bound to the widgets'
 ``value``); the solver runs when a slider is released (the state is linked to
 ``value_throttled``), in a bounded worker pool, with a loading indicator; a
-result that arrives for stale inputs is dropped.
+result that arrives for stale inputs is dropped. The figures are rendered once
+and updated in place (:class:`~app.live.LiveFigure`): a change sends the browser
+only the arrays of the layers that depend on it, in one held document patch.
 """
 
 from __future__ import annotations

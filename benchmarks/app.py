@@ -12,12 +12,14 @@ app/main.py --liveness`` on loopback, both on this machine):
   does, no release) on the Bokeh model, then poll every millisecond until the
   traction figure's data sources are replaced by the server's update (the
   closure curve follows ft); ``performance.now()`` before and after. This is
-  the full round trip: browser -> server callback -> HoloViews -> Bokeh patch
+  the full round trip: browser -> server callback -> layer data -> Bokeh patch
   -> browser. Drawing happens on the next animation frame (<= 16 ms more).
 * numerical re-solve: set ``value`` and ``value_throttled`` (a release) to an
   ft never solved before (no cache hit), and wait the same way for the
   displacement figure's data: solve + render + round trip. The solver's own
   time for the same run (``CycleResult.runtime``) is printed beside it.
+* player step: set the cycle player's step and wait the same way for the
+  traction figure's data (pressure, zones, state map and displacement follow).
 
 Targets (issue 4): first load < 3 s, analytical < 100 ms, re-solve < 300 ms.
 """
@@ -39,12 +41,15 @@ from app.state import ExplorerState  # noqa: E402
 BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
 FT_TITLE = "ft = Ft/(μ Fn)"
 
-# set the ft slider, then wait until a figure's data sources are replaced; returns elapsed ms
+PLAYER = "player"  # in place of a slider title: the cycle player
+
+# set the ft slider (or the player), then wait until a figure's data sources are replaced; returns elapsed ms
 _ROUND_TRIP = """
 async ([title, figTitle, value, release]) => {
   const models = () => { const out = []; for (const d of Bokeh.documents) for (const m of d.all_models) out.push(m); return out; };
   const all = models();
-  const slider = all.find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
+  const slider = title === 'player' ? all.find((m) => 'loop_policy' in m && 'interval' in m)
+    : all.find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
   const fig = all.find((m) => m.title != null && m.title.text === figTitle);
   const sources = () => fig.renderers.map((r) => r.data_source).filter((s) => s != null);
   const before = sources().map((s) => s.data);
@@ -96,6 +101,8 @@ def main(argv=None) -> int:
                                                   0.2 + 0.01 * (i % 20), False]) for i in range(n)]
         fts = [0.2013 + 0.0107 * i for i in range(n)]  # never solved before: no cache hits
         resolve = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Displacement of the cylinder", ft, True]) for ft in fts]
+        steps = [page.evaluate(_ROUND_TRIP, [PLAYER, "Traction: numerical vs closure", i % 40, False])
+                 for i in range(1, n + 1)]
         page.close()
     state = ExplorerState()
     c = state.contact()
@@ -109,6 +116,7 @@ def main(argv=None) -> int:
     print(f"numerical re-solve -> plot data (default) : {_stats(resolve)}   target < 300 ms")
     print(f"  of which the solver alone (same runs)   : {_stats(solver)}")
     print(f"  default run: {state.resolution} elements per a, {state.periods} periods, kernel {state.kernel}")
+    print(f"player step -> traction data              : {_stats(steps)}   (the player steps every 150 ms)")
     return 0
 
 
