@@ -261,6 +261,18 @@ def test_explorer_pushes_only_what_changed():
                        "increments": [], "map": [len(before["map"]) - 1]}
 
 
+def test_a_unit_switch_shows_new_figures_with_new_labels():
+    ex = Explorer()
+    panes = ex.figures()
+    old = {name: pane.object for name, pane in panes.items()}
+    ex.state.units = "physical"
+    for name in ("pressure", "traction", "states"):
+        assert panes[name].object is not old[name] and panes[name].object.xaxis[0].axis_label == "x [mm]", name
+    assert panes["map"].object is old["map"]  # the map has no units
+    ex.ft_live = 0.2  # and the new figures update in place
+    assert panes["traction"].object is ex._live["traction"].figure
+
+
 def test_physical_units_scale_from_the_contact():
     c = ExplorerState().contact()
     u = plots.make_units("physical", c, "strip", 5.0)
