@@ -7,9 +7,10 @@ browser (about 35 ms a figure on the server, more in the browser). A
 :meth:`LiveFigure.update` writes only the layers whose data changed (by
 identity: the layer functions of :mod:`app.plots` are memoised, so an
 unchanged layer is the same object) into their ``ColumnDataSource``, one
-``data`` assignment each. Lines and markers are written directly (their
-columns are the element's dimensions); other layers go through their
-HoloViews plot's own ``get_data``, so the result equals a fresh render.
+``data`` assignment each. Lines, markers, spans and rectangles are written
+directly (their columns are the element's dimensions); images go through
+their HoloViews plot's own ``get_data``. A test checks that the result equals
+a fresh render.
 
 Axes that follow the data are ``DataRange1d``: the browser fits them to the new
 data and, once the user zooms or pans, keeps the user's view until *reset*.
@@ -26,8 +27,18 @@ from bokeh.models import DataRange1d
 
 __all__ = ["Layer", "Styled", "overlay", "LiveFigure"]
 
-#: Elements whose layer data are their columns, in dimension order (written without HoloViews).
-_COLUMNAR = (hv.Curve, hv.Scatter, hv.Points)
+def _columns(spec: Layer, data) -> dict | None:
+    """The data-source columns of a layer whose glyph takes its data as they are (lines, markers, spans,
+    rectangles), written without HoloViews; None for the others (images)."""
+    names = [d.name if isinstance(d, hv.Dimension) else d for d in (*spec.kdims, *spec.vdims)]
+    if spec.kind in (hv.Curve, hv.Scatter, hv.Points):
+        return {n: np.asarray(c) for n, c in zip(names, data)}
+    if spec.kind in (hv.HLines, hv.VLines):
+        return {names[0]: np.asarray(data, dtype=float)}
+    if spec.kind is hv.Rectangles:
+        r = np.asarray(data, dtype=float).reshape(-1, 4)
+        return {"left": r[:, 0], "bottom": r[:, 1], "right": r[:, 2], "top": r[:, 3]}
+    return None
 
 
 class Styled(NamedTuple):
@@ -136,10 +147,8 @@ class LiveFigure:
         glyph = {}
         if isinstance(new, Styled):
             new, glyph = new.data, new.glyph
-        if spec.kind in _COLUMNAR:
-            names = [d.name if isinstance(d, hv.Dimension) else d for d in (*spec.kdims, *spec.vdims)]
-            data = {n: np.asarray(c) for n, c in zip(names, new)}
-        else:
+        data = _columns(spec, new)
+        if data is None:
             data, _, _ = sub.get_data(spec.element(new), sub.current_ranges or {}, sub.style[sub.cyclic_index])
         if glyph:
             sub.handles["glyph"].update(**glyph)
