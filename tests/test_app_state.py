@@ -261,6 +261,22 @@ def test_explorer_pushes_only_what_changed():
                        "increments": [], "map": [len(before["map"]) - 1]}
 
 
+def test_a_new_run_pushes_only_the_layers_of_the_run():
+    """A solver result replaces the run's layers; the analytical ones (pressure curves, closure, bounds ±μ p_min)
+    and the map's static and numerical layers are not sent again (nor, by Bokeh, data equal to what is shown)."""
+    ex = Explorer()
+    ex.main_area()
+    before = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
+    new = core.simulate_contact(ex.contact.replace(ft=0.31), **ex.state.solver_options())
+    ex._finish(ex._generation.next(), ex.contact, ex.state.solver_options(), new)
+    after = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
+    kept = {name: [i for i, (a, b) in enumerate(zip(before[name], after[name])) if a is b] for name in before}
+    assert {0, 1, 2, 3} <= set(kept["pressure"])  # the Hertz curves follow w, not the run
+    assert {5, 6, 7} <= set(kept["traction"])  # ±μ p_min and the closure follow the sliders, not the run
+    assert 8 not in kept["traction"] and kept["displacement"] == []  # the numerical traction and u(t) are new
+    assert set(range(len(before["map"]) - 1)) <= set(kept["map"])  # all but the current point (its regime)
+
+
 def test_a_unit_switch_shows_new_figures_with_new_labels():
     ex = Explorer()
     panes = ex.figures()
