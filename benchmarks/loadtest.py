@@ -37,6 +37,7 @@ import sys
 import tempfile
 import time
 import urllib.request
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
@@ -243,7 +244,9 @@ def run_load(sessions: int = 20, seconds: float = 60.0, env: dict | None = None,
         log_path = Path(tmp) / "server.log"
         info: dict = {}
         with served_app(env=env, log_path=log_path, info=info, extra_args=serve_args) as url:
-            stats = asyncio.run(_run(url, info["base"], info["pid"], sessions, seconds))
+            # in a thread of its own: a caller may already run an event loop (pytest after sync Playwright)
+            with ThreadPoolExecutor(1) as pool:
+                stats = pool.submit(asyncio.run, _run(url, info["base"], info["pid"], sessions, seconds)).result()
         log = log_path.read_text(errors="replace")
         if keep_log:
             Path(keep_log).write_text(log)
