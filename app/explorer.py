@@ -555,7 +555,7 @@ class Explorer(pn.viewable.Viewer):
         )
         tabs = pn.Tabs(explorer, ("About the model", self.about()), sizing_mode="stretch_width",
                        dynamic=True)
-        top = pn.Row(pn.Column(badge, pn.Row(self.spinner, self.status), width=360, sizing_mode="fixed"),
+        top = pn.Row(pn.Column(badge, pn.Row(self.spinner, self.status), width=360, sizing_mode=None),
                      pn.Column(cards, errors, notices, warnings, sizing_mode="stretch_width"),
                      sizing_mode="stretch_width")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
