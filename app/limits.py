@@ -23,30 +23,10 @@ SHAKEDOWN_MAP_MAX_POINTS       40       points per axis of a numerical map (one 
 
 from __future__ import annotations
 
-import os
+from core._validate import env_int
 
 __all__ = ["env_int", "MAX_PERIODS", "MAX_RESOLUTION", "SOLVE_BUDGET_S", "SOLVER_THREADS", "CACHE_ITEMS",
            "CACHE_MB", "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS"]
-
-
-def env_int(name: str, default: int, lo: int = 1, hi: int = 10**6) -> int:
-    """The integer in environment variable ``name`` (``default`` if unset), checked to be in [lo, hi].
-
-    Raises
-    ------
-    ValueError
-        If the variable is set but is not an integer in ``[lo, hi]``.
-    """
-    raw = os.environ.get(name)
-    if raw is None or raw.strip() == "":
-        return default
-    try:
-        value = int(raw.strip())
-    except ValueError:
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {raw!r:.40}") from None
-    if not lo <= value <= hi:
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value}")
-    return value
 
 
 MAX_PERIODS = env_int("SHAKEDOWN_MAX_PERIODS", 200, 1, 10_000)

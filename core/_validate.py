@@ -9,9 +9,11 @@ from __future__ import annotations
 
 from numbers import Real
 
+import os
+
 import numpy as np
 
-__all__ = ["as_float_array", "check_range", "check_scalar", "check_int"]
+__all__ = ["as_float_array", "check_range", "check_scalar", "check_int", "env_int"]
 
 
 def _describe(lo, hi, lo_closed, hi_closed):
@@ -109,3 +111,24 @@ def check_int(name: str, value, lo: int, hi: int | None = None) -> int:
     if value < lo or (hi is not None and value > hi):
         raise ValueError(f"{name} must be an integer in [{lo}, {hi if hi is not None else 'inf'}], got {value}")
     return value
+
+
+def env_int(name: str, default: int, lo: int = 1, hi: int | None = None) -> int:
+    """An operator's integer setting: environment variable ``name`` (``default`` if unset or empty).
+
+    Raises
+    ------
+    ValueError
+        If the variable is set to anything but an integer in ``[lo, hi]``; the
+        message names the variable, so a typo stops start-up instead of being
+        silently replaced by the default.
+    """
+    raw = os.environ.get(name)
+    if raw is None or raw.strip() == "":
+        return default
+    try:
+        return check_int(name, int(raw.strip()), lo, hi)
+    except ValueError:
+        positive = " (set the environment variable to a positive integer)" if lo >= 1 else ""
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi if hi is not None else 'inf'}], "
+                         f"got {raw!r:.40}{positive}") from None

@@ -125,9 +125,19 @@ def hertz_pressure_element_mean(edges, xc=0.0, a=1.0, p0=1.0):
         raise ValueError("edges must be a strictly increasing 1-D array of at least 2 values")
     a = float(check_range("a", a, 0.0, None, lo_closed=False))
     p0 = float(check_range("p0", p0, 0.0, None))
-    F = _ellipse_primitive((edges - float(xc)) / a)
+    return p0 * _element_mean(edges, float(xc), a)
+
+
+def _element_mean(edges, xc, a):
+    """Element means of ``a sqrt(1 - ((x - xc)/a)^2)`` between ``edges``; broadcasts over ``xc`` and ``a``.
+
+    With ``xc`` and ``a`` of shape (steps, 1) the result is (steps, n): the
+    pressure [p0] of every step of a schedule whose half-width and peak both
+    scale as ``a`` (``a = sqrt(P)``). No validation: internal.
+    """
+    F = _ellipse_primitive((edges - xc) / a)
     # differences of the primitive can round to -1e-16 where the profile vanishes
-    return np.clip(p0 * a * np.diff(F) / np.diff(edges), 0.0, None)
+    return np.clip(a * np.diff(F, axis=-1) / np.diff(edges), 0.0, None)
 
 
 # --------------------------------------------------------------------------

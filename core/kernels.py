@@ -32,6 +32,7 @@ import numpy as np
 from scipy.linalg import toeplitz
 
 from ._validate import check_int, check_scalar
+from .analytical import hertz_pressure_element_mean
 
 __all__ = [
     "KERNELS",
@@ -174,8 +175,6 @@ def strip_u0(L_over_a, b_coefficient, n=4000):
     n = check_int("n", n, 2, 10**6)
     edges = np.linspace(-1.0, 1.0, n + 1)
     dx = edges[1] - edges[0]
-    t = np.clip(edges, -1, 1)
-    F = 0.5 * (t * np.sqrt(1 - t * t) + np.arcsin(t))
-    q = np.diff(F) / dx
+    q = hertz_pressure_element_mean(edges, 0.0)
     centres = 0.5 * (edges[1:] + edges[:-1])
     return float(strip_influence(0.0 - centres, dx, L_over_a, b_coefficient) @ q)

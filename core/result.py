@@ -7,7 +7,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .analytical import _ellipse_primitive
+from .analytical import _element_mean
 
 __all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
            "STATE_NAMES", "SolverError", "SolveCancelled"]
@@ -15,6 +15,29 @@ __all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD",
 #: Element states recorded per step (``CycleResult.state``).
 STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = 0, 1, 2, 3
 STATE_NAMES = ("released", "stick", "slip forward", "slip backward")
+
+
+#: Margin [mu p0] below the traction bound that counts as sticking in the final state.
+STICK_MARGIN = 1e-7
+
+
+def below_bound(q, bound):
+    """Elements whose traction stays strictly below a positive bound (by :data:`STICK_MARGIN`)."""
+    return (bound > 0) & (np.abs(q) < bound - STICK_MARGIN)
+
+
+def central_halfwidth(mask, edges) -> float:
+    """Half-width [a] of the contiguous run of ``mask`` elements closest to x = 0 (0 if none)."""
+    idx = np.flatnonzero(mask)
+    if idx.size == 0:
+        return 0.0
+    x = 0.5 * (edges[1:] + edges[:-1])
+    lo = hi = idx[np.argmin(np.abs(x[idx]))]
+    while lo - 1 >= 0 and mask[lo - 1]:
+        lo -= 1
+    while hi + 1 < mask.size and mask[hi + 1]:
+        hi += 1
+    return float(0.5 * (edges[hi + 1] - edges[lo]))
 
 
 class SolverError(RuntimeError):
@@ -133,8 +156,7 @@ class CycleResult:
     def pressure(self) -> np.ndarray:
         """Element-mean Hertz pressure per step, shape (steps, n) [p0] (the traction bound in mu p0)."""
         a = np.sqrt(self.P)[:, None]  # half-width and peak pressure both scale as sqrt(P)
-        F = _ellipse_primitive((self.edges[None, :] - self.xc[:, None]) / a)
-        return np.clip(a * a * np.diff(F, axis=1) / self.dx, 0.0, None)
+        return a * _element_mean(self.edges, self.xc[:, None], a)
 
     @property
     def u(self) -> np.ndarray | None:
@@ -189,11 +211,9 @@ class CycleResult:
         ``zero traction`` marks the elements that lost contact during the last
         period (their lowest pressure is 0) and were in contact at some step.
         """
-        q = np.abs(self.traction[-1])
         bound = self.lowest_pressure
         ever = (self.pressure > 0).any(axis=0)
-        tol = 1e-7
-        stick = (bound > 0) & (q < bound - tol)
+        stick = below_bound(self.traction[-1], bound)
         zones = np.where(stick, 1, np.where(bound > 0, 2, np.where(ever, 3, 0)))
         return zones.astype(np.int8)
 
@@ -204,19 +224,7 @@ class CycleResult:
         Outside it the traction sits at ``mu`` times the lowest pressure of the
         last period, or is zero where contact was lost. 0 if there is no such zone.
         """
-        stick = self.final_zones == 1
-        if not stick.any():
-            return 0.0
-        x = self.x
-        # the contiguous run of stick elements closest to the centre
-        idx = np.flatnonzero(stick)
-        centre = idx[np.argmin(np.abs(x[idx]))]
-        lo = hi = centre
-        while lo - 1 >= 0 and stick[lo - 1]:
-            lo -= 1
-        while hi + 1 < stick.size and stick[hi + 1]:
-            hi += 1
-        return float(0.5 * (self.edges[hi + 1] - self.edges[lo]))
+        return central_halfwidth(self.final_zones == 1, self.edges)
 
     @property
     def max_kkt_residual(self) -> float:

@@ -45,7 +45,7 @@ import numpy as np
 from ._validate import check_int, check_scalar
 from .analytical import hertz_pressure_element_mean
 from .kernels import KERNELS, influence_matrix, strip_b_coefficient, strip_u0
-from .result import CycleResult, SolveCancelled, SolverError
+from .result import CycleResult, SolveCancelled, SolverError, below_bound, central_halfwidth
 from .schedule import Schedule, rocking_schedule
 
 __all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
@@ -741,17 +741,7 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
     bound = np.minimum(hertz_pressure_element_mean(edges, -w), hertz_pressure_element_mean(edges, w))
     q, _ = solve_static(bound, ft, dx, kernel, kernel_options=_kernel_options(kernel, L_over_a, nu), tol=tol)
     x = 0.5 * (edges[1:] + edges[:-1])
-    stick = (bound > 0) & (np.abs(q) < bound - 1e-7)
-    if not stick.any():
-        return x, q, bound, 0.0
-    idx = np.flatnonzero(stick)
-    c = idx[np.argmin(np.abs(x[idx]))]
-    lo, hi = c, c
-    while lo > 0 and stick[lo - 1]:
-        lo -= 1
-    while hi + 1 < stick.size and stick[hi + 1]:
-        hi += 1
-    return x, q, bound, float(0.5 * (edges[hi + 1] - edges[lo]))
+    return x, q, bound, central_halfwidth(below_bound(q, bound), edges)
 
 
 def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane", shape="triangle",

@@ -52,7 +52,7 @@ from importlib import resources
 import numpy as np
 import pandas as pd
 
-from ._validate import check_int, check_range, check_scalar
+from ._validate import check_int, check_range, check_scalar, env_int
 from .analytical import w_limit as _w_limit_eq35
 from .schedule import rocking_schedule
 from .solver import make_grid, simulate_cycles
@@ -109,24 +109,14 @@ class SweepCancelled(RuntimeError):
 # --------------------------------------------------------------------------
 # caps, configurable by the operator
 # --------------------------------------------------------------------------
-def _env_cap(name: str, default: int) -> int:
-    raw = os.environ.get(name)
-    if raw is None:
-        return default
-    try:
-        return check_int(name, int(raw.strip()), 1)
-    except ValueError as e:
-        raise ValueError(f"environment variable {name} must be a positive integer, got {raw!r:.40}") from e
-
-
 def default_max_runs() -> int:
     """Largest number of runs a sweep may have: ``$SHAKEDOWN_MAX_RUNS``, else :data:`MAX_RUNS`."""
-    return _env_cap("SHAKEDOWN_MAX_RUNS", MAX_RUNS)
+    return env_int("SHAKEDOWN_MAX_RUNS", MAX_RUNS)
 
 
 def default_max_cells() -> int:
     """Largest steps x elements of one run: ``$SHAKEDOWN_MAX_CELLS``, else :data:`MAX_CELLS`."""
-    return _env_cap("SHAKEDOWN_MAX_CELLS", MAX_CELLS)
+    return env_int("SHAKEDOWN_MAX_CELLS", MAX_CELLS)
 
 
 # --------------------------------------------------------------------------
