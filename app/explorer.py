@@ -475,8 +475,11 @@ class Explorer(pn.viewable.Viewer):
         note = f"solver, {result.periods} periods"
         if result.shakedown_period is not None:
             note += f"; shaken down after period {result.shakedown_period}"
+        if regime == "undetermined":  # the periods run cannot tell: say why (regime-none: the neutral colour)
+            note += f": {result.regime_reason}"
         note += f" · eq 35 predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}"
-        return (f'<span class="regime-badge regime-{regime}" data-regime="{regime}">{regime.upper()}</span>'
+        css = "regime-none regime-undetermined" if regime == "undetermined" else f"regime-{regime}"
+        return (f'<span class="regime-badge {css}" data-regime="{regime}">{regime.upper()}</span>'
                 f'<div class="regime-note">{html.escape(note)}</div>')
 
     def _cards(self, ft, w, mu, contact, result):

@@ -1,10 +1,42 @@
-"""Shakedown Explorer core: the physics of a rocking cylindrical contact."""
-from .analytical import *  # noqa: F401,F403
-from .contact import Contact, PAPER_SIMULATION, PAPER_EXPERIMENT, BETA_WARNING_LEVEL  # noqa: F401
-from . import approximations  # noqa: F401
-from .kernels import influence_matrix, strip_u0  # noqa: F401
-from .schedule import Schedule, rocking_schedule  # noqa: F401
-from .result import CycleResult, SolverError, SolveCancelled, STATE_NAMES  # noqa: F401
-from .solver import simulate_cycles, simulate_contact, solve_schedule, strip_options  # noqa: F401
-from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
-                    numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
+"""Shakedown Explorer core: the physics of a rocking cylindrical contact.
+
+The public names are imported on first use (PEP 562 ``__getattr__``), so that
+a light submodule such as :mod:`core.cli` (``shakedown --help``) starts
+without importing numba, scipy and pandas.
+"""
+
+_loading = False
+
+
+def _load():
+    global _loading
+    _loading = True
+    try:
+        from . import analytical
+        globals().update({name: getattr(analytical, name) for name in analytical.__all__})
+        from .contact import Contact, PAPER_SIMULATION, PAPER_EXPERIMENT, BETA_WARNING_LEVEL  # noqa: F401
+        from . import approximations  # noqa: F401
+        from .kernels import influence_matrix, strip_u0  # noqa: F401
+        from .schedule import Schedule, rocking_schedule  # noqa: F401
+        from .result import CycleResult, SolverError, SolveCancelled, STATE_NAMES  # noqa: F401
+        from .solver import simulate_cycles, simulate_contact, solve_schedule, strip_options  # noqa: F401
+        from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
+                             numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
+        globals().update({k: v for k, v in locals().items() if k != "analytical"})
+    finally:
+        _loading = False
+
+
+def __getattr__(name):
+    if name.startswith("__") or _loading:
+        raise AttributeError(name)
+    _load()
+    try:
+        return globals()[name]
+    except KeyError:
+        raise AttributeError(f"module 'core' has no attribute {name!r}") from None
+
+
+def __dir__():
+    _load()
+    return sorted(globals())

@@ -7,50 +7,55 @@
     shakedown sweep --ft 0.02:0.95:40 --w 0.02:0.95:40 --out map.csv
     shakedown limit --ft 0.1:0.9:9 --tol 1e-3 --out limit.csv
 
-Every value is checked before any work starts; bad input prints
-``shakedown: error: ...`` (or argparse's usage message) on stderr and exits
-with status 2, never with a traceback. Other exit statuses: 0 success, 1 the
+This module only parses arguments: the work is done by the library
+(:func:`core.sweep_grid`, :func:`core.run_points`, :class:`core.tables.TableFile`,
+:func:`core.numerical_limit_curve`). It imports nothing heavy until a command
+runs, so ``shakedown --help`` answers at once.
+
+Every value is checked before any work starts; bad input prints one line
+``shakedown: error: ...`` naming the flag (after argparse's usage line for a
+malformed command line) on stderr and exits with status 2, never with a
+traceback. Other exit statuses: 0 success, 1 the
 work ran but some of it failed (a run that did not solve, a limit search that
 did not converge, an output file that could not be written), 130 interrupted.
 
 ``sweep`` is resumable: finished rows are appended to ``OUT.partial.csv`` as
 they come in, the complete table replaces ``OUT`` atomically at the end, and a
 rerun of the same command skips every row already in ``OUT`` or the journal
-(rows that failed are run again).
+(rows that failed are run again). A file holding rows of another grid or other
+options is refused, not mixed. ``--out -`` writes the table to stdout.
 """
 
 from __future__ import annotations
 
+# Only the standard library at import time, so that `shakedown --help` answers at once: numpy, pandas and the
+# solver are imported by the commands that need them.
 import argparse
 import importlib.util
-import json
 import math
-import os
+import re
 import sys
 import time
 from pathlib import Path
 
-import numpy as np
-import pandas as pd
-
-from ._validate import check_int, check_scalar
-from .analytical import ft_limit, shakedown_stick_halfwidth, w_limit
-from .contact import Contact
-from .schedule import SHAPES
-from .kernels import KERNELS
-from .solver import DEFAULT_DX, simulate_contact, simulate_cycles
-from .sweeps import (MAX_CELLS, MAX_RUNS, ProgressBar, _input_columns, normalise_table, numerical_limit_curve,
-                    run_points, sweep_grid)
-
-__all__ = ["main", "parse_range", "build_parser", "MAX_AXIS_VALUES", "MAX_TEXT"]
+__all__ = ["main", "parse_range", "build_parser", "MAX_AXIS_VALUES", "MAX_TEXT", "flag_names"]
 
 #: Most values one ``--ft`` or ``--w`` range may expand to.
 MAX_AXIS_VALUES = 10_000
 #: Longest text accepted for any option value (characters).
 MAX_TEXT = 200
 _MAX_PATH = 4096
-_REGIMES = ("shakedown", "ratcheting", "error")
 _EXIT_OK, _EXIT_FAILED, _EXIT_USAGE, _EXIT_INTERRUPTED = 0, 1, 2, 130
+_PREFIX = "shakedown: error: "
+# copies of library constants, so that building the parser imports nothing heavy (tests/test_cli.py checks them)
+_KERNELS = ("plane", "strip")
+_SHAPES = ("triangle", "sine")
+_DEFAULT_DX = 1.0 / 40.0
+_MAX_ELEMENTS = 4000  # core.solver.MAX_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many elements
+_DX_MIN = 1.0 / (_MAX_ELEMENTS // 2 - 1)  # the finest dx the solver accepts (at w = 0)
+_MAX_RUNS, _MAX_CELLS = 20_000, 25_000_000  # core.grid.MAX_RUNS, MAX_CELLS
+# options that pass through to core.simulate_cycles, and the one value each has while the solver lacks it
+_PASS_THROUGH = {"body": "cylinder", "history": "rocking"}
 
 
 # --------------------------------------------------------------------------
@@ -75,7 +80,7 @@ def _float(name: str, text: str) -> float:
 
 
 def parse_range(text: str, name: str = "value", lo: float | None = None, hi: float | None = None, *,
-                lo_closed: bool = True, hi_closed: bool = True, max_values: int = MAX_AXIS_VALUES) -> np.ndarray:
+                lo_closed: bool = True, hi_closed: bool = True, max_values: int = MAX_AXIS_VALUES):
     """Parse ``START:STOP:N`` (N evenly spaced values, both ends included), ``X`` or ``X,Y,...``.
 
     Parameters
@@ -95,6 +100,9 @@ def parse_range(text: str, name: str = "value", lo: float | None = None, hi: flo
     -------
     ndarray
         The values, finite, within the range, distinct, in the order written.
+        Inner ``START:STOP:N`` values are rounded to 12 significant digits, so that
+        they are the decimals one would write (0.3, not 0.30000000000000004)
+        in tables and file names.
 
     Raises
     ------
@@ -105,10 +113,14 @@ def parse_range(text: str, name: str = "value", lo: float | None = None, hi: flo
     --------
     >>> from core.cli import parse_range
     >>> parse_range("0.1:0.5:5", "ft", 0, 1, hi_closed=False).tolist()
-    [0.1, 0.2, 0.30000000000000004, 0.4, 0.5]
+    [0.1, 0.2, 0.3, 0.4, 0.5]
     >>> parse_range("0.3", "w").tolist(), parse_range("0.1, 0.2", "w").tolist()
     ([0.3], [0.1, 0.2])
     """
+    import numpy as np
+
+    from ._validate import check_scalar
+
     text = _text(name, text)
     if ":" in text:
         parts = text.split(":")
@@ -129,6 +141,7 @@ def parse_range(text: str, name: str = "value", lo: float | None = None, hi: flo
         if start == stop:
             raise ValueError(f"{name}: START and STOP must differ in START:STOP:N, got {_short(text)}")
         values = np.linspace(start, stop, count)
+        values[1:-1] = [float(f"{v:.12g}") for v in values[1:-1]]  # the ends are as written already
     else:
         items = text.split(",")
         if len(items) > max_values:
@@ -155,6 +168,8 @@ def _arg(fn):
 
 def _number(name, lo=None, hi=None, *, lo_closed=True, hi_closed=True, finite=True):
     def parse(text):
+        from ._validate import check_scalar
+
         value = check_scalar(name, _float(name, text), lo, hi, lo_closed=lo_closed, hi_closed=hi_closed)
         if finite and not math.isfinite(value):
             raise ValueError(f"{name} must be finite, got {value}")
@@ -164,6 +179,8 @@ def _number(name, lo=None, hi=None, *, lo_closed=True, hi_closed=True, finite=Tr
 
 def _integer(name, lo, hi):
     def parse(text):
+        from ._validate import check_int
+
         text = _text(name, text)
         if not (text.lstrip("+-").isascii() and text.lstrip("+-").isdigit()):
             raise ValueError(f"{name} must be a whole number in [{lo}, {hi}], got {_short(text)}")
@@ -185,14 +202,19 @@ def _range(name, lo, hi, **kw):
 
 
 def _address(text):
+    from .tasks import check_address
+
     text = _text("scheduler", text)
     if not text:
         raise ValueError("scheduler must be a Dask scheduler address such as tcp://host:8786")
+    check_address(text)
     return text
 
 
-def _output(suffixes):
+def _output(suffixes, stdout=False):
     def parse(text):
+        if stdout and text.strip() == "-":
+            return "-"
         if len(text) > _MAX_PATH or not text.strip():
             raise ValueError(f"--out must be a file path of 1 to {_MAX_PATH} characters")
         path = Path(text)
@@ -222,18 +244,59 @@ class _Once(argparse.Action):
 # --------------------------------------------------------------------------
 # the parser
 # --------------------------------------------------------------------------
+class _Parser(argparse.ArgumentParser):
+    """argparse with the error line of every other failure: ``shakedown: error: ...`` naming flags."""
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        self.exit(_EXIT_USAGE, f"{_PREFIX}{flag_names(message)}\n")
+
+
+def flag_names(message: str) -> str:
+    """A library message with its Python parameter names spelled as the command line's flags.
+
+    ``"L_over_a is required with kernel='strip'"`` becomes
+    ``"--L-over-a is required with --kernel strip"``; argparse's
+    ``"argument --dx: dx must be ..."`` becomes ``"--dx must be ..."``.
+
+    Examples
+    --------
+    >>> flag_names("L_over_a is required with kernel='strip'")
+    '--L-over-a is required with --kernel strip'
+    >>> flag_names("argument --dx: dx must be in [0.0005, 0.5], got 1")
+    '--dx must be in [0.0005, 0.5], got 1'
+    """
+    m = re.match(r"argument (--[\w-]+)(?:/\S+)?: (.*)", message, re.S)
+    if m and re.match(rf"{re.escape(m.group(1)[2:].replace('-', '_'))}\b", m.group(2)):
+        message = m.group(2)
+    for name in sorted(_FLAGGED, key=len, reverse=True):
+        flag = "--" + name.replace("_", "-")
+        message = re.sub(rf"(?<![\w-]){name}=(['\"]?)([\w.+-]*)\1", rf"{flag} \2", message)
+        if "_" in name:
+            message = re.sub(rf"(?<![\w-]){name}(?![\w-])", flag, message)
+        else:
+            message = re.sub(rf"(?<![\w-]){name}(?= (?:must|is|are|has|values|given)\b|:)", flag, message)
+    return message
+
+
 def _add_solver_options(parser, kernel_default="plane"):
     g = parser.add_argument_group("solver options (normalised: lengths in a, the Hertz half-width)")
     add = g.add_argument
+    add("--body", type=_arg(lambda text: _text("body", text)), action=_Once, metavar="NAME",
+        help=f"the rocking body, a name core.simulate_cycles accepts (default {_PASS_THROUGH['body']})")
+    add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
+        help="the loading history, a name core.simulate_cycles accepts "
+             f"(default {_PASS_THROUGH['history']}: constant Ft, the centre rocked between -W and +W)")
     add("--periods", type=_integer("periods", 1, 10_000), action=_Once, metavar="N",
         help="rocking periods to simulate, in [1, 10000] (default 10)")
-    add("--dx", type=_number("dx", 1e-4, 0.5), action=_Once, metavar="DX",
-        help=f"element width [a], in [1e-4, 0.5] (default {DEFAULT_DX:g} = 1/40)")
+    add("--dx", type=_number("dx", _DX_MIN, 0.5), action=_Once, metavar="DX",
+        help=f"element width [a], in [{_DX_MIN:.5g}, 0.5]: the grid over [-(1 + w), 1 + w] has at most "
+             f"{_MAX_ELEMENTS} elements, so dx >= (1 + w)/{_MAX_ELEMENTS // 2 - 1} (default {_DEFAULT_DX:g} = 1/40)")
     add("--dW", type=_number("dW", 1e-4, 1.0), action=_Once, metavar="DW",
         help="largest step of the contact centre [a], in [1e-4, 1] (default: dx)")
-    add("--kernel", type=_choice("kernel", tuple(KERNELS)), action=_Once,
+    add("--kernel", type=_choice("kernel", _KERNELS), action=_Once,
         help=f"influence kernel: plane (plane strain) or strip (truncated 3D, length L) (default {kernel_default})")
-    add("--shape", type=_choice("shape", SHAPES), action=_Once,
+    add("--shape", type=_choice("shape", _SHAPES), action=_Once,
         help="rocking waveform: triangle (constant speed, as in the paper) or sine (default triangle)")
     add("--load-steps", dest="load_steps", type=_integer("load_steps", 1, 10_000), action=_Once, metavar="N",
         help="steps of the initial loading at xc = 0, in [1, 10000] (default 1)")
@@ -249,8 +312,11 @@ def _add_solver_options(parser, kernel_default="plane"):
         help="wall-time budget of each run [s], in (0, 86400]; a run past it stops and counts as failed")
 
 
-_SOLVER_DESTS = ("periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu", "shakedown_rtol",
-                 "time_budget")
+_SOLVER_DESTS = ("body", "history", "periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu",
+                 "shakedown_rtol", "time_budget")
+# every parameter name a library message may use, spelled as a flag by flag_names
+_FLAGGED = (*_SOLVER_DESTS, "ft", "w", "tol", "max_runs", "workers", "max_workers", "scheduler", "R1", "L", "Fn",
+            "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W")
 
 
 def _add_execution_options(parser):
@@ -258,21 +324,40 @@ def _add_execution_options(parser):
     g.add_argument("--scheduler", type=_arg(_address), action=_Once, metavar="ADDRESS",
                    help="Dask scheduler address (tcp://host:8786) to run on a cluster; default: local processes")
     g.add_argument("--workers", type=_integer("workers", 1, 1024), action=_Once, metavar="N",
-                   help="local worker processes, in [1, 1024] (default: all cores; 1 runs in this process; "
-                        "ignored with --scheduler)")
+                   help="local worker processes, in [1, 1024] (default: by the size of the job, up to all cores; "
+                        "a small job runs in this process; 1 runs in this process; ignored with --scheduler)")
     g.add_argument("--no-progress", dest="progress", action="store_false",
                    help="no progress bar on stderr")
 
 
+class _Version(argparse.Action):
+    """``--version``: print the installed version and exit (importlib.metadata is read only then)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from importlib import metadata
+
+        try:
+            version = metadata.version("shakedown-explorer")
+        except metadata.PackageNotFoundError:
+            version = "unknown (not installed)"
+        print(f"{parser.prog} {version}")
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``shakedown`` argument parser (subcommands ``run``, ``sweep``, ``limit``)."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="shakedown", allow_abbrev=False,
         description="Frictional shakedown and ratcheting of a rocking elastic cylinder (Wetter 2015): "
                     "simulate one case, map the (ft, w) plane, or find the numerical shakedown limit.",
         epilog="Normalised inputs: ft = Ft/(mu Fn) in [0, 1), w = W/a in [0, 1) with a the Hertz half-width. "
-               "Displacements are in mu P/E* (P = Fn/L). Exit status: 0 ok, 1 some work failed, "
-               "2 bad input, 130 interrupted. 'shakedown COMMAND --help' for each command.")
+               "Displacements are in mu P/E* (P = Fn/L). Regimes: shakedown, ratcheting, or undetermined when "
+               "the periods run cannot tell. Exit status: 0 ok, 1 some work failed, 2 bad input, "
+               "130 interrupted. 'shakedown COMMAND --help' for each command.")
+    parser.add_argument("--version", action=_Version, help="print the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     # run -------------------------------------------------------------------
@@ -315,19 +400,22 @@ def build_parser() -> argparse.ArgumentParser:
     sw = sub.add_parser(
         "sweep", allow_abbrev=False, help="map the (ft, w) plane: one run per grid point",
         description="Run the solver on every (ft, w) of a grid and write a table, one row per run "
-                    "(regime, increment per period [mu P/E*], stick half-width c_sd/a, ...). "
-                    "Resumable: rerunning the same command skips the rows already in --out.",
+                    "(regime, why, increment per period [mu P/E*], stick half-width c_sd/a, ...). "
+                    "Resumable: rerunning the same command skips the rows already in --out; a file made "
+                    "by another grid or other options is refused (use --overwrite or another --out).",
         epilog=f"Ranges: START:STOP:N (N values, both ends included), X, or X,Y,... . At most "
-               f"--max-runs runs (default $SHAKEDOWN_MAX_RUNS or {MAX_RUNS}) and steps x elements "
-               f"<= $SHAKEDOWN_MAX_CELLS (default {MAX_CELLS:.3g}) per run.")
+               f"--max-runs runs (default $SHAKEDOWN_MAX_RUNS or {_MAX_RUNS}) and steps x elements "
+               f"<= $SHAKEDOWN_MAX_CELLS (default {_MAX_CELLS:.3g}) per run.")
     sw.add_argument("--ft", type=_range("ft", 0.0, 1.0, hi_closed=False), action=_Once, required=True,
                     metavar="RANGE", help="tangential loads Ft/(mu Fn) [-], each in [0, 1)")
     sw.add_argument("--w", type=_range("w", 0.0, 1.0, hi_closed=False), action=_Once, required=True,
                     metavar="RANGE", help="rocking amplitudes W/a [-], each in [0, 1)")
-    sw.add_argument("--out", type=_output((".csv", ".csv.gz", ".parquet")), action=_Once, required=True,
-                    metavar="FILE", help="the table: FILE.csv, FILE.csv.gz or FILE.parquet (needs pyarrow)")
+    sw.add_argument("--out", type=_output((".csv", ".csv.gz", ".parquet"), stdout=True), action=_Once,
+                    required=True, metavar="FILE",
+                    help="the table: FILE.csv, FILE.csv.gz or FILE.parquet (needs pyarrow); '-' writes CSV to "
+                         "stdout (not resumable)")
     sw.add_argument("--max-runs", dest="max_runs", type=_integer("max_runs", 1, 10**7), action=_Once,
-                    metavar="N", help=f"refuse grids of more than N runs (default $SHAKEDOWN_MAX_RUNS or {MAX_RUNS})")
+                    metavar="N", help=f"refuse grids of more than N runs (default $SHAKEDOWN_MAX_RUNS or {_MAX_RUNS})")
     sw.add_argument("--overwrite", action="store_true",
                     help="start afresh: ignore (and replace) rows already in --out")
     _add_solver_options(sw)
@@ -336,16 +424,18 @@ def build_parser() -> argparse.ArgumentParser:
 
     # limit -----------------------------------------------------------------
     li = sub.add_parser(
-        "limit", allow_abbrev=False, help="the numerical shakedown limit w_lim(ft), against eq 35",
-        description="For each ft, bisect in w for the largest amplitude that still shakes down, "
-                    "and compare with the exact limit of eq 35.")
+        "limit", allow_abbrev=False, help="the numerical shakedown limit w_lim(ft), then eq 35 beside it",
+        description="For each ft, bisect in w for the largest amplitude that still shakes down, starting from "
+                    "the whole range [0, 0.999] (not from eq 35); print the bracket found and whether the exact "
+                    "limit of eq 35 lies inside it.")
     li.add_argument("--ft", type=_range("ft", 0.0, 1.0, lo_closed=False, hi_closed=False, max_values=1000),
                     action=_Once, required=True, metavar="RANGE",
                     help="tangential loads Ft/(mu Fn) [-], each in (0, 1); START:STOP:N, X or X,Y,...")
     li.add_argument("--tol", type=_number("tol", 1e-6, 0.1), action=_Once, default=1e-3,
                     help="tolerance of each limit in w [-], in [1e-6, 0.1] (default 1e-3)")
-    li.add_argument("--out", type=_output((".csv", ".json", ".parquet")), action=_Once, metavar="FILE",
-                    help="also write the table: FILE.csv, FILE.json or FILE.parquet")
+    li.add_argument("--out", type=_output((".csv", ".json", ".parquet"), stdout=True), action=_Once, metavar="FILE",
+                    help="also write the table: FILE.csv, FILE.json or FILE.parquet; '-' writes CSV to stdout "
+                         "instead of the aligned table")
     _add_solver_options(li)
     _add_execution_options(li)
     li.set_defaults(func=_cmd_limit)
@@ -356,7 +446,18 @@ def build_parser() -> argparse.ArgumentParser:
 # the commands
 # --------------------------------------------------------------------------
 def _solver_options(args) -> dict:
-    return {k: getattr(args, k) for k in _SOLVER_DESTS if getattr(args, k, None) is not None}
+    """The solver options given on the command line, checked against what core.simulate_cycles accepts."""
+    from .grid import solver_defaults
+
+    options = {k: getattr(args, k) for k in _SOLVER_DESTS if getattr(args, k, None) is not None}
+    accepted = solver_defaults()
+    for name, only in _PASS_THROUGH.items():
+        if name in options and name not in accepted:
+            # this solver has no such option: only its one built-in value is allowed
+            if options[name] != only:
+                raise ValueError(f"{name} must be one of {only}, got {_short(options[name])}")
+            del options[name]
+    return options
 
 
 def _say(*lines, stream=None):
@@ -364,6 +465,8 @@ def _say(*lines, stream=None):
 
 
 def _jsonable(value):
+    import numpy as np
+
     if isinstance(value, dict):
         return {str(k): _jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple, np.ndarray)):
@@ -376,20 +479,14 @@ def _jsonable(value):
 
 
 def _write_json(obj, path: Path) -> None:
-    _atomic_write(path, lambda tmp: tmp.write_text(json.dumps(_jsonable(obj), indent=2, allow_nan=False) + "\n"))
+    import json
+
+    from .tables import atomic_write
+
+    atomic_write(path, lambda tmp: tmp.write_text(json.dumps(_jsonable(obj), indent=2, allow_nan=False) + "\n"))
 
 
-def _atomic_write(path: Path, write) -> None:
-    """Write through a temporary file beside ``path`` and rename it over ``path``."""
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-
-
-def _contact(args) -> Contact | None:
+def _contact(args):
     physical = {k: getattr(args, k) for k in ("R1", "L", "Fn", "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W")
                 if getattr(args, k) is not None}
     if not physical:
@@ -402,6 +499,8 @@ def _contact(args) -> Contact | None:
     for big, small in (("Ft", "ft"), ("W", "w")):
         if (big in physical) == (getattr(args, small) is not None):
             raise ValueError(f"give exactly one of --{big} and --{small} with a physical contact")
+    from .contact import Contact
+
     physical.setdefault("nu2", 0.5)
     return Contact(**physical, ft=args.ft, w=args.w)
 
@@ -413,7 +512,21 @@ def _fmt(v, unit=""):
     return f"{text} {unit}".rstrip()
 
 
+def _fmt(v, unit=""):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "-"
+    text = f"{v:.6g}" if isinstance(v, float) else str(v)
+    return f"{text} {unit}".rstrip()
+
+
 def _cmd_run(args) -> int:
+    import pandas as pd
+
+    from .analytical import ft_limit, shakedown_stick_halfwidth, w_limit
+    from .grid import sweep_grid
+    from .solver import simulate_contact, simulate_cycles
+    from .tables import CSV_FLOAT_FORMAT, atomic_write
+
     options = _solver_options(args)
     contact = _contact(args)
     ft, w = (args.ft, args.w) if contact is None else (contact.ft, contact.w)
@@ -429,6 +542,7 @@ def _cmd_run(args) -> int:
     since = f" (from period {s['shakedown_period']})" if s["shakedown_period"] is not None else ""
     rows = [
         ("regime", f"{s['regime']}{since}"),
+        ("  why", result.regime_reason),
         ("increment, last period", _fmt(s["increment_last_period"], "mu P/E*")),
         ("increment, first period", _fmt(float(inc[0]) if inc.size else None, "mu P/E*")),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),
@@ -444,7 +558,7 @@ def _cmd_run(args) -> int:
             f"{s['periods']} periods, dx = {s['dx']:.6g} a")
     if contact is not None:
         unit = contact.displacement_unit
-        rows[2:2] = [("  in metres", _fmt(s["increment_last_period"] * unit, "m"))]
+        rows[3:3] = [("  in metres", _fmt(s["increment_last_period"] * unit, "m"))]
         head += (f"\ncontact: a = {contact.a * 1e3:.6g} mm, p0 = {contact.p0 / 1e6:.6g} MPa, "
                  f"E* = {contact.E_star / 1e6:.6g} MPa, beta = {contact.beta:.3g}, L/a = {contact.L / contact.a:.6g}")
         if s.get("u0") is not None:
@@ -460,123 +574,43 @@ def _cmd_run(args) -> int:
                    "contact": None if contact is None else contact.summary()}
             _write_json(doc, args.out)
         else:
-            _atomic_write(args.out, lambda tmp: pd.DataFrame([_jsonable(s)]).to_csv(tmp, index=False))
+            atomic_write(args.out, lambda tmp: pd.DataFrame([_jsonable(s)]).to_csv(tmp, index=False,
+                                                                                  float_format=CSV_FLOAT_FORMAT))
         _say(f"wrote {args.out}", stream=sys.stderr)
     return _EXIT_OK
 
 
-# ---- sweep: resumable output ------------------------------------------------
-def _key_value(v):
-    if v is None or v is pd.NA or (isinstance(v, float) and math.isnan(v)):
-        return None
-    if isinstance(v, (bool, np.bool_)):
-        return bool(v)
-    if isinstance(v, (int, np.integer)):
-        return int(v)
-    if isinstance(v, (float, np.floating)):
-        return float(f"{float(v):.12g}")
-    return str(v)
-
-
-def _keys(rows, columns):
-    return [tuple(_key_value(row.get(c)) for c in columns) for row in rows]
-
-
-def _journal(out: Path) -> Path:
-    return out.with_name(out.name + ".partial.csv")
-
-
-def _read_table(path: Path) -> pd.DataFrame:
-    if path.name.lower().endswith(".parquet"):
-        try:
-            return normalise_table(pd.read_parquet(path))
-        except ImportError as e:
-            raise ValueError(f"Parquet needs pyarrow (pip install pyarrow): {e}") from e
-    return normalise_table(pd.read_csv(path))
-
-
-def _write_table(table: pd.DataFrame, path: Path) -> None:
-    if path.name.lower().endswith(".parquet"):
-        _atomic_write(path, lambda tmp: table.to_parquet(tmp, index=False))
-    else:
-        compression = "gzip" if path.name.lower().endswith(".gz") else None
-        _atomic_write(path, lambda tmp: table.to_csv(tmp, index=False, compression=compression))
-
-
-def _existing_rows(out: Path) -> pd.DataFrame | None:
-    """Rows already computed: the output file and the journal of an interrupted run."""
-    parts = []
-    for path in (out, _journal(out)):
-        if path.exists() and path.stat().st_size > 0:
-            try:
-                parts.append(_read_table(path))
-            except (OSError, ValueError, pd.errors.ParserError) as e:
-                raise ValueError(f"cannot resume from {path} ({e}); use --overwrite or another --out") from e
-    if not parts:
-        return None
-    table = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
-    if "regime" not in table.columns or "ft" not in table.columns:
-        raise ValueError(f"{out} is not a sweep table (no ft/regime columns); use --overwrite or another --out")
-    # a line cut short by a kill has no valid regime: drop it, its run is done again
-    return table[table["regime"].isin(_REGIMES)]
-
-
-def _merge(existing, new, points, key_columns) -> pd.DataFrame:
-    """Existing and new rows, one per key (new wins), in grid order; rows of other grids at the end."""
-    tables = [t for t in (existing, new) if t is not None and len(t)]
-    if not tables:
-        return new if new is not None else existing
-    merged = pd.concat(tables, ignore_index=True) if len(tables) > 1 else tables[0]
-    merged = normalise_table(merged)
-    keys = _keys(merged.to_dict("records"), key_columns)
-    merged = merged.assign(_key=keys).drop_duplicates("_key", keep="last")
-    order = {k: i for i, k in enumerate(_keys(points, key_columns))}
-    rank = merged["_key"].map(lambda k: order.get(k, len(order)))
-    merged = merged.assign(_rank=rank).sort_values("_rank", kind="stable")
-    return normalise_table(merged.drop(columns=["_key", "_rank"]))
-
-
 def _cmd_sweep(args) -> int:
-    options = _solver_options(args)
-    points = sweep_grid(args.ft, args.w, max_runs=args.max_runs, **options)
-    key_columns = _input_columns(points)
-    journal = _journal(args.out)
-    existing = None
-    if args.overwrite:
-        journal.unlink(missing_ok=True)
-    else:
-        existing = _existing_rows(args.out)
-    if existing is not None and journal.exists():
-        # fold the journal of an interrupted run into the output, so that this run's journal starts empty
-        existing = _merge(existing, None, points, key_columns)
-        _write_table(existing, args.out)
-        journal.unlink()
-    if existing is not None:
-        done = set(_keys(existing[existing["regime"] != "error"].to_dict("records"), key_columns))
-        todo = [p for p, k in zip(points, _keys(points, key_columns)) if k not in done]
-    else:
-        todo = points
+    from .grid import sweep_grid
+    from .progress import ProgressBar
+    from .sweeps import run_points
+    from .tables import CSV_FLOAT_FORMAT, TableFile
+
+    points = sweep_grid(args.ft, args.w, max_runs=args.max_runs, **_solver_options(args))
+    to_stdout = args.out == "-"
+    target = None if to_stdout else TableFile(args.out, points, overwrite=args.overwrite)
+    todo = points if target is None else target.todo
+    where = "stdout" if to_stdout else args.out.name
     _say(f"shakedown sweep: {len(points)} runs in the grid, {len(points) - len(todo)} already in "
-         f"{args.out.name}, {len(todo)} to run", stream=sys.stderr)
-
-    def append(rows: pd.DataFrame):
-        rows.to_csv(journal, mode="a", header=not journal.exists() or journal.stat().st_size == 0, index=False)
-
+         f"{where}, {len(todo)} to run", stream=sys.stderr)
     t0 = time.perf_counter()
     progress = ProgressBar() if args.progress else None
     try:
-        new = run_points(todo, args.scheduler, max_workers=args.workers, progress=progress, on_rows=append)
+        new = run_points(todo, args.scheduler, workers=args.workers, progress=progress,
+                         on_rows=None if target is None else target.append)
     except KeyboardInterrupt:
-        _say(f"shakedown: interrupted; finished rows are in {journal}: rerun the same command to resume",
-             stream=sys.stderr)
+        where = "nothing was kept" if target is None else f"finished rows are in {target.journal}"
+        _say(f"shakedown: interrupted; {where}: rerun the same command to resume", stream=sys.stderr)
         return _EXIT_INTERRUPTED
-    table = _merge(existing, new, points, key_columns)
-    _write_table(table, args.out)
-    journal.unlink(missing_ok=True)
+    if target is None:
+        table = new
+        table.to_csv(sys.stdout, index=False, float_format=CSV_FLOAT_FORMAT)
+    else:
+        table = target.finish(new)
     counts = new["regime"].value_counts().to_dict() if len(new) else {}
-    _say(f"wrote {len(table)} rows to {args.out} ({len(new)} new in {time.perf_counter() - t0:.1f} s: "
-         + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) + ")" if counts else
-         f"wrote {len(table)} rows to {args.out} (nothing new to run)", stream=sys.stderr)
+    _say(f"wrote {len(table)} rows to {where} ({len(new)} new in {time.perf_counter() - t0:.1f} s on "
+         f"{new.attrs.get('backend', '-')}: " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) + ")"
+         if counts else f"wrote {len(table)} rows to {where} (nothing new to run)", stream=sys.stderr)
     failed = int(counts.get("error", 0))
     if failed:
         _say(f"shakedown: {failed} of {len(new)} runs failed (see the error column)", stream=sys.stderr)
@@ -585,25 +619,32 @@ def _cmd_sweep(args) -> int:
 
 
 def _cmd_limit(args) -> int:
+    from .limits_search import numerical_limit_curve
+    from .progress import ProgressBar
+    from .tables import CSV_FLOAT_FORMAT, write_table
+
     options = _solver_options(args)
     progress = ProgressBar(label="ft values") if args.progress else None
     try:
-        table = numerical_limit_curve(args.ft, tol=args.tol, scheduler=args.scheduler, max_workers=args.workers,
+        table = numerical_limit_curve(args.ft, tol=args.tol, scheduler=args.scheduler, workers=args.workers,
                                       progress=progress, **options)
     except KeyboardInterrupt:
         _say("shakedown: interrupted", stream=sys.stderr)
         return _EXIT_INTERRUPTED
-    shown = table[["ft", "w_limit", "w_limit_eq35", "difference", "runs", "converged"]]
-    _say(f"numerical shakedown limit w_lim(ft), tolerance {args.tol:g} in w, against eq 35:",
-         shown.to_string(index=False, float_format=lambda v: f"{v:.6f}"))
-    if args.out is not None:
-        name = args.out.name.lower()
-        if name.endswith(".json"):
+    if args.out == "-":
+        table.to_csv(sys.stdout, index=False, float_format=CSV_FLOAT_FORMAT)
+    else:
+        shown = table[["ft", "start_lo", "start_hi", "w_shakedown", "w_ratcheting", "w_limit_eq35", "eq35_inside",
+                       "periods", "runs", "converged"]]
+        _say(f"numerical shakedown limit w_lim(ft), tolerance {args.tol:g} in w: each search starts from "
+             "[start_lo, start_hi] and ends with w_shakedown shaking down and w_ratcheting ratcheting; "
+             "eq35_inside: the exact limit of eq 35 lies in that final bracket",
+             shown.to_string(index=False, float_format=lambda v: f"{v:.6f}"))
+    if args.out not in (None, "-"):
+        if args.out.name.lower().endswith(".json"):
             _write_json(table.to_dict("records"), args.out)
-        elif name.endswith(".parquet"):
-            _atomic_write(args.out, lambda tmp: table.to_parquet(tmp, index=False))
         else:
-            _atomic_write(args.out, lambda tmp: table.to_csv(tmp, index=False))
+            write_table(table, args.out)
         _say(f"wrote {args.out}", stream=sys.stderr)
     bad = table[~table["converged"]]
     for row in bad.itertuples():
@@ -625,18 +666,20 @@ def main(argv=None) -> int:
     Returns
     -------
     int
-        0 success, 1 some work failed, 2 bad input, 130 interrupted.
+        0 success, 1 some work failed, 2 bad input, 130 interrupted. Every
+        error is one line ``shakedown: error: ...`` on stderr that names the
+        flag at fault.
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     too_long = next((a for a in argv if len(a) > _MAX_PATH), None)
     if too_long is not None:
-        _say(f"shakedown: error: an argument is too long ({len(too_long)} characters, at most {_MAX_PATH}): "
+        _say(f"{_PREFIX}an argument is too long ({len(too_long)} characters, at most {_MAX_PATH}): "
              f"{_short(too_long)}", stream=sys.stderr)
         return _EXIT_USAGE
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-    except SystemExit as e:  # --help (0) or a usage error (2, already printed by argparse)
+    except SystemExit as e:  # --help, --version (0) or a usage error (2, already printed)
         return e.code if isinstance(e.code, int) else _EXIT_USAGE
     if args.command is None:
         parser.print_help(sys.stderr)
@@ -644,13 +687,13 @@ def main(argv=None) -> int:
     try:
         return args.func(args)
     except ValueError as e:
-        _say(f"shakedown: error: {e}", stream=sys.stderr)
+        _say(f"{_PREFIX}{flag_names(str(e))}", stream=sys.stderr)
         return _EXIT_USAGE
     except KeyboardInterrupt:
         _say("shakedown: interrupted", stream=sys.stderr)
         return _EXIT_INTERRUPTED
     except (RuntimeError, OSError, ImportError) as e:
-        _say(f"shakedown: error: {type(e).__name__}: {e}", stream=sys.stderr)
+        _say(f"{_PREFIX}{type(e).__name__}: {flag_names(str(e))}", stream=sys.stderr)
         return _EXIT_FAILED
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -19,6 +20,10 @@ STATE_NAMES = ("released", "stick", "slip forward", "slip backward")
 
 #: Margin [mu p0] below the traction bound that counts as sticking in the final state.
 STICK_MARGIN = 1e-7
+
+#: Ratio of the last increment per period to the one before from which a run that has not shaken down
+#: counts as ratcheting (the increment has settled); below it, the run is "undetermined".
+SETTLED_RATIO = 0.9
 
 
 def below_bound(q, bound):
@@ -192,10 +197,49 @@ class CycleResult:
             k -= 1
         return int(k)
 
+    @cached_property
+    def verdict(self) -> tuple[str, str]:
+        """``(regime, reason)``: what the periods run show about the regime, and why.
+
+        * ``"shakedown"``: the increment per period fell to ``shakedown_rtol``
+          of its largest value (:attr:`shakedown_period`).
+        * ``"ratcheting"``: the body keeps walking: the state repeats
+          (:attr:`periodic_from`) with a non-zero increment, or the last
+          increment is at least :data:`SETTLED_RATIO` of the one before (it has
+          settled; shakedown increments decay geometrically, by a factor of 2
+          to 10 per period).
+        * ``"undetermined"``: the run cannot tell: a single period (one
+          increment shows no trend), or increments still decaying but not yet
+          below ``shakedown_rtol``. More periods decide it.
+        """
+        inc = np.abs(self.increment_per_period)
+        if self.shakedown_period is not None:
+            return "shakedown", (f"the increment per period fell to <= {self.shakedown_rtol:g} of its largest "
+                                 f"from period {self.shakedown_period}")
+        last = float(inc[-1]) if inc.size else float("nan")
+        if self.periodic_from is not None:
+            return "ratcheting", (f"the state repeats from period {self.periodic_from}, walking {last:.3g} mu P/E* "
+                                  "per period")
+        if inc.size < 2:
+            return "undetermined", (f"{inc.size} period: one increment cannot show whether it decays "
+                                    "(shakedown) or settles (ratcheting); run more periods")
+        ratio = last / float(inc[-2]) if inc[-2] > 0 else math.inf
+        if ratio >= SETTLED_RATIO:
+            return "ratcheting", (f"the increment per period settled at {last:.3g} mu P/E* (last two in ratio "
+                                  f"{ratio:.3g})")
+        return "undetermined", (f"after {inc.size} periods the increment still decays (ratio {ratio:.3g} per period) "
+                                f"but is {last / float(inc.max()):.3g} of its largest, above shakedown_rtol = "
+                                f"{self.shakedown_rtol:g}; run more periods")
+
     @property
     def regime(self) -> str:
-        """``"shakedown"`` if the increment per period decayed below ``shakedown_rtol`` of its largest value, else ``"ratcheting"``."""
-        return "ratcheting" if self.shakedown_period is None else "shakedown"
+        """``"shakedown"``, ``"ratcheting"`` or ``"undetermined"`` (see :attr:`verdict`)."""
+        return self.verdict[0]
+
+    @property
+    def regime_reason(self) -> str:
+        """Why the run got its :attr:`regime`, in words (see :attr:`verdict`)."""
+        return self.verdict[1]
 
     # ---- the final state ---------------------------------------------------
     @cached_property
@@ -237,6 +281,7 @@ class CycleResult:
         return {
             **self.params,
             "regime": self.regime,
+            "regime_reason": self.regime_reason,
             "stick_halfwidth": self.stick_halfwidth,
             "shakedown_period": self.shakedown_period,
             "increment_last_period": float(inc[-1]) if inc.size else float("nan"),

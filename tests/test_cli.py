@@ -1,7 +1,9 @@
 """The ``shakedown`` command line: outputs, resume, and bad input (exit 2, a message, no traceback)."""
 
+import io
 import json
 import math
+import re
 import shutil
 import subprocess
 import sys
@@ -13,7 +15,7 @@ from hypothesis import given, settings, strategies as st
 
 import core
 from core.cli import main, parse_range
-from core.sweeps import normalise_table
+from core.tables import normalise_table
 
 FAST = ["--periods", "4", "--workers", "1", "--no-progress"]
 
@@ -66,6 +68,7 @@ def test_sweep_resumes_and_skips_rows_already_done(capsys, tmp_path):
     assert code == 0, err
     assert "6 runs in the grid, 4 already" in err and "2 to run" in err
     second = normalise_table(pd.read_csv(out))
+    assert len(second) == 6
     assert list(zip(second["ft"], second["w"])) == [(f, w) for f in (0.1, 0.5) for w in (0.2, 0.4, 0.6)]
     kept = second.merge(first, on=["ft", "w"], suffixes=("", "_first"))
     np.testing.assert_array_equal(kept["runtime"], kept["runtime_first"])  # not recomputed
@@ -78,7 +81,7 @@ def test_sweep_resumes_and_skips_rows_already_done(capsys, tmp_path):
 
 def test_an_interrupted_sweep_resumes_from_its_journal(capsys, tmp_path, monkeypatch):
     sweep_module = sys.modules["core.sweeps"]
-    real, calls = sweep_module._run_chunk, []
+    real, calls = sweep_module.run_chunk, []
 
     def interrupted(points):
         calls.append(points)
@@ -86,7 +89,7 @@ def test_an_interrupted_sweep_resumes_from_its_journal(capsys, tmp_path, monkeyp
             raise KeyboardInterrupt
         return real(points)
 
-    monkeypatch.setattr(sweep_module, "_run_chunk", interrupted)
+    monkeypatch.setattr(sweep_module, "run_chunk", interrupted)
     out = tmp_path / "map.parquet"
     pytest.importorskip("pyarrow")
     code, _, err = _run(capsys, "sweep", "--ft", "0.1,0.3,0.5", "--w", "0.2,0.6", "--out", str(out), *FAST)
@@ -95,7 +98,7 @@ def test_an_interrupted_sweep_resumes_from_its_journal(capsys, tmp_path, monkeyp
     assert not out.exists() and len(pd.read_csv(journal)) == 2
     with journal.open("a") as f:  # a line cut short when the process was killed
         f.write("0.5,0.6,4,0.02")
-    monkeypatch.setattr(sweep_module, "_run_chunk", real)
+    monkeypatch.setattr(sweep_module, "run_chunk", real)
     code, _, err = _run(capsys, "sweep", "--ft", "0.1,0.3,0.5", "--w", "0.2,0.6", "--out", str(out), *FAST)
     assert code == 0 and "2 already" in err and "4 to run" in err
     assert not journal.exists()
@@ -131,10 +134,14 @@ def test_limit_prints_and_writes_the_curve(capsys, tmp_path):
     code, out, err = _run(capsys, "limit", "--ft", "0.3,0.6", "--tol", "0.005", "--out", str(tmp_path / "l.json"),
                           "--workers", "1", "--no-progress")
     assert code == 0, err
-    assert "w_limit_eq35" in out
+    assert "w_limit_eq35" in out and "eq35_inside" in out and "start_lo" in out
     rows = json.loads((tmp_path / "l.json").read_text())
     assert [r["ft"] for r in rows] == [0.3, 0.6]
     assert all(r["converged"] and abs(r["difference"]) <= 0.005 + 1e-3 for r in rows)
+    # the search starts from the whole range, not from eq 35, and says whether eq 35 is in its final bracket
+    assert all((r["start_lo"], r["start_hi"]) == (0.0, 0.999) for r in rows)
+    assert all(r["eq35_inside"] == (r["w_shakedown"] <= r["w_limit_eq35"] <= r["w_ratcheting"]) for r in rows)
+    assert all(r["w_ratcheting"] - r["w_shakedown"] <= 2 * 0.005 for r in rows)
 
 
 # --------------------------------------------------------------------------
@@ -155,9 +162,13 @@ LONG = "9" * 5000
     (["run", "--ft", "0.3", "--w", "0.3", "--periods", "1e9"], "periods must be a whole number"),
     (["run", "--ft", "0.3", "--w", "0.3", "--periods", "100000"], "periods must be an integer"),
     (["run", "--ft", "0.3", "--w", "0.9", "--periods", "5000"], "cells"),
-    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "1e-5"], "dx must be in"),
-    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "2e-4"], "elements"),
-    (["run", "--ft", "0.3", "--w", "0.3", "--kernel", "strip"], "L_over_a is required"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "1e-5"], "--dx must be in [0.00050025, 0.5]"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "5e-4"], "--dx must be in [0.00050025, 0.5]"),
+    (["run", "--ft", "0.3", "--w", "0.9", "--dx", "6e-4"], "elements"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--kernel", "strip"], "--L-over-a is required with --kernel strip"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--body", "banana"], "--body must be one of cylinder, got 'banana'"),
+    (["sweep", "--ft", "0.3", "--w", "0.3", "--out", "m.csv", "--body", "banana"], "--body must be one of"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--history", "banana"], "--history must be one of"),
     (["run", "--ft", "0.3", "--w", "0.3", "--kernel", "x" * 300], "too long"),
     (["run", "--ft", "0.3", "--w", "0.3", "--kernel", LONG], "too long"),
     (["run", "--R1", "0.04", "--ft", "0.3", "--w", "0.3"], "needs --L --Fn --mu --E2"),
@@ -195,7 +206,73 @@ def test_bad_input_exits_2_with_a_message(capsys, tmp_path, monkeypatch, argv, m
     assert code == 2
     assert message in err and "Traceback" not in err + out
     assert len(err) < 5000
+    if message:  # one error line with the same prefix for every command, after argparse's usage line if any
+        assert [line for line in err.splitlines() if not line.startswith(("usage:", " "))][0].startswith(
+            "shakedown: error: "), err
     assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_sweep_refuses_to_mix_another_grid_or_options_into_its_file(capsys, tmp_path):
+    out = tmp_path / "map.csv"
+    assert _run(capsys, "sweep", "--ft", "0.1,0.5", "--w", "0.2", "--out", str(out), *FAST)[0] == 0
+    before = out.read_bytes()
+    for other in (["--ft", "0.1,0.5", "--w", "0.2", "--periods", "5"],    # other options
+                  ["--ft", "0.1,0.4", "--w", "0.2", "--periods", "4"],    # another grid
+                  ["--ft", "0.1,0.5", "--w", "0.2", "--periods", "4", "--shape", "sine"]):
+        code, _, err = _run(capsys, "sweep", *other, "--out", str(out), "--workers", "1", "--no-progress")
+        assert code == 2 and "not runs of this sweep" in err and "overwrite" in err, err
+        assert out.read_bytes() == before
+    code, _, err = _run(capsys, "sweep", "--ft", "0.1,0.4", "--w", "0.2", "--out", str(out), "--overwrite", *FAST)
+    assert code == 0, err
+    assert list(normalise_table(pd.read_csv(out))["ft"]) == [0.1, 0.4]
+
+
+def test_small_tables_go_to_stdout_without_float_noise(capsys):
+    code, out, err = _run(capsys, "sweep", "--ft", "0.1:0.5:5", "--w", "0.3", "--out", "-", *FAST)
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[0].startswith("ft,w,periods,dx,kernel,shape,regime,regime_reason,")
+    assert [line.split(",")[0] for line in lines[1:]] == ["0.1", "0.2", "0.3", "0.4", "0.5"]
+    assert not re.search(r"0000000\d|9999999\d", out), out  # no round-off noise in any number
+    code, out, err = _run(capsys, "limit", "--ft", "0.5", "--tol", "0.01", "--periods", "6", "--out", "-",
+                          "--workers", "1", "--no-progress")
+    assert code == 0, err
+    table = pd.read_csv(io.StringIO(out))
+    assert list(table["ft"]) == [0.5] and bool(table["eq35_inside"][0])
+
+
+def test_body_and_history_pass_through(capsys):
+    code, out, err = _run(capsys, "run", "--ft", "0.1", "--w", "0.2", "--periods", "1", "--body", "cylinder",
+                          "--history", "rocking")
+    assert code == 0, err
+    # one period cannot tell the regime of this clear shakedown case: it says so
+    assert "undetermined" in out and "one increment cannot show" in out
+
+
+def test_help_and_version_import_nothing_heavy():
+    code = ("import sys, contextlib, io\n"
+            "from core.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    for argv in (['--help'], ['sweep', '--help'], ['--version']):\n"
+            "        assert main(argv) == 0, argv\n"
+            "print(sorted(m for m in ('numpy', 'pandas', 'scipy', 'numba') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+    done = subprocess.run([*_command(), "--version"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stdout.startswith("shakedown ") and done.stdout.split()[1][0].isdigit()
+
+
+def test_the_cli_copies_of_library_constants_agree():
+    import core.cli as cli
+    from core import grid, kernels, schedule, solver
+
+    assert cli._KERNELS == tuple(kernels.KERNELS) and cli._SHAPES == schedule.SHAPES
+    assert cli._DEFAULT_DX == solver.DEFAULT_DX and cli._MAX_ELEMENTS == solver.MAX_ELEMENTS
+    assert (cli._MAX_RUNS, cli._MAX_CELLS) == (grid.MAX_RUNS, grid.MAX_CELLS)
+    solver.make_grid(1.0, cli._DX_MIN)  # the finest dx --dx accepts works at w = 0
+    with pytest.raises(ValueError, match="elements"):
+        solver.make_grid(1.0, cli._DX_MIN * 0.999)
 
 
 def test_sweep_cap_from_the_environment(capsys, tmp_path, monkeypatch):
@@ -249,5 +326,6 @@ def test_parse_range_start_stop_n_is_linspace(start, stop, n):
     except ValueError as e:  # values so close that linspace repeats one
         assert "distinct" in str(e)
         return
-    np.testing.assert_array_equal(values, np.linspace(start, stop, n))
-    assert math.isclose(values[0], start) and values[-1] == stop
+    # linspace, rounded to 12 significant digits inside (0.3, not 0.30000000000000004); the ends as written
+    np.testing.assert_allclose(values, np.linspace(start, stop, n), rtol=5e-12, atol=1e-300)
+    assert values[0] == start and values[-1] == stop
