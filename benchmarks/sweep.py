@@ -1,6 +1,12 @@
-"""Time a 40 x 40 (ft, w) map at the default resolution: 1 worker, 2 workers, speed-up (target < 60 s).
+"""Time (ft, w) maps at the default resolution: 5 x 5 and 40 x 40, default workers, 1 worker, 2 workers.
 
-Run: python benchmarks/sweep.py [--n 40] [--workers 1 2]
+Run: python benchmarks/sweep.py [--n 5 40] [--workers auto 1 2]
+
+``auto`` is the default of :func:`core.sweep` (workers chosen by the size of
+the job: a small map runs in this process, a large one on every core); a
+number forces that many processes. Also printed: the solver time per cell
+(step x element) of the 1-worker run, the constant
+``core.tasks.SECONDS_PER_CELL`` that the default uses to size the job.
 
 Prints, separately: the compile time of the solver (in a subprocess with an
 empty numba cache, so the shared cache is not touched), the warm-up of this
@@ -23,6 +29,8 @@ import time
 import numpy as np
 
 import core
+from core.grid import run_cells
+from core.tasks import SECONDS_PER_CELL
 
 TARGET_S = 60.0
 
@@ -39,44 +47,48 @@ def compile_time() -> float:
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=40, help="grid points per axis (default 40)")
-    parser.add_argument("--workers", type=int, nargs="+", default=[1, 2], help="worker counts (default 1 2)")
+    parser.add_argument("--n", type=int, nargs="+", default=[5, 40], help="grid points per axis (default 5 40)")
+    parser.add_argument("--workers", nargs="+", default=["auto", "1", "2"],
+                        help="'auto' (the default of core.sweep) or worker counts (default auto 1 2)")
     parser.add_argument("--no-compile", action="store_true", help="skip the cold-compile measurement")
     args = parser.parse_args(argv)
 
-    grid = np.linspace(0.02, 0.95, args.n)
-    print(f"{args.n} x {args.n} map, ft and w in [0.02, 0.95], default resolution "
-          f"(dx = dW = {core.solver.DEFAULT_DX:g} a, 10 periods), {os.cpu_count()} cores")
+    print(f"maps over ft and w in [0.02, 0.95], default resolution (dx = dW = {core.solver.DEFAULT_DX:g} a, "
+          f"10 periods), {os.cpu_count()} cores")
     if not args.no_compile:
         print(f"compile (empty numba cache, fresh process):   {compile_time():6.2f} s")
     t0 = time.perf_counter()
     core.simulate_cycles(0.3, 0.3, periods=1)
     print(f"warm-up of this process (cached code):        {time.perf_counter() - t0:6.2f} s")
-
-    walls = {}
-    for workers in args.workers:
-        t0 = time.perf_counter()
-        table = core.sweep(grid, grid, max_workers=workers)
-        wall = time.perf_counter() - t0
-        walls[workers] = wall
-        n = len(table)
-        warm = table.attrs["warmup_s"]
-        warm_text = ", ".join(f"{v:.2f}" for v in warm.values())
-        print(f"\n{workers} worker(s), backend {table.attrs['backend']}, {table.attrs['chunksize']} runs per task")
-        print(f"  wall time of the map:        {wall:7.2f} s  (target < {TARGET_S:.0f} s: "
-              f"{'met' if wall < TARGET_S else 'MISSED'})")
-        print(f"  start-up (pool + warm-up):   {table.attrs['startup_s']:7.2f} s  (worker warm-up: {warm_text} s)")
-        print(f"  wall per run:                {1e3 * wall / n:7.2f} ms")
-        print(f"  solver time per run (mean):  {1e3 * table['runtime'].mean():7.2f} ms "
-              f"(median {1e3 * table['runtime'].median():.2f}, max {1e3 * table['runtime'].max():.1f})")
-        print(f"  active-set iterations:       max {int(table['max_iterations'].max())} per step, "
-              f"{int(table['steps'].sum())} steps in all")
-        counts = table["regime"].value_counts().to_dict()
-        print("  regimes:                     " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())))
-    if 1 in walls:
-        for workers, wall in walls.items():
-            if workers != 1:
-                print(f"\nspeed-up 1 -> {workers} workers: {walls[1] / wall:.2f}x")
+    for n in args.n:
+        grid = np.linspace(0.02, 0.95, n)
+        cells = sum(run_cells(p) for p in core.sweep_grid(grid, grid))
+        walls = {}
+        for workers in args.workers:
+            t0 = time.perf_counter()
+            table = core.sweep(grid, grid, workers=None if workers == "auto" else int(workers))
+            wall = time.perf_counter() - t0
+            walls[workers] = wall
+            warm = table.attrs["warmup_s"]
+            warm_text = ", ".join(f"{v:.2f}" for v in warm.values())
+            print(f"\n{n} x {n} map, workers={workers}: backend {table.attrs['backend']}, "
+                  f"{table.attrs['chunksize']} runs per task")
+            print(f"  wall time of the map:        {wall:7.2f} s" + (
+                f"  (target < {TARGET_S:.0f} s: {'met' if wall < TARGET_S else 'MISSED'})" if n >= 40 else ""))
+            print(f"  start-up (pool + warm-up):   {table.attrs['startup_s']:7.2f} s  (worker warm-up: {warm_text} s)")
+            print(f"  wall per run:                {1e3 * wall / len(table):7.2f} ms")
+            print(f"  solver time per run (mean):  {1e3 * table['runtime'].mean():7.2f} ms "
+                  f"(median {1e3 * table['runtime'].median():.2f}, max {1e3 * table['runtime'].max():.1f})")
+            print(f"  solver time per cell:        {table['runtime'].sum() / cells:9.3g} s "
+                  f"(core.tasks.SECONDS_PER_CELL = {SECONDS_PER_CELL:.3g})")
+            print(f"  active-set iterations:       max {int(table['max_iterations'].max())} per step, "
+                  f"{int(table['steps'].sum())} steps in all")
+            counts = table["regime"].value_counts().to_dict()
+            print("  regimes:                     " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())))
+        if "1" in walls:
+            for workers, wall in walls.items():
+                if workers != "1":
+                    print(f"{n} x {n}: 1 worker -> workers={workers}: {walls['1'] / wall:.2f}x")
 
 
 if __name__ == "__main__":
