@@ -25,7 +25,7 @@ def test_rocking_runs_keep_coulomb_balance_and_dissipation(ft, w, inv_dx, period
     r = core.simulate_cycles(ft, w, periods=periods, dx=1 / inv_dx, shape=shape, load_steps=load_steps,
                              kernel=kernel, **extra)
     check_invariants(r)
-    assert r.regime in ("shakedown", "ratcheting")
+    assert r.regime in ("shakedown", "ratcheting", "undetermined")  # undetermined: too few periods to tell
     assert 0.0 <= r.stick_halfwidth <= 1.0
     # the body walks along the load, never against it
     assert np.all(np.sign(r.increment_per_period) * np.sign(ft) >= -1e-9)

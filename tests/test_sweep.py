@@ -312,3 +312,21 @@ def test_default_map_loads_and_matches_eq35():
     assert (np.abs(margin[m["regime"] == "undetermined"]) < 0.05).all()
     module = importlib.import_module("core.tables")
     assert list(m.columns) == list(module.INPUT_COLUMNS) + list(module.RESULT_COLUMNS)
+
+
+def test_the_readme_maps_snippet_runs_as_a_file():
+    """Saved as a file, the snippet's work runs only under its __main__ guard (spawned workers re-import it)."""
+    import ast
+    import pathlib
+    import re
+
+    readme = (pathlib.Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8")
+    section = readme[readme.index("## Maps of the (ft, w) plane"):]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    tree = ast.parse(code)
+    *imports, guard = tree.body
+    assert all(isinstance(node, (ast.Import, ast.ImportFrom)) for node in imports)
+    assert isinstance(guard, ast.If) and ast.unparse(guard.test) == "__name__ == '__main__'"
+    called = {ast.unparse(n.func) for n in ast.walk(guard) if isinstance(n, ast.Call)}
+    assert {"core.sweep", "core.numerical_limit_curve", "core.load_default_map"} <= called
+    compile(code, "maps.py", "exec")
