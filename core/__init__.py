@@ -4,7 +4,11 @@ from .contact import Contact, PAPER_SIMULATION, PAPER_EXPERIMENT, BETA_WARNING_L
 from . import approximations  # noqa: F401
 from .kernels import influence_matrix, strip_u0  # noqa: F401
 from .schedule import Schedule, rocking_schedule  # noqa: F401
-from .result import CycleResult, SolverError, SolveCancelled, STATE_NAMES  # noqa: F401
-from .solver import simulate_cycles, simulate_contact, solve_schedule, strip_options  # noqa: F401
+from .states import State, Zone, STATE_NAMES, ZONE_NAMES  # noqa: F401
+from .bodies import BODIES, Cylinder, get_body  # noqa: F401
+from .result import CycleResult, SolverError, SolveCancelled  # noqa: F401
+from .run import run, STEP_SOLVERS  # noqa: F401
+from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
+                     solve_static, shakedown_state)
 from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                     numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
