@@ -7,7 +7,7 @@ from .schedule import Schedule, rocking_schedule  # noqa: F401
 from .states import State, Zone, STATE_NAMES, ZONE_NAMES  # noqa: F401
 from .bodies import BODIES, Cylinder, get_body  # noqa: F401
 from .result import CycleResult, SolverError, SolveCancelled  # noqa: F401
-from .run import run, STEP_SOLVERS  # noqa: F401
+from .engine import run, STEP_SOLVERS  # noqa: F401
 from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
                      solve_static, shakedown_state)
 from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401

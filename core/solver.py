@@ -4,9 +4,9 @@
 (a :class:`~core.contact.Contact` in SI units) and :func:`solve_schedule`
 (any :class:`~core.schedule.Schedule`) build a body (:mod:`core.bodies`), an
 elastic operator (:mod:`core.kernels`), a per-step solver (``solver="dense"``,
-``"fft"`` or ``"auto"``: :mod:`core.dense`, :data:`core.run.STEP_SOLVERS`)
+``"fft"`` or ``"auto"``: :mod:`core.dense`, :data:`core.engine.STEP_SOLVERS`)
 and a loading history (:mod:`core.schedule`, :mod:`core.histories`) and
-hand them to :func:`core.run.run`. :func:`solve_static` and
+hand them to :func:`core.engine.run`. :func:`solve_static` and
 :func:`shakedown_state` solve one static partial-slip problem.
 
 Normalised units: lengths in ``a``, tractions in ``mu p0``, loads in ``mu P``,
@@ -29,7 +29,7 @@ from ._validate import check_int, check_scalar
 from .bodies import MAX_ELEMENTS, Cylinder, get_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, below_bound, central_halfwidth, read_only
-from .run import KernelOperator, run, select_solver
+from .engine import KernelOperator, run, select_solver
 from .schedule import Schedule, rocking_schedule
 
 __all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
@@ -115,7 +115,7 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     chunk : int
         Steps run between checks of the budget, ``cancel`` and ``progress``.
     solver : {"auto", "dense", "fft"}
-        Per-step solver (:func:`core.run.select_solver`): ``"dense"`` (the
+        Per-step solver (:func:`core.engine.select_solver`): ``"dense"`` (the
         primal-dual active set on the dense matrix, :mod:`core.dense`),
         ``"fft"`` (matrix-free) or ``"auto"`` (by size; the default).
     body : str
