@@ -1,7 +1,7 @@
 """Shakedown Explorer core: the physics of a rocking cylindrical contact."""
 from .analytical import *  # noqa: F401,F403
 from .contact import Contact, PAPER_SIMULATION, PAPER_EXPERIMENT, BETA_WARNING_LEVEL  # noqa: F401
-from . import approximations  # noqa: F401
+from . import approximations, histories  # noqa: F401
 from .kernels import influence_matrix, strip_u0  # noqa: F401
 from .schedule import Schedule, rocking_schedule  # noqa: F401
 from .states import State, Zone, STATE_NAMES, ZONE_NAMES  # noqa: F401
