@@ -10,5 +10,6 @@ from .result import CycleResult, SolverError, SolveCancelled  # noqa: F401
 from .engine import run, STEP_SOLVERS  # noqa: F401
 from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
                      solve_static, shakedown_state)
+from .convergence import ConvergedIncrement, converged_increment  # noqa: F401
 from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                     numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
