@@ -280,17 +280,26 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
         B = st.B
         # ---- stick: K[F,F] dq_F = lam - K[F,fixed] dq_fixed, sum dq_F = D
         D = target - sum_prev - sum_fixed
+        # y_F = K[F, fixed] dq_fixed: only the few fixed elements that move contribute (K is symmetric)
+        y = work[n:n + m]
+        for r in range(m):
+            y[r] = 0.0
+        for i in range(lo, hi):
+            d = dq[i]
+            if d != 0.0:
+                Ki = K[i]
+                for r in range(m):
+                    y[r] += d * Ki[fidx[r]]
+        # B 1 and B y in one pass over B (memory-bound)
         sb1 = 0.0
         sby = 0.0
         for r in range(m):
-            work[n + r] = _row_dot(K, fidx[r], dq, lo, hi)  # y_F
-        y = work[n:n + m]
-        for r in range(m):
             row = B[r, :m]
             b1 = 0.0
+            by = 0.0
             for c in range(m):
                 b1 += row[c]
-            by = _dot(row, y)
+                by += row[c] * y[c]
             work[2 * n + r] = b1
             work[3 * n + r] = by
             sb1 += b1

@@ -22,7 +22,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ._validate import check_scalar
 from .result import CycleResult
@@ -68,7 +68,7 @@ class ConvergedIncrement:
     extrapolated: float
     error: float
     dx: float
-    result: CycleResult
+    result: CycleResult = field(repr=False)
 
     @property
     def relative_error(self) -> float:
