@@ -46,20 +46,12 @@ KKT_TOL = 1e-10
 
 
 def make_grid(reach, dx):
-    """Uniform world-fixed element edges, symmetric about 0, covering ``[-reach, reach]``.
-
-    Parameters
-    ----------
-    reach : float
-        Largest distance from 0 that the contact reaches [a].
-    dx : float
-        Element width [a].
+    """The element edges of :meth:`core.bodies.Cylinder.for_reach` (``reach`` and ``dx`` in a).
 
     Returns
     -------
     ndarray, shape (n + 1,)
-        Element edges; ``n`` is even and the grid has one spare element each side
-        (:meth:`core.bodies.Cylinder.for_reach`).
+        Uniform edges symmetric about 0 with one spare element each side; ``n`` is even.
     """
     return Cylinder.for_reach(reach, dx).edges
 
