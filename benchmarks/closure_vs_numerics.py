@@ -23,7 +23,8 @@ def main(dx: float = 1 / 400) -> None:
     for w in (0.26, 0.52, 0.77):
         for frac in (0.2, 0.5, 0.8, 0.95):
             ft = frac * float(core.ft_limit(w))
-            x, q, bound, c = shakedown_state(ft, w, dx)
+            sd = shakedown_state(ft, w, dx)
+            x, q, c = sd.x, sd.traction, sd.stick_halfwidth
             cc = float(core.shakedown_stick_halfwidth(ft, w))
             tau = core.shakedown_traction(x, ft, w)
             i0 = int(np.argmin(np.abs(x)))

@@ -15,11 +15,16 @@ def _load():
         from . import analytical
         globals().update({name: getattr(analytical, name) for name in analytical.__all__})
         from .contact import Contact, PAPER_SIMULATION, PAPER_EXPERIMENT, BETA_WARNING_LEVEL  # noqa: F401
-        from . import approximations  # noqa: F401
+        from . import approximations, histories  # noqa: F401
         from .kernels import influence_matrix, strip_u0  # noqa: F401
         from .schedule import Schedule, rocking_schedule  # noqa: F401
-        from .result import CycleResult, SolverError, SolveCancelled, STATE_NAMES  # noqa: F401
-        from .solver import simulate_cycles, simulate_contact, solve_schedule, strip_options  # noqa: F401
+        from .states import State, Zone, STATE_NAMES, ZONE_NAMES  # noqa: F401
+        from .bodies import BODIES, Cylinder, get_body  # noqa: F401
+        from .result import CycleResult, SolverError, SolveCancelled  # noqa: F401
+        from .engine import run, STEP_SOLVERS  # noqa: F401
+        from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
+                             solve_static, shakedown_state)
+        from .convergence import ConvergedIncrement, converged_increment  # noqa: F401
         from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
         globals().update({k: v for k, v in locals().items() if k != "analytical"})

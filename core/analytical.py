@@ -17,8 +17,7 @@ References
 ----------
 .. [1] R. Wetter, "Frictional shakedown and ratcheting of an oscillating
    cylindrical, elastic contact with Coulomb friction", Physical
-   Mesomechanics 18 (2015). Equation numbers below refer to this paper, as
-   restated in ``shared/PHYSICS.md``.
+   Mesomechanics 18 (2015). Equation numbers below refer to this paper.
 """
 
 from __future__ import annotations
@@ -26,7 +25,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import elementwise
 
+from ._hertz import element_means
 from ._validate import check_range
+from .states import Zone
 
 __all__ = [
     "hertz_pressure",
@@ -48,8 +49,8 @@ __all__ = [
     "REGIMES",
 ]
 
-#: Zone codes returned by :func:`shakedown_zones`.
-ZONE_NONE, ZONE_STICK, ZONE_SLIP, ZONE_RELEASED = 0, 1, 2, 3
+#: Zone codes returned by :func:`shakedown_zones` (aliases of :class:`core.states.Zone`).
+ZONE_NONE, ZONE_STICK, ZONE_SLIP, ZONE_RELEASED = Zone.NONE, Zone.STICK, Zone.SLIP, Zone.RELEASED
 #: Regime names returned by :func:`classify_regime`, in code order.
 REGIMES = ("shakedown", "ratcheting", "gross sliding")
 
@@ -125,19 +126,8 @@ def hertz_pressure_element_mean(edges, xc=0.0, a=1.0, p0=1.0):
         raise ValueError("edges must be a strictly increasing 1-D array of at least 2 values")
     a = float(check_range("a", a, 0.0, None, lo_closed=False))
     p0 = float(check_range("p0", p0, 0.0, None))
-    return p0 * _element_mean(edges, float(xc), a)
-
-
-def _element_mean(edges, xc, a):
-    """Element means of ``a sqrt(1 - ((x - xc)/a)^2)`` between ``edges``; broadcasts over ``xc`` and ``a``.
-
-    With ``xc`` and ``a`` of shape (steps, 1) the result is (steps, n): the
-    pressure [p0] of every step of a schedule whose half-width and peak both
-    scale as ``a`` (``a = sqrt(P)``). No validation: internal.
-    """
-    F = _ellipse_primitive((edges - xc) / a)
-    # differences of the primitive can round to -1e-16 where the profile vanishes
-    return np.clip(a * np.diff(F, axis=-1) / np.diff(edges), 0.0, None)
+    xc = float(check_range("xc", xc))
+    return element_means(edges, xc, a, p0)[0]
 
 
 # --------------------------------------------------------------------------

@@ -25,14 +25,13 @@ import numpy as np
 import pandas as pd
 
 from .contact import Contact
-from .result import STATE_NAMES, CycleResult
+from .result import CycleResult
+from .states import STATE_NAMES, ZONE_NAMES
 
 __all__ = ["TABLES", "ZONE_NAMES", "parameters", "result_table", "to_csv", "to_json"]
 
 #: Names of the tables of a run.
 TABLES = ("steps", "periods", "final")
-#: Names of the final zones (:attr:`CycleResult.final_zones` codes 0-3).
-ZONE_NAMES = ("no contact", "stick", "slip", "zero traction")
 
 
 def _check(result, contact):

@@ -8,14 +8,21 @@ from functools import cached_property
 
 import numpy as np
 
-from .analytical import _element_mean
+from .bodies import get_body
+from .states import STATE_NAMES, State, Zone
 
 __all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
-           "STATE_NAMES", "SolverError", "SolveCancelled"]
+           "STATE_NAMES", "SolverError", "SolveCancelled", "read_only"]
 
-#: Element states recorded per step (``CycleResult.state``).
-STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = 0, 1, 2, 3
-STATE_NAMES = ("released", "stick", "slip forward", "slip backward")
+#: Element states recorded per step (``CycleResult.state``): aliases of :class:`core.states.State`.
+STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = (
+    State.RELEASED, State.STICK, State.SLIP_FORWARD, State.SLIP_BACKWARD)
+
+
+def read_only(arr: np.ndarray) -> np.ndarray:
+    """``arr`` with its write flag cleared (results are shared between sessions of the app)."""
+    arr.setflags(write=False)
+    return arr
 
 
 #: Margin [mu p0] below the traction bound that counts as sticking in the final state.
@@ -103,7 +110,7 @@ class CycleResult:
     iterations : ndarray of int, shape (steps,)
         Active-set iterations of each step (0: nothing slipped).
     kkt_residual : ndarray, shape (steps,)
-        Worst KKT residual of each step (stick, sign, bound, load balance).
+        Worst KKT residual of each step (the largest of :attr:`residuals`' kinds).
     kernel : str
         ``"plane"`` (plane strain) or ``"strip"`` (truncated 3D strip).
     u0 : float or None
@@ -119,6 +126,19 @@ class CycleResult:
         Relative tolerance on the increment per period for the verdict.
     runtime : float
         Wall time of the solve [s].
+    body : str
+        Name of the body (:data:`core.bodies.BODIES`), ``"cylinder"``.
+    solver : str
+        Per-step solver that ran (``"dense"`` or ``"fft"``).
+    residuals : dict
+        Worst of each named KKT residual over the steps solved: ``stick_slip``
+        (slip on the stick set), ``bound`` (``|q|`` above ``mu p``),
+        ``slip_direction`` (slip against the traction), ``out_of_contact``
+        (traction outside the contact), ``load_balance`` (``sum q dx`` against
+        the load).
+
+    Every array, the cached ones included, is read-only: a result may be
+    shared between sessions of the app.
     """
 
     edges: np.ndarray
@@ -139,12 +159,20 @@ class CycleResult:
     tol: float = 1e-10
     shakedown_rtol: float = 1e-3
     runtime: float = 0.0
+    body: str = "cylinder"
+    solver: str = "dense"
+    residuals: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        for name, value in vars(self).items():
+            if isinstance(value, np.ndarray):
+                read_only(value)
 
     # ---- grid ------------------------------------------------------------
-    @property
+    @cached_property
     def x(self) -> np.ndarray:
         """Element centres [a]."""
-        return 0.5 * (self.edges[1:] + self.edges[:-1])
+        return read_only(0.5 * (self.edges[1:] + self.edges[:-1]))
 
     @property
     def dx(self) -> float:
@@ -159,14 +187,13 @@ class CycleResult:
     # ---- per step ----------------------------------------------------------
     @cached_property
     def pressure(self) -> np.ndarray:
-        """Element-mean Hertz pressure per step, shape (steps, n) [p0] (the traction bound in mu p0)."""
-        a = np.sqrt(self.P)[:, None]  # half-width and peak pressure both scale as sqrt(P)
-        return a * _element_mean(self.edges, self.xc[:, None], a)
+        """Element-mean pressure per step, shape (steps, n) [p0]: the traction bound [mu p0] the solver used."""
+        return read_only(get_body(self.body)(self.edges).bounds(self.xc, self.P))
 
     @property
     def u(self) -> np.ndarray | None:
         """``U / U0`` per step (strip kernel only, else None)."""
-        return None if self.u0 is None else self.displacement / self.u0
+        return None if self.u0 is None else read_only(self.displacement / self.u0)
 
     # ---- per period --------------------------------------------------------
     def _period_ends(self) -> np.ndarray:
@@ -179,8 +206,8 @@ class CycleResult:
         ends = self._period_ends()
         disp = self.displacement[ends]
         if self.period[0] < 0:  # first block is the loading
-            return np.diff(disp)
-        return np.diff(np.concatenate([[0.0], disp]))
+            return read_only(np.diff(disp))
+        return read_only(np.diff(np.concatenate([[0.0], disp])))
 
     @cached_property
     def shakedown_period(self) -> int | None:
@@ -246,11 +273,11 @@ class CycleResult:
     def lowest_pressure(self) -> np.ndarray:
         """Lowest element pressure seen during the last period, shape (n,) [p0]."""
         last = self.period == self.period[-1]
-        return self.pressure[last].min(axis=0)
+        return read_only(self.pressure[last].min(axis=0))
 
     @cached_property
     def final_zones(self) -> np.ndarray:
-        """Zones of the final traction: 1 stick (below mu p_min), 2 at the bound, 3 zero traction, 0 never in contact.
+        """Zones of the final traction (:class:`core.states.Zone`): stick (below mu p_min), slip (at the bound), released (zero traction), none (never in contact).
 
         ``zero traction`` marks the elements that lost contact during the last
         period (their lowest pressure is 0) and were in contact at some step.
@@ -258,8 +285,8 @@ class CycleResult:
         bound = self.lowest_pressure
         ever = (self.pressure > 0).any(axis=0)
         stick = below_bound(self.traction[-1], bound)
-        zones = np.where(stick, 1, np.where(bound > 0, 2, np.where(ever, 3, 0)))
-        return zones.astype(np.int8)
+        zones = np.where(stick, Zone.STICK, np.where(bound > 0, Zone.SLIP, np.where(ever, Zone.RELEASED, Zone.NONE)))
+        return read_only(zones.astype(np.int8))
 
     @cached_property
     def stick_halfwidth(self) -> float:
@@ -268,7 +295,7 @@ class CycleResult:
         Outside it the traction sits at ``mu`` times the lowest pressure of the
         last period, or is zero where contact was lost. 0 if there is no such zone.
         """
-        return central_halfwidth(self.final_zones == 1, self.edges)
+        return central_halfwidth(self.final_zones == Zone.STICK, self.edges)
 
     @property
     def max_kkt_residual(self) -> float:

@@ -56,6 +56,6 @@ def test_more_load_never_shrinks_the_slip(ft, w):
     from core.solver import shakedown_state
 
     hi = min(ft + 0.05, 0.99)
-    c_lo = shakedown_state(ft, w, 1 / 40)[3] if ft <= core.ft_limit(w) else 0.0
-    c_hi = shakedown_state(hi, w, 1 / 40)[3] if hi <= core.ft_limit(w) else 0.0
+    c_lo = shakedown_state(ft, w, 1 / 40).stick_halfwidth if ft <= core.ft_limit(w) else 0.0
+    c_hi = shakedown_state(hi, w, 1 / 40).stick_halfwidth if hi <= core.ft_limit(w) else 0.0
     assert c_hi <= c_lo + 1e-12

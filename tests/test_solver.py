@@ -96,15 +96,16 @@ def test_numerical_limit_brackets_eq35(w):
 
 @pytest.mark.parametrize("ft, w", [(0.08, 0.77), (0.2, 0.3), (0.5, 0.3), (0.6, 0.26)])
 def test_direct_shakedown_state_matches_transient(ft, w):
-    """PHYSICS.md's observation: the shaken-down traction is one static partial-slip
-    solution with the bound mu * (lowest pressure over the period)."""
+    """The shaken-down traction is one static partial-slip solution with the bound
+    mu * (lowest pressure over the period), the bound of the paper's slip zone (eq 22)."""
     dx = 1 / 40
     r = simulate_cycles(ft, w, periods=30, dx=dx)
     assert r.regime == "shakedown"
-    x, q, bound, c = shakedown_state(ft, w, dx)
-    assert q.shape == r.traction[-1].shape
-    assert_allclose(r.traction[-1], q, atol=1e-8)
-    assert c == pytest.approx(r.stick_halfwidth)
+    sd = shakedown_state(ft, w, dx)
+    assert sd.traction.shape == r.traction[-1].shape
+    assert_allclose(r.traction[-1], sd.traction, atol=1e-8)
+    assert sd.stick_halfwidth == pytest.approx(r.stick_halfwidth)
+    assert_allclose(sd.bound, r.lowest_pressure, atol=1e-12)
 
 
 @pytest.mark.parametrize("w", [0.26, 0.52, 0.77])
@@ -116,7 +117,8 @@ def test_closure_against_numerical_shakedown_state(w, frac):
     does not shrink with dx (benchmarks/closure_vs_numerics.py prints the table)."""
     ft = frac * float(core.ft_limit(w))
     dx = 1 / 400
-    x, q, bound, c = shakedown_state(ft, w, dx)
+    sd = shakedown_state(ft, w, dx)
+    x, q, c = sd.x, sd.traction, sd.stick_halfwidth
     c_closure = float(core.shakedown_stick_halfwidth(ft, w))
     assert abs(c - c_closure) < 0.005, (c, c_closure)
     tau = core.shakedown_traction(x, ft, w)
@@ -184,10 +186,23 @@ def test_bad_inputs_raise_value_error_naming_parameter(kw, name):
         simulate_cycles(**args)
 
 
-def test_result_is_frozen():
+def test_result_is_frozen_and_its_arrays_read_only():
+    import dataclasses
+
     r = simulate_cycles(0.2, 0.3, periods=2)
-    with pytest.raises(Exception):
-        r.regime = "x"  # type: ignore[misc]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.tol = 1.0  # type: ignore[misc]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.traction = np.zeros_like(r.traction)  # type: ignore[misc]
+    for name in ("edges", "xc", "P", "Q", "period", "traction", "state", "displacement", "dissipation",
+                 "iterations", "kkt_residual", "x", "pressure", "increment_per_period", "lowest_pressure",
+                 "final_zones"):
+        arr = getattr(r, name)
+        with pytest.raises(ValueError, match="read-only"):
+            arr[...] = 0
+    strip = core.simulate_contact(core.PAPER_SIMULATION.replace(ft=0.1, w=0.2), periods=1)
+    with pytest.raises(ValueError, match="read-only"):
+        strip.u[0] = 1.0
 
 
 # ---------------------------------------------------------------------------

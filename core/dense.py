@@ -1,0 +1,173 @@
+"""The dense per-step solver: one increment of the tangential contact problem, by a primal-dual active set.
+
+At each step ``n`` the unknowns are the element tractions ``q_n`` and the
+rigid-body displacement increment ``lam``. With ``K`` the influence matrix of
+the elastic operator and ``dq = q_n - q_{n-1}``, the slip increment of an
+element in contact is ``s = lam - K dq`` and Coulomb's law (Wetter 2015,
+section 2; Kalker's incremental problem) reads
+
+* ``|q_i| <= g_i = mu p_i``, ``q_i = 0`` out of contact (``g_i = 0``);
+* stick (``s_i = 0``) where ``|q_i| < g_i``;
+* where ``s_i != 0``, ``q_i = g_i sign(s_i)``: friction opposes slip, so the
+  dissipation ``sum q_i s_i dx`` is never negative;
+* ``sum q_i dx = (pi/2) Q`` (load balance, eq 5: ``P = pi a p0 / 2``).
+
+These are the KKT conditions of the strictly convex quadratic programme
+``min 1/2 dq^T K dq`` over the box and the load equality, ``lam`` its
+multiplier. :class:`DenseSolver` solves it exactly by a primal-dual active set
+iteration [2] warm-started from the previous step, keeping the inverse of ``K``
+on the stick set up to date by rank-one updates (the numba kernels are in
+``core._pdas``); it stops on the KKT residuals, not on an iteration count, and
+reports failure. Most steps of a shaken-down period are settled by the zero
+increment, which is checked first (it is the unique solution whenever it is
+feasible).
+
+Its cost grows as ``n^2`` per rank-one update and needs the dense ``n x n``
+matrix: the solver of choice for line contacts up to a few thousand elements.
+
+References
+----------
+.. [1] J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*,
+   Kluwer 1990 (the incremental tangential problem; program CONTACT).
+.. [2] M. Hintermueller, K. Ito, K. Kunisch, "The primal-dual active set
+   strategy as a semismooth Newton method", SIAM J. Optim. 13 (2003) 865-888.
+.. [3] R. Wetter, Physical Mesomechanics 18 (2015).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _pdas
+from .result import read_only
+
+__all__ = ["DenseSolver", "StepReport", "Trajectory", "RESIDUALS"]
+
+#: Names of the KKT residuals every per-step solver reports.
+RESIDUALS = _pdas.RESIDUALS
+
+
+@dataclass(frozen=True)
+class StepReport:
+    """What one increment gave: the tractions, the rigid-body increment and how well the KKT conditions hold.
+
+    Attributes
+    ----------
+    traction : ndarray
+        Element tractions after the step [mu p0] (read-only).
+    state : ndarray of int8
+        Element states (:class:`core.states.State`) (read-only).
+    displacement : float
+        Rigid-body displacement increment ``lam`` [mu P/E*].
+    iterations : int
+        Active-set iterations (0: the zero increment solved the step).
+    residuals : dict
+        The named KKT residuals (:data:`RESIDUALS`).
+    converged : bool
+        Whether every residual is within the tolerance.
+    """
+
+    traction: np.ndarray
+    state: np.ndarray
+    displacement: float
+    iterations: int
+    residuals: dict
+    converged: bool
+
+    @property
+    def kkt_residual(self) -> float:
+        """The worst of the named residuals."""
+        return max(self.residuals.values())
+
+
+class Trajectory:
+    """The per-step outputs of a march (all (steps,) or (steps, n) arrays), and the worst named residuals."""
+
+    def __init__(self, steps: int, n: int):
+        self.traction = np.empty((steps, n))
+        self.state = np.empty((steps, n), dtype=np.int8)
+        self.displacement = np.empty(steps)
+        self.dissipation = np.empty(steps)
+        self.iterations = np.empty(steps, dtype=np.int64)
+        self.kkt_residual = np.empty(steps)
+        self.worst = np.zeros(len(RESIDUALS))
+
+    def residuals(self) -> dict:
+        """Worst of each named residual so far."""
+        return dict(zip(RESIDUALS, map(float, self.worst)))
+
+
+class DenseSolver:
+    """The primal-dual active-set solver on the dense influence matrix (see the module docstring).
+
+    Parameters
+    ----------
+    operator : object
+        Elastic operator with ``matrix()`` (the dense ``(n, n)`` influence matrix).
+    element_size : float
+        Element measure of the load balance (``dx`` [a] in 1D).
+    tol : float
+        KKT tolerance of every step.
+    maxiter : int
+        Active-set iterations allowed per step.
+    """
+
+    name = "dense"
+
+    def __init__(self, operator, *, element_size, tol, maxiter):
+        self.K = np.ascontiguousarray(operator.matrix(), dtype=float)
+        if self.K.ndim != 2 or self.K.shape[0] != self.K.shape[1]:
+            raise ValueError(f"the operator's matrix must be square, got shape {self.K.shape}")
+        self.n = self.K.shape[0]
+        self.element_size = float(element_size)
+        self.tol = float(tol)
+        self.maxiter = int(maxiter)
+        self.state = _pdas.new_state(self.n)
+
+    @property
+    def traction(self) -> np.ndarray:
+        """Tractions after the last step (the start of the next one)."""
+        return self.state.q_prev
+
+    @property
+    def residuals(self) -> dict:
+        """The named residuals of the last step."""
+        return dict(zip(RESIDUALS, map(float, self.state.residuals)))
+
+    def step(self, bound, target) -> StepReport:
+        """Solve one increment from the current tractions and advance to it.
+
+        Parameters
+        ----------
+        bound : ndarray, shape (n,)
+            Traction bound ``mu p`` of each element [mu p0]; 0 out of contact.
+        target : float
+            Required ``sum q_i`` [mu p0] (the load over the element size).
+        """
+        st = self.state
+        lam, ok = _pdas.solve_step(self.K, np.ascontiguousarray(bound, dtype=float), float(target),
+                                   self.element_size, self.tol, self.maxiter, st)
+        report = StepReport(traction=read_only(st.q.copy()), state=read_only(st.codes.copy()),
+                            displacement=float(lam), iterations=int(st.counters[_pdas.ITERATIONS]),
+                            residuals=self.residuals, converged=bool(ok))
+        if ok:
+            st.q_prev[:] = st.q
+            st.total[0] += lam
+        return report
+
+    def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out: Trajectory):
+        """Solve steps ``k0:k1`` in order (``bounds[k - k0]``: bound of step ``k``; target ``Q[k] load_scale``).
+
+        Returns
+        -------
+        (reached, periodic_from, failed) : tuple of int
+            ``reached``: steps done; ``periodic_from >= 0``: that period
+            repeats for ever (stop marching); ``failed >= 0``: the step that
+            could not be solved (:attr:`residuals` holds its residuals).
+        """
+        return _pdas.march(self.K, bounds, Q, period, float(load_scale), self.element_size, self.tol,
+                           self.maxiter, bool(detect_periodic), int(k0), int(k1), self.state,
+                           out.traction, out.state, out.displacement, out.dissipation, out.iterations,
+                           out.kkt_residual, out.worst)

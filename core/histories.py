@@ -1,0 +1,168 @@
+"""Loading histories as data: named recipes that build a :class:`~core.schedule.Schedule`.
+
+A history is the list of quasi-static steps a run is driven by: at each step
+the contact centre ``xc`` [a], the normal load ``P`` [nominal P] and the
+tangential load ``Q`` [mu P_nominal], and the period the step belongs to (-1
+for the initial loading). Every recipe validates its inputs (``ValueError``
+naming the parameter and its range) and returns a :class:`Schedule`, which a
+run takes as it is (:func:`core.solve_schedule`):
+
+* :func:`rocking`: the paper's history (Wetter 2015, section 3: ``Ft``
+  applied at ``xc = 0``, then periods of rocking ``0 -> +W -> -W -> 0``, with
+  triangle or sine motion), optionally with a normal force oscillating in the
+  period with a given amplitude and phase (the paper's outlook);
+* :func:`tangential`: a fixed centre under a tangential force oscillating
+  about its mean (fretting: Mindlin's hysteresis loop);
+* :func:`from_arrays`: any per-step arrays the user gives.
+
+:data:`HISTORIES` maps their names to them, :func:`history` builds one by name.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validate import check_int, check_scalar
+from .schedule import MAX_STEPS, SHAPES, Schedule, rocking_schedule
+
+__all__ = ["rocking", "tangential", "from_arrays", "history", "HISTORIES"]
+
+
+def _phases(schedule: Schedule) -> np.ndarray:
+    """Phase in [0, 1] of every step within its period (the loading steps: 0)."""
+    rocking_steps = schedule.period >= 0
+    m = int(np.count_nonzero(schedule.period == 0))
+    phase = np.zeros(len(schedule))
+    phase[rocking_steps] = np.tile(np.arange(1, m + 1) / m, schedule.periods)
+    return phase
+
+
+def rocking(ft, w, periods=10, dW=0.025, shape="triangle", load_steps=1, normal_amplitude=0.0, normal_phase=0.0):
+    """Rocking under a constant tangential force, optionally with an oscillating normal force.
+
+    Parameters
+    ----------
+    ft, w, periods, dW, shape, load_steps :
+        As in :func:`core.schedule.rocking_schedule` (the centre moves
+        ``0 -> W -> -W -> 0`` every period, as a triangle or a sine).
+    normal_amplitude : float
+        Relative amplitude ``A`` of the normal force, in [0, 1):
+        ``P = 1 + A sin(2 pi t + phi)`` with ``t`` the phase of the step in its
+        period (``t = 1/4`` where the centre reaches ``+W``); the loading is
+        at ``P = 1 + A sin(phi)``. ``|ft| < 1 - A`` keeps every step below
+        gross sliding.
+    normal_phase : float
+        Phase ``phi`` of the normal force [rad], finite.
+
+    Returns
+    -------
+    Schedule
+
+    Examples
+    --------
+    >>> import math
+    >>> from core.histories import rocking
+    >>> s = rocking(0.3, 0.5, periods=2, dW=0.125, normal_amplitude=0.2, normal_phase=math.pi / 2)
+    >>> round(float(s.P.max()), 6), round(float(s.P.min()), 6)
+    (1.2, 0.8)
+    """
+    s = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
+    A = check_scalar("normal_amplitude", normal_amplitude, 0.0, 1.0, hi_closed=False)
+    phi = check_scalar("normal_phase", normal_phase)
+    if A == 0.0:
+        return s
+    P = 1.0 + A * np.sin(2.0 * np.pi * _phases(s) + phi)
+    if np.max(np.abs(s.Q) / P) >= 1.0:
+        raise ValueError(f"normal_amplitude = {A:g} with ft = {float(ft):g} reaches gross sliding "
+                         f"(|ft| < P at every step needs |ft| < {P.min():.4g}): use a smaller amplitude or ft")
+    return Schedule(xc=s.xc, P=P, Q=s.Q, period=s.period)
+
+
+def tangential(ft, amplitude, periods=10, steps_per_period=40, shape="sine", load_steps=1):
+    """A fixed contact under a tangential force oscillating about its mean ``ft``.
+
+    Parameters
+    ----------
+    ft : float
+        Mean tangential force ``Ft / (mu Fn)``, in (-1, 1).
+    amplitude : float
+        Amplitude of the oscillation ``Q = ft + amplitude f(t)`` [mu P], >= 0,
+        with ``|ft| + amplitude < 1`` (below gross sliding).
+    periods : int
+        Periods, in [1, 10000].
+    steps_per_period : int
+        Steps of each period, a multiple of 4 in [4, 100000] (the extremes are steps).
+    shape : {"triangle", "sine"}
+        ``f(t)``: a triangle or ``sin(2 pi t)``, both with extremes at ``t = 1/4`` and ``3/4``.
+    load_steps : int
+        Steps of the initial loading to ``ft``, in [1, 10000].
+
+    Returns
+    -------
+    Schedule
+    """
+    ft = check_scalar("ft", ft, -1.0, 1.0, lo_closed=False, hi_closed=False)
+    amplitude = check_scalar("amplitude", amplitude, 0.0, 1.0 - abs(ft), hi_closed=False)
+    periods = check_int("periods", periods, 1, 10_000)
+    m = check_int("steps_per_period", steps_per_period, 4, 100_000)
+    if m % 4:
+        raise ValueError(f"steps_per_period must be a multiple of 4 in [4, 100000], got {m}")
+    if shape not in SHAPES:
+        raise ValueError(f"shape must be one of {SHAPES}, got {shape!r:.60}")
+    load_steps = check_int("load_steps", load_steps, 1, 10_000)
+    if load_steps + m * periods > MAX_STEPS:
+        raise ValueError(f"the history would have {load_steps + m * periods} steps (> {MAX_STEPS}): "
+                         "use fewer periods or fewer steps_per_period")
+    t = np.arange(1, m + 1) / m
+    if shape == "triangle":
+        f = np.where(t <= 0.25, 4 * t, np.where(t <= 0.75, 2 - 4 * t, 4 * t - 4))
+    else:
+        f = np.sin(2 * np.pi * t)
+        f[(4 * np.arange(1, m + 1)) % (2 * m) == 0] = 0.0  # exact zeros at t = 1/2 and 1
+    Q = np.concatenate([ft * np.arange(1, load_steps + 1) / load_steps, np.tile(ft + amplitude * f, periods)])
+    period = np.concatenate([np.full(load_steps, -1), np.repeat(np.arange(periods), m)])
+    return Schedule(xc=np.zeros(Q.size), P=np.ones(Q.size), Q=Q, period=period)
+
+
+def from_arrays(xc, P=None, Q=None, period=None):
+    """A history from per-step arrays given by the user.
+
+    Parameters
+    ----------
+    xc : array_like, shape (steps,)
+        Contact centre [a], finite.
+    P : array_like, optional
+        Normal load [nominal P], > 0; default 1.
+    Q : array_like, optional
+        Tangential load [mu P_nominal], ``|Q| < P``; default 0.
+    period : array_like of int, optional
+        Period of each step, non-decreasing from -1 or 0; default 0 (one block).
+
+    Returns
+    -------
+    Schedule
+        Validated (the message names the offending array).
+    """
+    xc = np.atleast_1d(np.asarray(xc, dtype=float) if not isinstance(xc, (str, bytes)) else xc)
+    n = xc.shape[0] if xc.ndim >= 1 else 1
+    P = np.ones(n) if P is None else P
+    Q = np.zeros(n) if Q is None else Q
+    period = np.zeros(n, dtype=np.int64) if period is None else np.asarray(period)
+    return Schedule(xc=xc, P=P, Q=Q, period=period)
+
+
+#: The named histories.
+HISTORIES = {"rocking": rocking, "tangential": tangential, "arrays": from_arrays}
+
+
+def history(name, **params):
+    """Build the history ``name`` of :data:`HISTORIES` with its parameters.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is unknown (the message lists the names) or a parameter is invalid.
+    """
+    if name not in HISTORIES:
+        raise ValueError(f"history must be one of {sorted(HISTORIES)}, got {name!r:.60}")
+    return HISTORIES[name](**params)

@@ -1,0 +1,101 @@
+"""The parts of a run: the dense per-step solver, the solver choice, the run function, the read-only install."""
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import core
+from core.bodies import Cylinder
+from core.dense import RESIDUALS, DenseSolver
+from core.engine import KernelOperator, run, select_solver
+from core.states import State
+
+
+def _solver(n=40, dx=1 / 20, tol=1e-10):
+    return DenseSolver(KernelOperator(n, dx), element_size=dx, tol=tol, maxiter=200)
+
+
+def test_dense_step_reports_named_residuals_and_cattaneo():
+    body = Cylinder.for_reach(1.0, 1 / 20)
+    s = _solver(body.size, body.dx)
+    g = body.bounds([0.0], [1.0])[0]
+    step = s.step(g, float(body.load_target(0.5)))
+    assert step.converged and step.iterations > 0
+    assert set(step.residuals) == set(RESIDUALS) and step.kkt_residual <= 1e-10
+    # load balance and Coulomb, by hand
+    assert step.traction.sum() * body.dx == pytest.approx(0.5 * np.pi * 0.5, abs=1e-10)
+    assert np.all(np.abs(step.traction) <= g + 1e-10)
+    # the stick zone is Cattaneo's c = sqrt(1 - ft) to a cell
+    stick = (step.state == State.STICK) & (np.abs(step.traction) < g - 1e-7)
+    c = 0.5 * (body.edges[np.flatnonzero(stick)[-1] + 1] - body.edges[np.flatnonzero(stick)[0]])
+    assert abs(c - np.sqrt(0.5)) <= body.dx
+    # the same load again: the zero increment, no iteration
+    again = s.step(g, float(body.load_target(0.5)))
+    assert again.iterations == 0 and again.displacement == 0.0
+    assert_allclose(again.traction, step.traction, atol=0)
+    with pytest.raises(ValueError, match="read-only"):
+        step.traction[0] = 1.0
+
+
+def test_dense_step_that_cannot_settle_says_so():
+    body = Cylinder.for_reach(1.0, 1 / 20)
+    s = DenseSolver(KernelOperator(body.size, body.dx), element_size=body.dx, tol=1e-10, maxiter=1)
+    step = s.step(body.bounds([0.0], [1.0])[0], float(body.load_target(0.9)))
+    assert not step.converged and step.kkt_residual > 1e-10
+    assert not s.traction.any()  # a failed step does not advance
+
+
+def test_solver_choice():
+    assert select_solver("dense", 100) is DenseSolver
+    assert select_solver("auto", 100) is core.engine.STEP_SOLVERS["dense"]
+    with pytest.raises(ValueError, match="solver must be one of"):
+        select_solver("cholesky", 10)
+    if "fft" not in core.engine.STEP_SOLVERS:
+        with pytest.raises(NotImplementedError, match="solver='fft'"):
+            core.simulate_cycles(0.2, 0.3, periods=1, solver="fft")
+    with pytest.raises(ValueError, match="solver"):
+        core.simulate_cycles(0.2, 0.3, periods=1, solver="magic")
+
+
+def test_entry_points_are_the_run_function_on_the_parts():
+    s = core.rocking_schedule(0.58, 0.52, periods=3, dW=1 / 30)
+    body = Cylinder.for_history(s, 1 / 30)
+    direct = run(body, KernelOperator(body.size, body.dx), s, solver="dense", tol=1e-10)
+    via = core.simulate_cycles(0.58, 0.52, periods=3, dx=1 / 30, solver="dense")
+    auto = core.simulate_cycles(0.58, 0.52, periods=3, dx=1 / 30)
+    for r in (via, auto):
+        assert np.array_equal(r.traction, direct.traction) and np.array_equal(r.displacement, direct.displacement)
+    assert direct.solver == "dense" and direct.body == "cylinder"
+    assert set(direct.residuals) == set(RESIDUALS) and max(direct.residuals.values()) <= direct.tol
+    assert direct.max_kkt_residual == pytest.approx(max(direct.residuals.values()))
+    with pytest.raises(ValueError, match="shape"):
+        run(body, KernelOperator(body.size + 2, body.dx), s, tol=1e-10)
+
+
+def test_import_on_a_read_only_install_without_a_numba_cache(tmp_path):
+    """numba cannot cache next to a read-only source or in an unusable home: `import core` must still work."""
+    root = tmp_path / "site"
+    shutil.copytree(Path(core.__file__).parent, root / "core", ignore=shutil.ignore_patterns("__pycache__"))
+    (root / "core" / "__pycache__").write_text("")  # a file: no cache directory can be made there (even as root)
+    for path in sorted(root.rglob("*"), reverse=True) + [root]:
+        path.chmod(0o555 if path.is_dir() else 0o444)
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "XDG_", "PYTHON"))}
+    env.update(HOME="/dev/null", PYTHONPATH=str(root), PYTHONDONTWRITEBYTECODE="1")
+    # a small kernel, compiled without a cache (a whole run would compile every kernel: ~40 s)
+    code = ("import core, core._jit; p = core.hertz_pressure_element_mean([-1.0, -0.3, 0.2, 1.0], 0.1); "
+            "print(core.__file__, core._jit.CACHING, repr(float(p.sum())))")
+    try:
+        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300,
+                             cwd=tmp_path)
+    finally:
+        for path in [root] + sorted(root.rglob("*")):
+            path.chmod(0o755 if path.is_dir() else 0o644)
+    assert out.returncode == 0, out.stderr[-2000:]
+    here = core.hertz_pressure_element_mean([-1.0, -0.3, 0.2, 1.0], 0.1).sum()
+    assert out.stdout.split() == [str(root / "core" / "__init__.py"), "False", repr(float(here))]
