@@ -5,6 +5,9 @@ a light submodule such as :mod:`core.cli` (``shakedown --help``) starts
 without importing numba, scipy and pandas.
 """
 
+import importlib
+import importlib.util
+
 _loading = False
 
 
@@ -35,6 +38,10 @@ def _load():
 def __getattr__(name):
     if name.startswith("__") or _loading:
         raise AttributeError(name)
+    if importlib.util.find_spec(f"{__name__}.{name}") is not None:
+        # a submodule (``from . import analytical`` inside a submodule): import just it,
+        # not every public name, or a half-imported submodule would be imported again
+        return importlib.import_module(f"{__name__}.{name}")
     _load()
     try:
         return globals()[name]

@@ -167,5 +167,5 @@ def get_body(name):
     if isinstance(name, type):
         return name
     if name not in BODIES:
-        raise ValueError(f"body must be one of {sorted(BODIES)}, got {name!r:.60}")
+        raise ValueError(f"body must be one of {', '.join(sorted(BODIES))}, got {name!r:.60}")
     return BODIES[name]
