@@ -17,7 +17,7 @@ from app.serving import chromium, served_app
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
-BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
+BADGE = "[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"  # a verdict is shown
 FT_TITLE = "ft = Ft/(μ Fn)"
 W_TITLE = "w = W/a"
 
