@@ -46,7 +46,7 @@ FONT = {"title": 15, "labels": 14, "xticks": 12, "yticks": 12, "legend": 12}
 _TOOLS = dict(default_tools=["pan", "box_zoom", "wheel_zoom", "reset", "save"], active_tools=["pan"],
               backend_opts={"plot.toolbar.active_scroll": None})
 _PLOT = dict(responsive=True, height=400, show_grid=True, fontsize=FONT, toolbar="above",
-             legend_position="bottom", legend_cols=3, **_TOOLS)
+             legend_position="bottom", legend_cols=3, legend_opts={"spacing": 6, "label_standoff": 6}, **_TOOLS)
 
 # One recompute at a time on the whole server (the solver uses the cores; sessions share them).
 _POOL = ThreadPoolExecutor(max_workers=1, thread_name_prefix="paper-figures")
@@ -68,12 +68,14 @@ def _w(w) -> str:
     return f"w = {w:g}"
 
 
-def _solver(x, y, label, color, marker="circle", size=8):
-    return hv.Scatter((_a(x), _a(y)), label=label).opts(color=color, marker=marker, size=size)
+def _solver(dims, x, y, label, color, marker="circle", size=8):
+    """Solver values as markers; ``dims`` names the axes (so no two figures share a range by accident)."""
+    return hv.Scatter((_a(x), _a(y)), *dims, label=label).opts(color=color, marker=marker, size=size)
 
 
-def _paper(x, y, label, color, dash="solid", width=2.5):
-    return hv.Curve((_a(x), _a(y)), label=label).opts(color=color, line_dash=dash, line_width=width)
+def _paper(dims, x, y, label, color, dash="solid", width=2.5):
+    """A line (the paper's formula, unless labelled otherwise)."""
+    return hv.Curve((_a(x), _a(y)), *dims, label=label).opts(color=color, line_dash=dash, line_width=width)
 
 
 def _axes(overlay: hv.Overlay, title: str, xlabel: str, ylabel: str, **opts) -> hv.Overlay:
@@ -87,49 +89,54 @@ FT_LABEL = "ft = Ft/(μ Fn)  [-]"
 # the figures: data (one figure's dict, and the whole data for cross-references) -> overlay
 # --------------------------------------------------------------------------
 def _fig10(fig, data):
+    d = ("ft", "c_sd")
     layers = []
     for color, c in zip(PALETTE, fig["curves"]):
-        layers.append(_paper(c["ft"], c["eq30"], f"paper's closure eq 30, {_w(c['w'])}", color))
-        layers.append(_solver(c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
-    return _axes(hv.Overlay(layers), "Fig 10: stick half-width after shakedown", FT_LABEL, "c_sd / a  [-]")
+        layers.append(_paper(d, c["ft"], c["eq30"], f"paper's closure eq 30, {_w(c['w'])}", color))
+        layers.append(_solver(d, c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
+    return _axes(hv.Overlay(layers), "Fig 10: stick half-width after shakedown", FT_LABEL, "c_sd / a  [-]",
+                 xlim=(0, 1), ylim=(0, 1.05))
 
 
-def _traction(fig, data, title):
+def _traction(fig, data, title, vary):
+    d = ("x", "q")
     layers = []
     for color, c in zip(PALETTE[1:], fig["curves"]):
-        case = f"ft = {c['ft']:g}, {_w(c['w'])}"
-        layers.append(_paper(c["x"], c["ansatz"], f"paper's ansatz eqs 22-30, {case}", color, dash="dashed"))
-        layers.append(hv.Curve((_a(c["x"]), _a(c["solver"])), label=f"solver, {case}").opts(color=color,
-                                                                                            line_width=2))
+        case = f"{vary} = {c[vary]:g}"
+        layers.append(_paper(d, c["x"], c["ansatz"], f"paper's ansatz, {case}", color, dash="dashed"))
+        layers.append(_paper(d, c["x"], c["solver"], f"solver, {case}", color, width=2))
     return _axes(hv.Overlay(layers), title, "x / a  [-]", "q / (μ p0)  [-]")
 
 
 def _fig13(fig, data):
+    d = ("ft", "u")
     layers = []
     for color, c in zip(PALETTE, fig["curves"]):
-        layers.append(_paper(c["ft"], c["eq34"], f"paper's regression eq 34, {_w(c['w'])}", color))
+        layers.append(_paper(d, c["ft"], c["eq34"], f"paper's regression eq 34, {_w(c['w'])}", color))
         if "eq13" in c:
-            layers.append(_paper(c["ft"], c["eq13"], "paper's static regression eq 13 (w = 0)", color,
+            layers.append(_paper(d, c["ft"], c["eq13"], "paper's static regression eq 13 (w = 0)", color,
                                  dash="dotted"))
-        layers.append(_solver(c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
+        layers.append(_solver(d, c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
     checks = [(t, u) for c in fig["curves"] for t, u in zip(c["check_ft"], c["check_transient"])]
     if checks:  # one layer for all amplitudes: each diamond sits on its amplitude's markers
-        layers.append(_solver(*zip(*checks), "solver transients (all w)", "#555555", marker="diamond",
+        layers.append(_solver(d, *zip(*checks), "solver transients (all w)", "#555555", marker="diamond",
                               size=16).opts(fill_alpha=0.0, line_width=2))
     lim = data["figures"].get("fig15")
     if lim:
-        layers.append(_paper(lim["ft_lim"], lim["solver"], "u_lim: solver at the limit (Fig 15)", "#999999",
+        layers.append(_paper(d, lim["ft_lim"], lim["solver"], "u_lim: solver at the limit (Fig 15)", "#999999",
                              dash="dashdot"))
-    return _axes(hv.Overlay(layers), "Fig 13: shakedown displacement", FT_LABEL, "u_sd = U_sd / U0  [-]")
+    return _axes(hv.Overlay(layers), "Fig 13: shakedown displacement", FT_LABEL, "u_sd = U_sd / U0  [-]",
+                 xlim=(0, 1), ylim=(0, 1.05))
 
 
 def _fig14(fig, data):
     p, line = fig["points"], fig["line"]
+    d = ("ft_lim", "w_lim")
     layers = [
-        _paper(line["ft"], line["w_eq35"], "exact limit eq 35", PALETTE[0]),
-        _paper(line["ft"], line["w_eq36"], "paper's regression eq 36", PALETTE[2], dash="dashed"),
-        _solver(p["ft"], p["w_shakedown"], "solver: last shakedown", PALETTE[1], marker="triangle", size=11),
-        _solver(p["ft"], p["w_ratcheting"], "solver: first ratcheting", PALETTE[4], marker="inverted_triangle",
+        _paper(d, line["ft"], line["w_eq35"], "exact limit eq 35", PALETTE[0]),
+        _paper(d, line["ft"], line["w_eq36"], "paper's regression eq 36", PALETTE[2], dash="dashed"),
+        _solver(d, p["ft"], p["w_shakedown"], "solver: last shakedown", PALETTE[1], marker="triangle", size=11),
+        _solver(d, p["ft"], p["w_ratcheting"], "solver: first ratcheting", PALETTE[4], marker="inverted_triangle",
                 size=11),
     ]
     return _axes(hv.Overlay(layers), "Fig 14: shakedown limit", "ft_lim = Ft/(μ Fn) at the limit  [-]",
@@ -137,21 +144,23 @@ def _fig14(fig, data):
 
 
 def _fig15(fig, data):
-    layers = [_paper(fig["ft_lim"], fig["eq34_at_limit"], "paper's eq 34 at (ft_lim, w); eq 37 unreadable",
+    d = ("ft_lim", "u_lim")
+    layers = [_paper(d, fig["ft_lim"], fig["eq34_at_limit"], "paper's eq 34 at (ft_lim, w); eq 37 unreadable",
                      PALETTE[2], dash="dashed"),
-              _paper(fig["ft_lim"], fig["solver"], "", PALETTE[1], width=1.5),
-              _solver(fig["ft_lim"], fig["solver"], "solver: u_sd as ft → ft_lim", PALETTE[1])]
+              _paper(d, fig["ft_lim"], fig["solver"], "", PALETTE[1], width=1.5),
+              _solver(d, fig["ft_lim"], fig["solver"], "solver: u_sd as ft → ft_lim", PALETTE[1])]
     return _axes(hv.Overlay(layers), "Fig 15: largest shakedown displacement", "ft_lim = Ft/(μ Fn) at the limit  [-]",
-                 "u_lim = U_lim / U0  [-]")
+                 "u_lim = U_lim / U0  [-]", xlim=(0, 1), ylim=(0, 1.05))
 
 
 def _fig16(fig, data):
+    d = ("ft", "du")
     layers = []
     for color, c in zip(PALETTE[1:], fig["curves"]):
-        layers.append(_paper(c["ft"], c["eq38"], f"paper's regression eq 38, {_w(c['w'])}", color, dash="dashed"))
-        layers.append(_solver(c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
+        layers.append(_paper(d, c["ft"], c["eq38"], f"paper's regression eq 38, {_w(c['w'])}", color, dash="dashed"))
+        layers.append(_solver(d, c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
     return _axes(hv.Overlay(layers), "Fig 16: ratcheting increment per period", FT_LABEL,
-                 "Δu per period = ΔU / U0  [-]")
+                 "Δu per period = ΔU / U0  [-]", xlim=(0, 1))
 
 
 def _d(x) -> str:
@@ -164,11 +173,11 @@ FIGURES = {
         f"Stick half-width after shakedown against the load: solver markers (direct shaken-down state, strip "
         f"model of eq 17, dx = a/{1 / f['settings']['dx']:.0f}) on the paper's closure eq 30; w = 0 is Cattaneo. "
         f"Largest difference {_d(f['max_difference'])} a.")),
-    "fig11": (functools.partial(_traction, title="Fig 11: traction after shakedown, w = 0.26"), lambda f: (
+    "fig11": (functools.partial(_traction, title="Fig 11: traction after shakedown, w = 0.26", vary="ft"), lambda f: (
         f"Traction after shakedown at w = 0.26 for three loads: solver (solid) against the paper's ansatz "
         f"(dashed, eqs 22-26 with c_sd of eq 30); outside the stick zone both sit at μ p_min. Largest difference "
         f"{_d(f['max_difference'])} μ p0.")),
-    "fig12": (functools.partial(_traction, title="Fig 12: traction after shakedown, ft = 0.08"), lambda f: (
+    "fig12": (functools.partial(_traction, title="Fig 12: traction after shakedown, ft = 0.08", vary="w"), lambda f: (
         f"Traction after shakedown at ft = 0.08 for three amplitudes: the stick zone shrinks and the released "
         f"edge grows with w. Solver solid, ansatz dashed; largest difference {_d(f['max_difference'])} μ p0.")),
     "fig13": (_fig13, lambda f: (
@@ -211,7 +220,8 @@ class _Block:
 
     def __init__(self, name: str, data: dict):
         self.name = name
-        self.pane = pn.pane.HoloViews(None, sizing_mode="stretch_width", min_height=400)
+        # linked_axes=False: each figure keeps its own ranges (Panel links panes' axes of equal names)
+        self.pane = pn.pane.HoloViews(None, sizing_mode="stretch_width", min_height=400, linked_axes=False)
         self.caption = pn.pane.Markdown(caption(name, data), sizing_mode="stretch_width",
                                         css_classes=["paper-figure-caption"])
         self.button = pn.widgets.Button(label=f"Recompute Fig {pf.FIGURES[name][0]} with the solver",
