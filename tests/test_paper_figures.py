@@ -9,8 +9,6 @@ regressions (eqs 34, 36, 38) are fits.
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 import threading
 import time
 
@@ -212,22 +210,16 @@ def test_recompute_button_redraws_with_fresh_data():
 # --------------------------------------------------------------------------
 @pytest.mark.browser
 def test_served_tab_draws_in_chromium_without_console_errors():
-    from app.serving import ROOT, SERVE_OPTIONS, chromium, free_port, wait_until, _alive
+    from app.serving import chromium, served_app, wait_until
 
-    port = free_port()
-    base = f"http://127.0.0.1:{port}"
-    cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / "tests" / "paper_figures_app.py"), "--port", str(port),
-           "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", *SERVE_OPTIONS]
-    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        wait_until(lambda: proc.poll() is None and _alive(f"{base}/liveness"), 60, message="/liveness")
+    with served_app(script="tests/paper_figures_app.py", timeout=120) as url:
         with chromium() as browser:
             page = browser.new_page(viewport={"width": 1280, "height": 720})
             errors, failed = [], []
             page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
             page.on("pageerror", lambda e: errors.append(str(e)))
             page.on("requestfailed", lambda r: failed.append(r.url))
-            page.goto(f"{base}/paper_figures_app", timeout=120_000)
+            page.goto(url, timeout=120_000)
             count = """() => { const d = window.Bokeh && Bokeh.documents[0]; if (!d) return -1;
                 return [...d.all_models].filter(m => m.type === 'Figure' || m.type === 'Plot')
                   .filter(p => p.renderers.some(r => r.data_source && r.data_source.get_length() > 0)).length; }"""
@@ -236,10 +228,3 @@ def test_served_tab_draws_in_chromium_without_console_errors():
             wait_until(lambda: page.get_by_text("recomputed now").count() > 0, 60, message="recompute status")
             assert not errors, errors
             assert not failed, failed
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
