@@ -185,9 +185,9 @@ def traction_profiles(cases, dx=1 / 100, *, progress=None, cancel=None) -> dict:
     cases : sequence of (ft, w)
         Each below the limit of eq 35.
     dx : float
-        Element width [a].
+        Element width of the direct shaken-down states [a].
     progress, cancel :
-        As in :func:`stick_halfwidth_curves`.
+        Progress and cancellation, as in :func:`stick_halfwidth_curves`.
 
     Returns
     -------
