@@ -65,8 +65,8 @@ def _alive(url: str) -> bool:
 @contextlib.contextmanager
 def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None = None,
                log_path: str | os.PathLike | None = None, info: dict | None = None,
-               extra_args: list[str] | tuple[str, ...] = ()):
-    """Serve ``app/main.py`` on 127.0.0.1 and yield its URL; stop the server on exit.
+               extra_args: list[str] | tuple[str, ...] = (), script: str | os.PathLike = "app/main.py"):
+    """Serve ``script`` (default ``app/main.py``) on 127.0.0.1 and yield its URL; stop the server on exit.
 
     Parameters
     ----------
@@ -81,12 +81,14 @@ def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None 
         terminal when ``SHAKEDOWN_SERVER_LOG`` is set).
     extra_args : sequence of str
         Further ``panel serve`` options (e.g. ``["--num-threads", "4"]``).
+    script : path, optional
+        The app to serve, relative to the repository root; its URL ends in its file stem.
     info : dict, optional
         Filled with ``pid`` (the server process), ``base`` (its root URL) and,
         after the server stopped, ``returncode`` and ``stop_seconds``.
     """
     port = port or free_port()
-    cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / "app" / "main.py"), "--port", str(port),
+    cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / script), "--port", str(port),
            "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", *SERVE_OPTIONS,
            *map(str, extra_args)]
     if log_path is not None:
@@ -101,7 +103,7 @@ def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None 
     try:
         wait_until(lambda: proc.poll() is None and _alive(f"{base}/liveness"), timeout,
                    message=f"{base}/liveness")
-        yield f"{base}/main"
+        yield f"{base}/{Path(script).stem}"
     finally:
         t0 = time.monotonic()
         proc.terminate()
