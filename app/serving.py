@@ -15,6 +15,7 @@ import socket
 import subprocess
 import sys
 import time
+import urllib.error
 import urllib.request
 from pathlib import Path
 
@@ -59,15 +60,21 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def _alive(url: str) -> bool:
-    with urllib.request.urlopen(url, timeout=2) as r:  # noqa: S310 - loopback only
-        return r.status == 200
+def _alive(url: str, ready: bool = True) -> bool:
+    """Whether ``url`` answers 200 (``ready``), or answers at all (503 included: the server is up, not warm)."""
+    try:
+        with urllib.request.urlopen(url, timeout=2) as r:  # noqa: S310 - loopback only
+            return r.status == 200
+    except urllib.error.HTTPError as e:
+        if not ready and e.code == 503:
+            return True
+        raise
 
 
 @contextlib.contextmanager
 def served_app(port: int | None = None, timeout: float = 180.0, env: dict | None = None,
                log_path: str | os.PathLike | None = None, info: dict | None = None,
-               extra_args: list[str] | tuple[str, ...] = ()):
+               extra_args: list[str] | tuple[str, ...] = (), extra_apps: list | tuple = (), wait_ready: bool = True):
     """Serve ``app/main.py`` on 127.0.0.1 and yield its URL; stop the server on exit.
 
     Parameters
@@ -84,12 +91,16 @@ def served_app(port: int | None = None, timeout: float = 180.0, env: dict | None
         terminal when ``SHAKEDOWN_SERVER_LOG`` is set).
     extra_args : sequence of str
         Further ``panel serve`` options (e.g. ``["--num-threads", "4"]``).
+    extra_apps : sequence of paths
+        Further scripts served by the same server, each at ``/<file stem>``.
+    wait_ready : bool
+        Wait until the solver is warm (default); False: only until the server answers.
     info : dict, optional
         Filled with ``pid`` (the server process), ``base`` (its root URL) and,
         after the server stopped, ``returncode`` and ``stop_seconds``.
     """
     port = port or free_port()
-    cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / "app" / "main.py"), "--port", str(port),
+    cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / "app" / "main.py"), *map(str, extra_apps), "--port", str(port),
            "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", *SERVE_OPTIONS,
            *map(str, extra_args)]
     if log_path is not None:
@@ -102,7 +113,7 @@ def served_app(port: int | None = None, timeout: float = 180.0, env: dict | None
     base = f"http://127.0.0.1:{port}"
     info.update(pid=proc.pid, base=base)
     try:
-        wait_until(lambda: proc.poll() is None and _alive(f"{base}/liveness"), timeout,
+        wait_until(lambda: proc.poll() is None and _alive(f"{base}/liveness", wait_ready), timeout,
                    message=f"{base}/liveness")
         yield f"{base}/main"
     finally:
