@@ -38,7 +38,12 @@ def seed_numba_cache() -> bool:
     seed, target = os.environ.get("SHAKEDOWN_NUMBA_CACHE_SEED"), os.environ.get("NUMBA_CACHE_DIR")
     if not seed or not target or not os.path.isdir(seed) or os.path.abspath(seed) == os.path.abspath(target):
         return False
-    shutil.copytree(seed, target, dirs_exist_ok=True, copy_function=shutil.copyfile)  # no owner or mode of the image
+    # files only, not the seed's owner or modes: the copy must be writable by this user (numba checks that)
+    for folder, _, files in os.walk(seed):
+        into = os.path.join(target, os.path.relpath(folder, seed))
+        os.makedirs(into, mode=0o700, exist_ok=True)
+        for name in files:
+            shutil.copyfile(os.path.join(folder, name), os.path.join(into, name))
     return True
 
 
