@@ -168,7 +168,8 @@ def dask_cluster(workers: int = 1, timeout: float = 60.0, log_dir: str | os.Path
                             and distributed.Client(address, set_as_default=False, timeout="2s"),
                             timeout, interval=0.5, message=f"the Dask scheduler at {address}")
         try:
-            client.wait_for_workers(workers, timeout=timeout)
+            if workers:
+                client.wait_for_workers(workers, timeout=timeout)
         finally:
             client.close()
         yield address

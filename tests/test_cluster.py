@@ -7,6 +7,7 @@ through ``SHAKEDOWN_SCHEDULER`` as an operator would set it.
 
 import json
 import threading
+import urllib.error
 import urllib.request
 
 import numpy as np
@@ -142,3 +143,36 @@ def test_served_app_solves_on_the_cluster(cluster):
         assert tasks_done(cluster, "simulate_contact") == before + 2, "the re-solve ran on the cluster"
         assert errors == []
         page.close()
+
+
+@pytest.mark.browser
+def test_first_page_says_the_solver_is_being_prepared_then_reloads_into_the_explorer():
+    """Until the solver is warm (here: the cluster has no worker yet) a page says so, then becomes the explorer."""
+    import os
+    import subprocess
+    import sys
+
+    from app.serving import ROOT, _stop
+
+    with dask_cluster(workers=0) as address:
+        info = {}
+        with served_app(env={"SHAKEDOWN_SCHEDULER": address}, info=info, wait_ready=False) as url, \
+                chromium() as browser:
+            health = urllib.request.Request(info["base"] + "/liveness")
+            with pytest.raises(urllib.error.HTTPError) as answer:
+                urllib.request.urlopen(health, timeout=10)
+            assert answer.value.code == 503 and not json.loads(answer.value.read())["ready"]
+            page = browser.new_page()
+            page.goto(url + "?ft=0.3&w=0.372")
+            page.get_by_text("The solver is being prepared").wait_for(timeout=60_000)
+            worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
+                                       "--no-nanny", "--no-dashboard", "--host", "127.0.0.1"], cwd=ROOT,
+                                      env={**os.environ, "PYTHONPATH": str(ROOT)}, stdout=subprocess.DEVNULL,
+                                      stderr=subprocess.DEVNULL)
+            try:
+                page.locator(BADGE).first.wait_for(timeout=180_000)  # reloaded by itself, same URL
+                assert "w=0.372" in page.url
+                assert json.loads(urllib.request.urlopen(health, timeout=10).read())["ready"]
+            finally:
+                page.close()
+                _stop(worker)
