@@ -260,6 +260,8 @@ class _Cluster:
         out.remote = remote  # cancelled with the request when it is superseded (see _Sessions)
 
         def landed(f):  # in the client's thread
+            if out.done():
+                return
             if f.cancelled():
                 out.set_exception(core.SolveCancelled("solve cancelled: a newer request replaced it"))
                 return
@@ -347,7 +349,8 @@ class _Sessions:
             entries = self._pending.get(owner, [])
             for future, stale in list(entries):
                 if stale is not None and stale():
-                    future.cancel()  # a waiting solve never starts; a running one stops at its next check
+                    # not future.cancel(): its owner's callback expects a result or SolveCancelled. A local solve
+                    # stops at its next cancel() check; a cluster solve is cancelled there (see _Cluster.submit)
                     remote = getattr(future, "remote", None)
                     if remote is not None:
                         remote.cancel()

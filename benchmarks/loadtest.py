@@ -45,6 +45,7 @@ import json
 import math
 import os
 import re
+import signal
 import statistics
 import sys
 import tempfile
@@ -427,6 +428,8 @@ def main(argv=None) -> int:
     ap.add_argument("--log", help="keep the server's log in this file")
     ap.add_argument("--serve-args", default="", help="further 'panel serve' options, e.g. '--num-threads 4'")
     args = ap.parse_args(argv)
+    # stopped with SIGTERM: unwind, so that the server and the cluster this script started are stopped too
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     stats = run_load(args.sessions, args.open_over, args.seconds, args.burst, args.cpu_sessions, args.cluster,
                      keep_log=args.log, serve_args=tuple(args.serve_args.split()))
     print(report(stats))

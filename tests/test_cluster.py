@@ -7,6 +7,7 @@ through ``SHAKEDOWN_SCHEDULER`` as an operator would set it.
 
 import json
 import threading
+from concurrent.futures import ThreadPoolExecutor
 import urllib.error
 import urllib.request
 
@@ -126,8 +127,18 @@ def test_solves_and_maps_run_on_the_cluster(cluster):
         backend.close()
 
 
+def _in_a_thread(fn, *args):
+    """Run ``fn`` in a thread of its own: sync Playwright refuses a thread where an earlier test left an asyncio loop."""
+    with ThreadPoolExecutor(1) as pool:
+        return pool.submit(fn, *args).result()
+
+
 @pytest.mark.browser
 def test_served_app_solves_on_the_cluster(cluster):
+    _in_a_thread(_served_app_solves_on_the_cluster, cluster)
+
+
+def _served_app_solves_on_the_cluster(cluster):
     info = {}
     with served_app(env={"SHAKEDOWN_SCHEDULER": cluster}, info=info) as url, chromium() as browser:
         health = json.loads(urllib.request.urlopen(info["base"] + "/liveness", timeout=10).read())
@@ -148,6 +159,10 @@ def test_served_app_solves_on_the_cluster(cluster):
 @pytest.mark.browser
 def test_first_page_says_the_solver_is_being_prepared_then_reloads_into_the_explorer():
     """Until the solver is warm (here: the cluster has no worker yet) a page says so, then becomes the explorer."""
+    _in_a_thread(_prepared_then_reloaded)
+
+
+def _prepared_then_reloaded():
     import os
     import subprocess
     import sys
