@@ -1,9 +1,13 @@
-"""The served explorer: ``panel serve app/main.py --liveness``.
+"""The served explorer: ``panel serve app/main.py --plugins app.health``.
 
 One :class:`~app.explorer.Explorer` per browser session. URL query parameters
 are validated first (rejected ones show a notice and are not applied), then
 every parameter is kept in sync with the URL under its own name, so a link
 reproduces the view.
+
+While the server is still warming the solver (the first minute after a fresh
+install, when numba compiles it), a page says so and reloads itself once the
+solver is ready, instead of the server freezing on the first visitor's solve.
 """
 
 import contextlib
@@ -13,12 +17,15 @@ from pathlib import Path
 import panel as pn
 
 try:
+    from app import runs
     from app.explorer import Explorer
     from app.state import URL_PARAMETERS
 except ImportError:  # served from a checkout that is not installed
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+    from app import runs
     from app.explorer import Explorer
     from app.state import URL_PARAMETERS
+from app.health import watch_loop  # noqa: E402 - after the path fix above
 
 pn.extension("katex", sizing_mode="stretch_width", throttled=False)
 
@@ -35,9 +42,32 @@ def _sync_url(explorer: Explorer) -> None:
     location.sync(explorer.state, {p: p for p in URL_PARAMETERS}, on_error=rejected)
 
 
-# URL parameters are validated and applied before the first solve, so the page is sent complete
-explorer = Explorer(query=pn.state.location.search if pn.state.location else None)
-_sync_url(explorer)
-# one recomputation of the document's model graph for all the template's roots, not one per root (0.5 s)
-with pn.state.curdoc.models.freeze() if pn.state.curdoc else contextlib.nullcontext():
-    explorer.template().servable()
+def _preparing() -> None:
+    """Say the solver is being prepared; reload the page (same URL) once it is ready."""
+    doc, location = pn.state.curdoc, pn.state.location
+    pn.Column(pn.pane.Markdown("## Shakedown Explorer\n\nThe solver is being prepared: after a fresh install "
+                               "it is compiled once, which takes up to a minute. This page reloads by itself "
+                               "when it is ready."),
+              pn.indicators.LoadingSpinner(value=True, size=40, name="preparing the solver"),
+              css_classes=["preparing-solver"]).servable(title="Shakedown Explorer: preparing the solver")
+
+    def reload():
+        if location is not None:
+            location.reload = True  # the browser reloads the page, keeping its query
+
+    if doc is not None and doc.session_context is not None:
+        runs.on_ready(lambda: doc.add_next_tick_callback(reload))
+
+
+runs.start_warm_up()  # already running when served with --plugins app.health
+watch_loop()
+if not runs.ready():
+    _preparing()
+else:
+    # URL parameters are validated and applied before the first solve, so the page is sent complete
+    explorer = Explorer(query=pn.state.location.search if pn.state.location else None)
+    explorer.map_scheduler = runs.map_scheduler()  # the Dask cluster of SHAKEDOWN_SCHEDULER, or local processes
+    _sync_url(explorer)
+    # one recomputation of the document's model graph for all the template's roots, not one per root (0.5 s)
+    with pn.state.curdoc.models.freeze() if pn.state.curdoc else contextlib.nullcontext():
+        explorer.template().servable()

@@ -1,16 +1,38 @@
-"""Solver runs for the explorer: a bounded LRU cache, a bounded worker pool, and stale-run guards.
+"""Solver runs for the explorer: a shared read-only result cache, where solves run, and stale-run guards.
 
 Results are shared by every session of the served app (they depend only on
-their inputs) and are treated as read-only. The cache is bounded both in the
-number of runs and in bytes; the pool is bounded in threads, so one session
-cannot queue unbounded work.
+their inputs); their arrays are made read-only before they are shared. The
+cache is bounded both in the number of runs and in bytes.
+
+Where the work runs:
+
+* by default, in a pool of ``SHAKEDOWN_SOLVER_THREADS`` threads of the web
+  server (solves) and a local process pool (map sweeps, one at a time);
+* with ``SHAKEDOWN_SCHEDULER=tcp://host:8786``, on that Dask cluster: solves
+  and map sweeps are sent to its workers (which need this package, ``core``,
+  installed) and the web process only builds pages. One
+  ``distributed.Client`` per server process, made on first use with
+  ``set_as_default=False`` and always passed explicitly.
+
+Either way a session may have at most ``SHAKEDOWN_MAX_QUEUED_PER_SESSION``
+solves waiting or running: a request beyond that first drops the session's
+own superseded requests, and is refused if that is not enough, so one user
+cannot starve the rest.
+
+The server warms the solver once at start (:func:`start_warm_up`): numba
+loads its compiled code from the disk cache, or compiles it on a fresh
+install; :func:`readiness` says how far that is (``/liveness`` reports it).
 """
 
 from __future__ import annotations
 
+import functools
+import logging
+import sys
 import threading
+import time
 from collections import OrderedDict
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Executor, Future, ThreadPoolExecutor
 from dataclasses import fields
 
 import numpy as np
@@ -18,12 +40,25 @@ import numpy as np
 import core
 
 from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WORKERS,  # noqa: F401
-                     SOLVE_BUDGET_S, SOLVER_THREADS)
+                     MAX_QUEUED_PER_SESSION, SCHEDULER, SOLVE_BUDGET_S, SOLVER_THREADS)
 
 __all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "run_key", "solve", "submit", "Generation",
-           "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map"]
+           "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
+           "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend"]
+
+log = logging.getLogger(__name__)
 
 
+class SolveQueueFull(ValueError):
+    """A session asked for more solves at once than ``SHAKEDOWN_MAX_QUEUED_PER_SESSION`` allows."""
+
+
+def freeze(result: core.CycleResult) -> core.CycleResult:
+    """Make every array of ``result`` read-only (also its per-step pressure), so sessions cannot alter a shared run."""
+    for value in (*(getattr(result, f.name) for f in fields(result)), result.pressure):
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)
+    return result
 
 
 def result_nbytes(result: core.CycleResult) -> int:
@@ -76,7 +111,8 @@ class ResultCache:
             return None
 
     def put(self, key, result) -> None:
-        """Keep ``result`` under ``key``, evicting the least recently used beyond the bounds."""
+        """Keep ``result`` under ``key`` (read-only, see :func:`freeze`), evicting the least recently used."""
+        freeze(result)
         size = result_nbytes(result)
         with self._lock:
             if size > self.max_bytes:
@@ -96,18 +132,176 @@ class ResultCache:
 
 #: The results shared by all sessions (bounds: SHAKEDOWN_CACHE_ITEMS, SHAKEDOWN_CACHE_MB).
 RESULTS = ResultCache(CACHE_ITEMS, CACHE_MB * 2**20)
-#: Threads that run solves for all sessions (SHAKEDOWN_SOLVER_THREADS).
-_POOL = ThreadPoolExecutor(max_workers=SOLVER_THREADS, thread_name_prefix="solver")
 
 
-def _warm_up():
-    """Load the solver's compiled code (numba's disk cache) before the first user asks for a run."""
-    for kernel in ("plane", "strip"):
-        core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, kernel=kernel,
-                             L_over_a=10.0 if kernel == "strip" else None)
+def run_key(contact: core.Contact, options: dict) -> tuple:
+    """A hashable key of everything a run depends on."""
+    return tuple(sorted(contact.summary().items())) + tuple(sorted(options.items()))
 
 
-_WARM = _POOL.submit(_warm_up)
+def _compute(contact, options, cancel=None, time_budget=SOLVE_BUDGET_S):
+    result = core.simulate_contact(contact, **options, cancel=cancel, time_budget=time_budget)
+    result.pressure  # noqa: B018 - computed once here, off the UI thread
+    return result
+
+
+#: The warm-up runs: one small run per kernel loads (or compiles) all the solver's numba code.
+_WARM_RUNS = tuple(functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, kernel=kernel,
+                                     L_over_a=10.0 if kernel == "strip" else None) for kernel in ("plane", "strip"))
+
+
+class _Local:
+    """Solves in ``SHAKEDOWN_SOLVER_THREADS`` threads of this process; maps in a local process pool."""
+
+    name = "local"
+
+    def __init__(self, threads: int):
+        self._pool = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="solver")
+
+    def run(self, contact, options, cancel, time_budget) -> core.CycleResult:
+        return _compute(contact, options, cancel, time_budget)
+
+    def warm(self) -> None:
+        for run in _WARM_RUNS:
+            run()
+
+    def submit(self, contact, options, cancel, cache) -> Future:
+        return self._pool.submit(solve, contact, options, cache, cancel)
+
+    def map_scheduler(self):
+        return None  # core.sweep's default: a local process pool
+
+    def close(self):
+        self._pool.shutdown(wait=False, cancel_futures=True)
+
+
+class _ClusterExecutor(Executor):
+    """A ``concurrent.futures.Executor`` on the cluster's client, for :func:`core.sweep`.
+
+    It reports the cluster's worker threads as ``_max_workers``, which
+    :func:`core.sweep` reads to split a map into one chunk of runs per worker
+    (``distributed.ClientExecutor`` has no such attribute: a map would run as one chunk).
+    """
+
+    def __init__(self, cluster: "_Cluster"):
+        self._cluster = cluster
+
+    @property
+    def _max_workers(self) -> int:
+        return max(1, sum(self._cluster.client().nthreads().values()))
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        return self._cluster.executor().submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait=True, *, cancel_futures=False):
+        pass  # the client lives as long as the server
+
+
+class _Cluster:
+    """Solves and maps on the Dask scheduler at ``address``; the client is made on first use."""
+
+    def __init__(self, address: str):
+        self.address = address
+        self.name = f"dask({address})"
+        self._client = self._executor = None
+        self._lock = threading.Lock()
+
+    def client(self):
+        """The process's ``distributed.Client`` (``set_as_default=False``: nothing else picks it up)."""
+        with self._lock:
+            if self._client is None:
+                try:
+                    import distributed
+                except ImportError as e:
+                    raise ValueError("SHAKEDOWN_SCHEDULER needs dask.distributed: pip install 'dask[distributed]'") from e
+                try:
+                    self._client = distributed.Client(self.address, set_as_default=False, timeout="10s")
+                except (OSError, TimeoutError) as e:
+                    raise ValueError(f"cannot reach the Dask scheduler SHAKEDOWN_SCHEDULER={self.address}: {e}") from e
+                self._executor = self._client.get_executor(pure=False)
+                log.info("solves and maps go to the Dask scheduler %s", self.address)
+            return self._client
+
+    def executor(self):
+        self.client()
+        return self._executor
+
+    def _remote(self, contact, options, time_budget) -> Future:
+        # core.simulate_contact itself, so that the workers need only ``core``; no cancel() across processes
+        return self.executor().submit(core.simulate_contact, contact, time_budget=time_budget, **options)
+
+    def run(self, contact, options, cancel, time_budget) -> core.CycleResult:
+        future = self._remote(contact, options, time_budget)
+        while True:  # wait in slices so that a cancel() is honoured
+            try:
+                result = future.result(timeout=0.25)
+                break
+            except TimeoutError:
+                if cancel is not None and cancel():
+                    future.cancel()
+                    raise core.SolveCancelled("solve cancelled while it waited for the cluster") from None
+        result.pressure  # noqa: B018 - computed here, not in the event loop
+        return result
+
+    def warm(self) -> None:
+        """Warm every worker connected now (a worker that joins later warms itself on its first run)."""
+        client = self.client()
+        client.wait_for_workers(1, timeout=120)
+        for run in _WARM_RUNS:
+            client.run(run)
+
+    def submit(self, contact, options, cancel, cache) -> Future:
+        out: Future = Future()
+        try:
+            remote = self._remote(contact, options, SOLVE_BUDGET_S)
+        except ValueError as e:
+            out.set_exception(e)
+            return out
+        out.remote = remote  # cancelled with the request when it is superseded (see _Sessions)
+
+        def landed(f):  # in the client's thread
+            if out.done():
+                return
+            if f.cancelled():
+                out.set_exception(core.SolveCancelled("solve cancelled: a newer request replaced it"))
+                return
+            exc = f.exception()
+            if exc is not None:
+                out.set_exception(exc)
+                return
+            result = f.result()
+            result.pressure  # noqa: B018 - computed here, not in the event loop
+            cache.put(run_key(contact, options), result)
+            out.set_result(result)
+
+        remote.add_done_callback(landed)
+        return out
+
+    def map_scheduler(self):
+        return _ClusterExecutor(self)
+
+    def close(self):
+        with self._lock:
+            if self._client is not None:
+                self._client.close()
+                self._client = None
+
+
+_BACKEND = _Cluster(SCHEDULER) if SCHEDULER else _Local(SOLVER_THREADS)
+
+
+def backend():
+    """Where solves run: the local pool, or the Dask cluster of ``SHAKEDOWN_SCHEDULER``."""
+    return _BACKEND
+
+
+def map_scheduler():
+    """What to pass to :func:`core.sweep` as ``scheduler`` for the explorer's numerical map.
+
+    None (a local process pool) without ``SHAKEDOWN_SCHEDULER``; with it, an
+    executor on the Dask cluster's client.
+    """
+    return _BACKEND.map_scheduler()
 
 
 #: One numerical map at a time on the whole server.
@@ -120,30 +314,162 @@ def submit_map(fn) -> Future:
     return _MAP_POOL.submit(fn)
 
 
-def run_key(contact: core.Contact, options: dict) -> tuple:
-    """A hashable key of everything a run depends on."""
-    return tuple(sorted(contact.summary().items())) + tuple(sorted(options.items()))
-
-
 def solve(contact: core.Contact, options: dict, cache: ResultCache = RESULTS, cancel=None,
           time_budget: float | None = SOLVE_BUDGET_S) -> core.CycleResult:
     """Run (or fetch from ``cache``) :func:`core.simulate_contact` for ``contact`` and ``options``.
 
-    ``cancel()`` returning True, or the time budget [s] running out, stops the
-    solve with :class:`core.SolveCancelled`.
+    The run happens where :func:`backend` says (here, or on the Dask cluster,
+    waiting for it). ``cancel()`` returning True, or the time budget [s]
+    running out, stops the solve with :class:`core.SolveCancelled`. The result
+    is read-only (:func:`freeze`).
     """
     key = run_key(contact, options)
     result = cache.get(key)
     if result is None:
-        result = core.simulate_contact(contact, **options, cancel=cancel, time_budget=time_budget)
-        result.pressure  # noqa: B018 - computed once here, off the UI thread
+        result = _BACKEND.run(contact, options, cancel, time_budget)
         cache.put(key, result)
     return result
 
 
-def submit(contact: core.Contact, options: dict, cancel=None) -> Future:
-    """Solve in the shared worker pool; returns a future of the result."""
-    return _POOL.submit(solve, contact, options, RESULTS, cancel)
+class _Sessions:
+    """Solves each session has waiting or running, at most ``limit`` each."""
+
+    def __init__(self, limit: int):
+        self.limit = limit
+        self._pending: dict = {}  # owner -> [(future, cancel)], only owners with pending solves
+        self._lock = threading.Lock()
+
+    def pending(self, owner) -> int:
+        with self._lock:
+            return len(self._pending.get(owner, ()))
+
+    def admit(self, owner, cancel) -> bool:
+        """Make room for one more solve of ``owner``: drop its superseded ones; False if still full."""
+        with self._lock:
+            entries = self._pending.get(owner, [])
+            for future, stale in list(entries):
+                if stale is not None and stale():
+                    # not future.cancel(): its owner's callback expects a result or SolveCancelled. A local solve
+                    # stops at its next cancel() check; a cluster solve is cancelled there (see _Cluster.submit)
+                    remote = getattr(future, "remote", None)
+                    if remote is not None:
+                        remote.cancel()
+                    entries.remove((future, stale))
+            return len(entries) < self.limit
+
+    def add(self, owner, future, cancel) -> None:
+        with self._lock:
+            self._pending.setdefault(owner, []).append((future, cancel))
+
+        def forget(f):
+            with self._lock:
+                entries = self._pending.get(owner, [])
+                for item in [e for e in entries if e[0] is f]:
+                    entries.remove(item)
+                if not entries:
+                    self._pending.pop(owner, None)
+
+        future.add_done_callback(forget)
+
+
+_SESSIONS = _Sessions(MAX_QUEUED_PER_SESSION)
+
+
+def _current_session():
+    """The Bokeh document of the session being served in this thread, or None (headless)."""
+    pn = sys.modules.get("panel")
+    return pn.state.curdoc if pn is not None else None
+
+
+def submit(contact: core.Contact, options: dict, cancel=None, owner=None) -> Future:
+    """Solve off the UI thread (local pool or Dask cluster); returns a future of the (read-only) result.
+
+    Parameters
+    ----------
+    contact, options :
+        As for :func:`solve`.
+    cancel : callable, optional
+        Returns True once the request is superseded: the solve stops (or, on
+        the cluster, is dropped) and frees its place in the session's queue.
+    owner : hashable, optional
+        Whose solve it is (default: the session served in this thread). An
+        owner may have at most ``SHAKEDOWN_MAX_QUEUED_PER_SESSION`` solves
+        waiting or running; beyond that the future fails with :class:`SolveQueueFull`.
+    """
+    owner = _current_session() if owner is None else owner
+    if not _SESSIONS.admit(owner, cancel):
+        refused: Future = Future()
+        refused.set_exception(SolveQueueFull(
+            f"this session already has {_SESSIONS.limit} solves waiting or running "
+            "(SHAKEDOWN_MAX_QUEUED_PER_SESSION); try again when they finish"))
+        return refused
+    future = _BACKEND.submit(contact, options, cancel, RESULTS)
+    _SESSIONS.add(owner, future, cancel)
+    return future
+
+
+# ---------------------------------------------------------------------- warm-up and readiness
+_READY = threading.Event()
+_STATE = {"stage": "not started", "error": None, "seconds": None}
+_READY_CALLBACKS: list = []
+_WARM_LOCK = threading.Lock()
+
+
+def _warm_up(also=()):
+    """Load (or, on a fresh install, compile) the solver for both kernels, here or on the cluster; then ``also``."""
+    t0 = time.perf_counter()
+    _STATE["stage"] = f"preparing the solver ({_BACKEND.name})"
+    try:
+        _BACKEND.warm()
+        for step in also:
+            _STATE["stage"] = getattr(step, "__doc__", None) or step.__name__
+            step()
+    except Exception as e:  # noqa: BLE001 - reported by /liveness, and the server keeps serving
+        _STATE.update(stage="warm-up failed", error=f"{type(e).__name__}: {e}")
+        log.exception("warming the solver failed")
+        return
+    _STATE.update(stage="ready", seconds=round(time.perf_counter() - t0, 2))
+    log.info("solver ready after %.1f s", _STATE["seconds"])
+    _READY.set()
+    with _WARM_LOCK:
+        callbacks, _READY_CALLBACKS[:] = list(_READY_CALLBACKS), []
+    for fn in callbacks:
+        try:
+            fn()
+        except Exception:  # noqa: BLE001 - e.g. a session that closed meanwhile; the others still get theirs
+            log.exception("a callback waiting for the solver failed")
+
+
+def start_warm_up(also=()) -> None:
+    """Start warming the solver in a thread of its own (once per process; later calls do nothing).
+
+    ``also``: further callables run in that thread once the solver is warm
+    and before :func:`ready` turns True (e.g. importing the explorer's modules).
+    """
+    with _WARM_LOCK:
+        if _STATE["stage"] != "not started":
+            return
+        _STATE["stage"] = "starting"
+    threading.Thread(target=_warm_up, args=(tuple(also),), name="solver-warm-up", daemon=True).start()
+
+
+def ready() -> bool:
+    """True once the solver is warm (see :func:`start_warm_up`)."""
+    return _READY.is_set()
+
+
+def on_ready(fn) -> None:
+    """Call ``fn()`` once the solver is warm: now if it is, else from the warm-up thread."""
+    with _WARM_LOCK:
+        if not _READY.is_set():
+            _READY_CALLBACKS.append(fn)
+            return
+    fn()
+
+
+def readiness() -> dict:
+    """``ready``, the warm-up ``stage``, its ``error`` if it failed, its ``seconds``, and the ``backend``."""
+    return {"ready": ready(), **_STATE, "backend": _BACKEND.name}
 
 
 class Generation:

@@ -2,7 +2,8 @@
 
 Shared by the browser tests (``tests/test_app_browser.py``), the screenshot
 script and ``benchmarks/app.py``: one way to start ``panel serve app/main.py
---liveness`` on a free loopback port, wait for ``/liveness`` by polling, and
+--plugins app.health`` on a free loopback port, wait until ``/liveness`` says
+the solver is warm (so no test's page load waits for numba to compile), and
 launch Debian's Chromium through Playwright.
 """
 
@@ -14,20 +15,22 @@ import socket
 import subprocess
 import sys
 import time
+import urllib.error
 import urllib.request
 from pathlib import Path
 
 __all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "wait_until", "free_port", "served_app",
-           "chromium"]
+           "chromium", "dask_cluster", "tasks_done"]
 
 ROOT = Path(__file__).resolve().parent.parent
 #: The ``panel serve`` options the app is served with, here, in the README and in the Dockerfile
-#: (tests/test_dockerfile.py keeps them in step). ``--liveness`` gives /liveness for health checks.
+#: (tests/test_dockerfile.py keeps them in step). ``--plugins app.health`` warms the solver at start and
+#: serves /liveness, which answers 200 only once it is warm (app/health.py; not Panel's --liveness).
 #: A session whose page is built but whose websocket has not connected yet is kept for 120 s, not
 #: Bokeh's default 15 s: under a class's load pages take longer than 15 s, and a discarded session
 #: is built a second time, without its stylesheet paths, so the page fetched Panel's CSS from the
 #: public CDN (benchmarks/loadtest.py saw it in 2 to 4 sessions of 10).
-SERVE_OPTIONS = ("--liveness", "--unused-session-lifetime", "120000")
+SERVE_OPTIONS = ("--plugins", "app.health", "--unused-session-lifetime", "120000")
 #: Debian's Chromium (Playwright drives it; no browser download needed).
 CHROMIUM = os.environ.get("SHAKEDOWN_CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -57,15 +60,22 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def _alive(url: str) -> bool:
-    with urllib.request.urlopen(url, timeout=2) as r:  # noqa: S310 - loopback only
-        return r.status == 200
+def _alive(url: str, ready: bool = True) -> bool:
+    """Whether ``url`` answers 200 (``ready``), or answers at all (503 included: the server is up, not warm)."""
+    try:
+        with urllib.request.urlopen(url, timeout=2) as r:  # noqa: S310 - loopback only
+            return r.status == 200
+    except urllib.error.HTTPError as e:
+        if not ready and e.code == 503:
+            return True
+        raise
 
 
 @contextlib.contextmanager
-def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None = None,
+def served_app(port: int | None = None, timeout: float = 180.0, env: dict | None = None,
                log_path: str | os.PathLike | None = None, info: dict | None = None,
-               extra_args: list[str] | tuple[str, ...] = (), script: str | os.PathLike = "app/main.py"):
+               extra_args: list[str] | tuple[str, ...] = (), extra_apps: list | tuple = (), wait_ready: bool = True,
+               script: str | os.PathLike = "app/main.py"):
     """Serve ``script`` (default ``app/main.py``) on 127.0.0.1 and yield its URL; stop the server on exit.
 
     Parameters
@@ -73,9 +83,10 @@ def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None 
     port : int, optional
         Port to serve on (default: a free one).
     timeout : float
-        Seconds to wait for ``/liveness``.
+        Seconds to wait for ``/liveness`` to answer 200 (the solver warm; a
+        fresh numba cache takes 20-30 s to fill on a busy machine).
     env : dict, optional
-        Extra environment variables for the server.
+        Extra environment variables for the server (e.g. ``SHAKEDOWN_SCHEDULER``).
     log_path : path, optional
         File that receives the server's output (default: discarded, or the
         terminal when ``SHAKEDOWN_SERVER_LOG`` is set).
@@ -83,12 +94,16 @@ def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None 
         Further ``panel serve`` options (e.g. ``["--num-threads", "4"]``).
     script : path, optional
         The app to serve, relative to the repository root; its URL ends in its file stem.
+    extra_apps : sequence of paths
+        Further scripts served by the same server, each at ``/<file stem>``.
+    wait_ready : bool
+        Wait until the solver is warm (default); False: only until the server answers.
     info : dict, optional
         Filled with ``pid`` (the server process), ``base`` (its root URL) and,
         after the server stopped, ``returncode`` and ``stop_seconds``.
     """
     port = port or free_port()
-    cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / script), "--port", str(port),
+    cmd = [sys.executable, "-m", "panel", "serve", str(ROOT / script), *map(str, extra_apps), "--port", str(port),
            "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", *SERVE_OPTIONS,
            *map(str, extra_args)]
     if log_path is not None:
@@ -101,20 +116,83 @@ def served_app(port: int | None = None, timeout: float = 60.0, env: dict | None 
     base = f"http://127.0.0.1:{port}"
     info.update(pid=proc.pid, base=base)
     try:
-        wait_until(lambda: proc.poll() is None and _alive(f"{base}/liveness"), timeout,
+        wait_until(lambda: proc.poll() is None and _alive(f"{base}/liveness", wait_ready), timeout,
                    message=f"{base}/liveness")
         yield f"{base}/{Path(script).stem}"
     finally:
         t0 = time.monotonic()
-        proc.terminate()
-        try:
-            proc.wait(10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+        _stop(proc)
         info.update(returncode=proc.returncode, stop_seconds=time.monotonic() - t0)
         if log is not None:
             log.close()
+
+
+def _stop(proc: subprocess.Popen, grace: float = 10.0) -> None:
+    proc.terminate()
+    try:
+        proc.wait(grace)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
+@contextlib.contextmanager
+def dask_cluster(workers: int = 1, timeout: float = 60.0, log_dir: str | os.PathLike | None = None):
+    """A Dask cluster on 127.0.0.1: ``dask scheduler`` and ``workers`` ``dask worker`` processes.
+
+    Yields the scheduler's address once every worker has registered; stops
+    them all on exit. Workers have one thread each (the solver holds the
+    GIL) and import this checkout's ``core`` (``PYTHONPATH``). Their output
+    goes to ``log_dir`` (``scheduler.log``, ``worker-<k>.log``) if given.
+    """
+    import distributed
+
+    port = free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])]),
+           "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+    logs = Path(log_dir) if log_dir is not None else None
+    procs: list[subprocess.Popen] = []
+    files = []
+
+    def start(name, args):
+        out = open(logs / f"{name}.log", "w") if logs is not None else subprocess.DEVNULL  # noqa: SIM115
+        if logs is not None:
+            files.append(out)
+        procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_" + args[0], *args[1:]],
+                                      cwd=ROOT, env=env, stdout=out, stderr=subprocess.STDOUT))
+
+    try:
+        start("scheduler", ["scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"])
+        for k in range(workers):
+            start(f"worker-{k}", ["worker", address, "--host", "127.0.0.1", "--nthreads", "1", "--nworkers", "1",
+                                  "--no-dashboard", "--no-nanny", "--name", f"worker-{k}"])
+        client = wait_until(lambda: all(p.poll() is None for p in procs)
+                            and distributed.Client(address, set_as_default=False, timeout="2s"),
+                            timeout, interval=0.5, message=f"the Dask scheduler at {address}")
+        try:
+            if workers:
+                client.wait_for_workers(workers, timeout=timeout)
+        finally:
+            client.close()
+        yield address
+    finally:
+        for proc in reversed(procs):  # workers first, then the scheduler
+            _stop(proc)
+        for f in files:
+            f.close()
+
+
+def tasks_done(address: str, prefix: str) -> int:
+    """How many tasks whose key starts with ``prefix`` (a function's name) the scheduler at ``address`` completed."""
+    import distributed
+
+    def count(dask_scheduler, prefix=prefix):
+        tp = dask_scheduler.task_prefixes.get(prefix)
+        return 0 if tp is None else int(tp.state_counts.get("memory", 0))  # ever finished, released later or not
+
+    with distributed.Client(address, set_as_default=False, timeout="10s") as client:
+        return client.run_on_scheduler(count)
 
 
 @contextlib.contextmanager

@@ -1,83 +1,75 @@
-"""Load test of the served explorer: concurrent browser sessions that move sliders and trigger solves.
+"""Load test of the served explorer: many sessions driven through Bokeh's client protocol, not browsers.
 
-Usage: python benchmarks/loadtest.py [--sessions 20] [--seconds 60]
+Usage: python benchmarks/loadtest.py [--sessions 60] [--open-over 30] [--seconds 60] [--cluster 2]
 
-Serves ``app/main.py`` on loopback (127.0.0.1 only) and opens ``--sessions``
-independent sessions at once (one Chromium browser context each, driven by
-Playwright); their page loads are timed. Then, for ``--seconds``, every
-session repeats:
+Serves ``app/main.py`` and the yardstick page (``benchmarks/yardstick.py``: a
+template, four sliders, two HoloViews plots) from one ``panel serve`` on
+127.0.0.1, and drives sessions with ``bokeh.client`` (one websocket and one
+Python document per session, no browser): what is measured is what a
+session costs the server. With ``--cluster N`` the solves go to a loopback
+Dask cluster of N workers (``dask scheduler`` and ``dask worker`` processes
+started here; ``SHAKEDOWN_SCHEDULER`` for the server).
 
-* drag: three new values of the ft slider without releasing it (the
-  analytical plots follow; no solve);
-* release: ft (and every third time w) set to a value no session has used, so
-  the server must solve it (no cache hit); the *solve round trip* runs from
-  setting the value in the page to the run's card showing the new run.
+Phases, each printed:
 
-Meanwhile ``/liveness`` is polled every 0.5 s. Counted as errors: a browser
-console error or uncaught page error, a round trip that does not finish in
-60 s, a liveness request that fails or takes over 5 s while the sessions work
-(over 30 s, Docker's default health-check time-out, while they open: building
-a session's page holds the server's event loop), and any traceback or ERROR
-line in the server's log. Memory is the server process's resident set
-(VmRSS) after one warm-up session and again after the load, compared with the
-bound of the shared result cache (``SHAKEDOWN_CACHE_MB``).
+1. CPU per session: ``--cpu-sessions`` sessions of the explorer opened one
+   after another (each closed before the next), then as many of the
+   yardstick; the server process's CPU time (``/proc/<pid>/stat``, all its
+   threads) per session, and the ratio (goal: at most 2).
+2. Burst: ``--burst`` sessions open at once while ``/liveness`` is polled
+   every 0.25 s; its worst latency (goal: under 2 s).
+3. Class: ``--sessions`` sessions open, evenly spread over ``--open-over``
+   seconds; each then, until ``--seconds`` after the last opening, drags the
+   ft slider (three values, no release: the analytical layers follow, no
+   solve) and releases it at a value no session has used (a new solve),
+   every third time w too. The *solve round trip* runs from sending the
+   release to the run card's text changing in the session's document.
 
-Request loops are bounded in count and in time and stop by themselves.
+Printed: errors (goal 0: a session that fails to open, a round trip over
+60 s, a failed or slow ``/liveness`` (over 30 s), a traceback or ERROR in the
+server's log), time until all sessions are up, median and p95 of the round
+trips, ``/liveness`` latency, the longest time the server's event loop was
+blocked (``SHAKEDOWN_LOOP_WATCH_MS``, reported by ``/liveness``; goal
+<= 0.5 s), and the server's memory (VmRSS) before and after.
+
+Every loop is bounded in count and in time.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import contextlib
 import itertools
 import json
+import math
+import os
 import re
+import signal
 import statistics
 import sys
 import tempfile
+import threading
 import time
 import urllib.request
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from app import limits  # noqa: E402
-from app.serving import CHROMIUM, CHROMIUM_ARGS, served_app  # noqa: E402
+from app.serving import dask_cluster, served_app, tasks_done  # noqa: E402
 
+YARDSTICK = Path(__file__).resolve().parent / "yardstick.py"
 FT_TITLE = "ft = Ft/(μ Fn)"
 W_TITLE = "w = W/a"
-BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
 ROUND_TRIP_TIMEOUT_S = 60.0
-MAX_ROUND_TRIPS_PER_SESSION = 500  # a bound on each loop, whatever the clock says
-
-# In the page: set a slider (dragging, or released), and for a release wait until the
-# run card (the text with "el., ... steps") changes. Returns elapsed ms, or -1 on time-out.
-_SET_SLIDER = """
-async ([title, value, release, timeoutMs]) => {
-  const models = () => { const out = []; for (const d of Bokeh.documents) for (const m of d.all_models) out.push(m); return out; };
-  const slider = models().find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
-  if (!slider) throw new Error('no slider titled ' + title);
-  const findCard = () => models().find((m) => typeof m.text === 'string' && m.text.includes(' steps') && m.text.includes('el.,'));
-  let card = findCard();
-  const before = card ? card.text : null;
-  const t0 = performance.now();
-  slider.value = value;
-  if (!release) return 0;
-  slider.value_throttled = value;
-  let last = t0;
-  while (performance.now() - t0 < timeoutMs) {
-    await new Promise((r) => setTimeout(r, 5));
-    if (performance.now() - last > 250) { card = findCard(); last = performance.now(); }
-    if (card && card.text !== before) return performance.now() - t0;
-  }
-  return -1;
-}
-"""
-
+OPEN_TIMEOUT_S = 180.0
+LIVENESS_LIMIT_S = 30.0
+MAX_ROUND_TRIPS_PER_SESSION = 500
+_TICK = os.sysconf("SC_CLK_TCK")
 
 _RECORD = re.compile(r"^\d{4}-\d\d-\d\d \d\d:\d\d:\d\d,\d{3} ", re.M)
-# Bokeh/Tornado races when a browser leaves mid-update: a write to the closed socket,
+# Bokeh/Tornado races when a client leaves mid-update: a write to the closed socket,
 # or a patch that arrives after its session was detached. Not the app's errors.
 _DISCONNECT = ("WebSocketClosedError", "assert self._session is not None", "Stream is closed")
 
@@ -97,6 +89,12 @@ def classify_server_log(log: str) -> tuple[list[str], list[str]]:
     return errors, noise
 
 
+def _cpu_s(pid: int) -> float:
+    """CPU time (user + system) of process ``pid`` so far [s], all its threads."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / _TICK
+
+
 def _rss_mb(pid: int) -> float:
     for line in Path(f"/proc/{pid}/status").read_text().splitlines():
         if line.startswith("VmRSS:"):
@@ -109,154 +107,270 @@ def _percentile(values, q):
     return v[min(len(v) - 1, int(round(q * (len(v) - 1))))] if v else float("nan")
 
 
-async def _open(browser, url, k, stats):
-    """Open session ``k`` and wait for its first verdict; returns the page (or None)."""
-    context = await browser.new_context(viewport={"width": 1400, "height": 1000})
-    page = await context.new_page()
-    page.on("console", lambda m: m.type == "error" and stats["errors"].append(f"session {k} console: {m.text[:200]}"))
-    page.on("pageerror", lambda e: stats["errors"].append(f"session {k} page error: {str(e)[:200]}"))
-    t0 = time.monotonic()
-    try:
-        await page.goto(url + f"?ft=0.3&w={0.2 + 0.02 * (k % 20):.2f}", timeout=180_000)
-        await page.locator(BADGE).first.wait_for(timeout=180_000)
-        stats["loads"].append(time.monotonic() - t0)
-        return page
-    except Exception as e:  # noqa: BLE001 - a broken session is an error of the test, reported
-        stats["errors"].append(f"session {k} did not open: {type(e).__name__}: {str(e)[:300]}")
-        await context.close()
-        return None
+def _health(base: str, reset: bool = False, timeout: float = LIVENESS_LIMIT_S) -> dict:
+    with urllib.request.urlopen(f"{base}/liveness" + ("?reset=1" if reset else ""), timeout=timeout) as r:  # noqa: S310
+        return json.loads(r.read())
 
 
-async def _work(page, deadline, k, fresh, stats):
-    """Drag and release sliders on session ``k`` until ``deadline``."""
-    try:
-        for i in range(MAX_ROUND_TRIPS_PER_SESSION):
-            if time.monotonic() > deadline:
-                break
-            for j in range(3):  # dragging: the analytical layers follow, nothing is solved
-                await page.evaluate(_SET_SLIDER, [FT_TITLE, 0.1 + 0.25 * j + 0.01 * (k % 10), False, 0])
-                await asyncio.sleep(0.05)
-            if i % 3 == 2:  # release w too now and then (a solve as well)
-                ms = await page.evaluate(_SET_SLIDER, [W_TITLE, next(fresh["w"]), True, ROUND_TRIP_TIMEOUT_S * 1e3])
-                _record(stats, k, ms)
-            ms = await page.evaluate(_SET_SLIDER, [FT_TITLE, next(fresh["ft"]), True, ROUND_TRIP_TIMEOUT_S * 1e3])
-            _record(stats, k, ms)
-    except Exception as e:  # noqa: BLE001
-        stats["errors"].append(f"session {k}: {type(e).__name__}: {str(e)[:300]}")
-    finally:
-        # leave as a user does: let in-flight updates land, then close the websocket by navigating away
-        await asyncio.sleep(1.0)
+def _lag_ms(base: str, stats: dict) -> float:
+    """The longest the server's event loop was blocked since the last call [ms] (a new window starts)."""
+    for attempt in range(3):  # the loop may still be busy with sessions that are being built
         try:
-            await page.goto("about:blank", timeout=30_000)
+            return _health(base, reset=True, timeout=120).get("loop_max_lag_ms", float("nan"))
+        except OSError as e:
+            error = e
+    stats["errors"].append(f"/liveness did not answer in 3 x 120 s: {type(error).__name__}")
+    return float("nan")
+
+
+class Session:
+    """One session of a served page, driven through Bokeh's client protocol in a thread of its own."""
+
+    def __init__(self, url: str, arguments: dict | None = None):
+        import panel.models  # noqa: F401 - the client must know Panel's model types to read the document
+        import panel.models.katex  # noqa: F401
+        import panel.models.location  # noqa: F401
+        from bokeh.client import pull_session
+        from tornado.ioloop import IOLoop
+
+        asyncio.set_event_loop(asyncio.new_event_loop())  # this thread's loop; the client runs it while it waits
+        self.loop = IOLoop.current()
+        self.session = pull_session(url=url, arguments=arguments or {}, io_loop=self.loop)
+        self.models = list(self.session.document.models)
+
+    def find(self, predicate):
+        return next((m for m in self.models if predicate(m)), None)
+
+    def slider(self, title):
+        return self.find(lambda m: getattr(m, "title", None) == title and "value_throttled" in m.properties())
+
+    def run_card(self):
+        return self.find(lambda m: isinstance(getattr(m, "text", None), str) and " steps" in m.text and "el.," in m.text)
+
+    def pump(self, until, timeout: float) -> bool:
+        """Let the server's updates in until ``until()`` (True) or ``timeout`` seconds (False)."""
+        from tornado.ioloop import PeriodicCallback
+
+        conn = self.session._connection  # the public API only pumps while it waits for a reply, dropping updates
+        deadline = time.monotonic() + timeout
+        # a no-op request every 100 ms wakes the client's loop so that the deadline is seen without an update
+        ping = PeriodicCallback(lambda: self.loop.add_callback(conn.send_message, conn._protocol.create("SERVER-INFO-REQ")), 100)
+        ping.start()
+        try:
+            conn._loop_until(lambda: until() or time.monotonic() > deadline or not conn.connected)
         finally:
-            await page.context.close()
+            ping.stop()
+        return bool(until())
 
+    def set(self, model, value, release: bool) -> None:
+        model.value = value
+        if release:
+            model.set_from_json("value_throttled", value)  # read-only in Python: what the browser sends on mouse-up
 
-def _record(stats, k, ms):
-    if ms is None or ms < 0:
-        stats["errors"].append(f"session {k}: a solve round trip did not finish in {ROUND_TRIP_TIMEOUT_S:.0f} s")
-    else:
-        stats["latencies"].append(ms)
-
-
-async def _liveness(base, stop, stats, key, limit_s):
-    """Poll /liveness every 0.5 s until ``stop``; latencies go to ``stats[key]``."""
-    for _ in range(100_000):  # bounded; ends when the phase ends
-        if stop.is_set():
-            return
-        t0 = time.monotonic()
-        try:
-            ok = await asyncio.to_thread(
-                lambda: urllib.request.urlopen(f"{base}/liveness", timeout=limit_s).status == 200)
-            if not ok:
-                stats["errors"].append("liveness answered non-200")
-        except Exception as e:  # noqa: BLE001
-            stats["errors"].append(f"liveness ({key}) failed after {time.monotonic() - t0:.1f} s: {type(e).__name__}")
-        stats[key].append((time.monotonic() - t0) * 1e3)
-        await asyncio.sleep(0.5)
-
-
-async def _phase(coro, base, stats, key, limit_s):
-    """Run ``coro`` while polling /liveness."""
-    stop = asyncio.Event()
-    live = asyncio.create_task(_liveness(base, stop, stats, key, limit_s))
-    try:
-        return await coro
-    finally:
-        stop.set()
-        await live
+    def close(self):
+        with contextlib.suppress(Exception):
+            self.session.close()
+        with contextlib.suppress(Exception):
+            self.loop.close(all_fds=True)
 
 
 def _fresh_values():
     # values never used before by any session: every release is a new solve
     ft = (round(0.05 + (0.8 * ((i * 0.618034) % 1.0)), 4) for i in itertools.count(1))
     w = (round(0.1 + (0.75 * ((i * 0.414214) % 1.0)), 4) for i in itertools.count(1))
-    return {"ft": ft, "w": w}
+    return {"ft": ft, "w": w, "lock": threading.Lock()}
 
 
-async def _run(url, base, pid, sessions, seconds):
-    from playwright.async_api import async_playwright
+def _next(fresh, key):
+    with fresh["lock"]:
+        return next(fresh[key])
 
-    stats = {"errors": [], "latencies": [], "liveness": [], "liveness_opening": [], "loads": []}
-    async with async_playwright() as pw:
-        browser = await pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
-        try:
-            # warm-up: one session so the first-import costs are not counted as growth
-            warm = await browser.new_context()
-            page = await warm.new_page()
-            await page.goto(url, timeout=120_000)
-            await page.locator(BADGE).first.wait_for(timeout=120_000)
-            await warm.close()
-            stats["rss_before_mb"] = _rss_mb(pid)
-            # phase 1: every session opens at once
+
+def _open(url, k, stats, arguments=None) -> Session | None:
+    t0 = time.monotonic()
+    try:
+        s = Session(url, arguments)
+        stats["loads"].append(time.monotonic() - t0)
+        return s
+    except Exception as e:  # noqa: BLE001 - a session that did not open is an error of the run
+        stats["errors"].append(f"session {k} did not open: {type(e).__name__}: {str(e)[:200]}")
+        return None
+
+
+def _work(s: Session, k, deadline, fresh, stats):
+    """Drag and release sliders on session ``k`` until ``deadline()`` (a time.monotonic() value)."""
+    ft, w = s.slider(FT_TITLE), s.slider(W_TITLE)
+    if ft is None or w is None or s.run_card() is None:
+        stats["errors"].append(f"session {k}: no ft/w slider or run card in the document")
+        return
+    for i in range(MAX_ROUND_TRIPS_PER_SESSION):
+        if time.monotonic() > deadline():
+            return
+        for j in range(3):  # dragging: the analytical layers follow, nothing is solved
+            s.set(ft, round(0.1 + 0.25 * j + 0.01 * (k % 10), 4), release=False)
+            s.pump(lambda: False, 0.05)
+        for slider, key in ([(w, "w")] if i % 3 == 2 else []) + [(ft, "ft")]:
+            before = s.run_card().text
             t0 = time.monotonic()
-            pages = await _phase(asyncio.gather(*(_open(browser, url, k, stats) for k in range(sessions))),
-                                 base, stats, "liveness_opening", 30.0)
-            stats["open_s"] = time.monotonic() - t0
-            # phase 2: they all drag, release and solve
-            fresh = _fresh_values()
+            s.set(slider, _next(fresh, key), release=True)
+            if s.pump(lambda: s.run_card().text != before, ROUND_TRIP_TIMEOUT_S):
+                stats["latencies"].append((time.monotonic() - t0) * 1e3)
+            else:
+                stats["errors"].append(f"session {k}: a solve round trip did not finish in {ROUND_TRIP_TIMEOUT_S:.0f} s")
+                return
+
+
+def _session_thread(url, k, start_at, deadline, fresh, stats, up):
+    time.sleep(max(0.0, start_at - time.monotonic()))
+    s = _open(url, k, stats, {"ft": "0.3", "w": f"{0.2 + 0.02 * (k % 20):.2f}"})
+    up.append(time.monotonic() if s is not None else math.nan)  # a failed session ends its opening too
+    if s is None:
+        return
+    try:
+        if deadline is not None:
+            _work(s, k, deadline, fresh, stats)
+    except Exception as e:  # noqa: BLE001
+        stats["errors"].append(f"session {k}: {type(e).__name__}: {str(e)[:200]}")
+    finally:
+        s.close()
+
+
+@contextlib.contextmanager
+def _liveness(base, stats, key, period=0.25):
+    """Poll /liveness every ``period`` s in a thread while the block runs; latencies [ms] go to ``stats[key]``."""
+    stop = threading.Event()
+
+    def poll():
+        for _ in range(1_000_000):  # bounded; ends with the block
+            if stop.is_set():
+                return
             t0 = time.monotonic()
-            deadline = t0 + seconds
-            await _phase(asyncio.gather(*(_work(p, deadline, k, fresh, stats) for k, p in enumerate(pages) if p)),
-                         base, stats, "liveness", 5.0)
-            stats["wall_s"] = time.monotonic() - t0
-            await asyncio.sleep(2.0)  # let the server drop the closed sessions
-            stats["rss_after_mb"] = _rss_mb(pid)
-        finally:
-            await browser.close()
+            try:
+                _health(base)
+            except Exception as e:  # noqa: BLE001
+                stats["errors"].append(f"liveness ({key}) failed after {time.monotonic() - t0:.1f} s: {type(e).__name__}")
+            stats[key].append((time.monotonic() - t0) * 1e3)
+            stop.wait(period)
+
+    thread = threading.Thread(target=poll, daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        thread.join(LIVENESS_LIMIT_S + 5)
+
+
+def _cpu_per_session(url, pid, n, stats, arguments=None) -> float:
+    """Server CPU [s] per session of ``url``: ``n`` sessions opened one after another (after one untimed)."""
+    s = _open(url, -1, {"loads": [], "errors": stats["errors"]}, arguments)
+    if s is not None:
+        s.close()
+    time.sleep(0.5)
+    c0 = _cpu_s(pid)
+    for k in range(n):
+        s = _open(url, k, {"loads": [], "errors": stats["errors"]}, arguments)
+        if s is not None:
+            s.close()
+    time.sleep(1.0)  # the server finishes with the closed sessions
+    return (_cpu_s(pid) - c0) / n
+
+
+def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions):
+    stats = {"errors": [], "latencies": [], "liveness": [], "liveness_burst": [], "loads": []}
+    yard = url.rsplit("/", 1)[0] + "/yardstick"
+    # 1. CPU per session, one after another
+    stats["cpu_explorer_s"] = _cpu_per_session(url, pid, cpu_sessions, stats)
+    stats["cpu_yardstick_s"] = _cpu_per_session(yard, pid, cpu_sessions, stats)
+    stats["loop_lag_cpu_ms"] = _lag_ms(base, stats)
+    # 2. burst: sessions open at once while /liveness is polled
+    up: list = []
+    threads = [threading.Thread(target=_session_thread, args=(url, 1000 + k, 0.0, None, None, stats, up))
+               for k in range(burst)]
+    with _liveness(base, stats, "liveness_burst"):
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(OPEN_TIMEOUT_S)
+    stats["loop_lag_burst_ms"] = _lag_ms(base, stats)
+    stats["loads_burst"], stats["loads"] = stats["loads"], []
+    # 3. the class: sessions spread over open_over seconds, each then moves sliders until `seconds` after
+    # the last one is up (or failed), so that all of them work together for that long
+    time.sleep(1.0)
+    stats["rss_before_mb"] = _rss_mb(pid)
+    fresh = _fresh_values()
+    t0 = time.monotonic()
+    up = []
+    hard_end = t0 + open_over + OPEN_TIMEOUT_S + seconds
+
+    def deadline():
+        if len(up) < sessions:
+            return hard_end
+        opened = [t for t in up if not math.isnan(t)]
+        return min(hard_end, max(opened, default=t0) + seconds)
+
+    threads = [threading.Thread(target=_session_thread,
+                                args=(url, k, t0 + open_over * k / max(1, sessions - 1) if sessions > 1 else t0,
+                                      deadline, fresh, stats, up), daemon=True)
+               for k in range(sessions)]
+    cpu0 = _cpu_s(pid)
+    with _liveness(base, stats, "liveness"):
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(max(1.0, hard_end + ROUND_TRIP_TIMEOUT_S - time.monotonic()))
+    opened = [t for t in up if not math.isnan(t)]
+    stats["all_up_s"] = (max(opened) - t0) if len(opened) == sessions else float("nan")
+    stats["wall_s"] = time.monotonic() - t0
+    stats["cpu_class_s"] = _cpu_s(pid) - cpu0
+    stats["loop_lag_class_ms"] = _lag_ms(base, stats)
+    time.sleep(2.0)  # let the server drop the closed sessions
+    stats["rss_after_mb"] = _rss_mb(pid)
     return stats
 
 
-def run_load(sessions: int = 20, seconds: float = 60.0, env: dict | None = None,
-             keep_log: str | None = None, serve_args: tuple[str, ...] = ()) -> dict:
-    """Serve the app, drive ``sessions`` concurrent sessions for ``seconds``; return the figures.
+def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0, burst: int = 10,
+             cpu_sessions: int = 5, cluster: int = 0, env: dict | None = None, keep_log: str | None = None,
+             serve_args: tuple[str, ...] = ()) -> dict:
+    """Serve the app (and the yardstick), run the three phases; return the figures.
 
     Returns
     -------
     dict
         ``errors`` (list of messages), ``latencies`` (solve round trips, ms),
-        ``liveness`` (ms), ``rss_before_mb``, ``rss_after_mb``, ``cache_mb``,
-        ``wall_s``, ``server_log_errors`` and the server's ``returncode``.
+        ``liveness`` and ``liveness_burst`` (ms), ``loads`` and
+        ``loads_burst`` (s), ``all_up_s``, ``cpu_explorer_s``,
+        ``cpu_yardstick_s`` (server CPU per session), ``loop_lag_*_ms``,
+        ``rss_before_mb``, ``rss_after_mb``, ``cache_mb``, ``cluster_tasks``
+        (solves the Dask cluster ran) and the server's ``returncode``.
     """
-    if not 1 <= sessions <= 100 or not 1 <= seconds <= 3600:
-        raise ValueError("sessions must be in [1, 100] and seconds in [1, 3600]")
-    with tempfile.TemporaryDirectory() as tmp:
+    if not (1 <= sessions <= 200 and 0 <= open_over <= 600 and 1 <= seconds <= 3600 and 1 <= burst <= 100
+            and 1 <= cpu_sessions <= 100 and 0 <= cluster <= 8):
+        raise ValueError("sessions in [1, 200], open_over in [0, 600] s, seconds in [1, 3600], burst in [1, 100], "
+                         "cpu_sessions in [1, 100], cluster in [0, 8] workers")
+    env = {**(env or {}), "SHAKEDOWN_LOOP_WATCH_MS": "50"}
+    with tempfile.TemporaryDirectory() as tmp, contextlib.ExitStack() as stack:
+        if cluster:
+            address = stack.enter_context(dask_cluster(cluster))
+            env["SHAKEDOWN_SCHEDULER"] = address
         log_path = Path(tmp) / "server.log"
         info: dict = {}
-        with served_app(env=env, log_path=log_path, info=info, extra_args=serve_args) as url:
-            # in a thread of its own: a caller may already run an event loop (pytest after sync Playwright)
-            with ThreadPoolExecutor(1) as pool:
-                stats = pool.submit(asyncio.run, _run(url, info["base"], info["pid"], sessions, seconds)).result()
+        with served_app(env=env, log_path=log_path, info=info, extra_args=serve_args, extra_apps=[YARDSTICK]) as url:
+            stats = _run(url, info["base"], info["pid"], sessions, open_over, seconds, burst, cpu_sessions)
+            stats["cluster_tasks"] = tasks_done(env["SHAKEDOWN_SCHEDULER"], "simulate_contact") if cluster else 0
         log = log_path.read_text(errors="replace")
         if keep_log:
             Path(keep_log).write_text(log)
     bad, noise = classify_server_log(log)
     stats["server_log_errors"], stats["disconnect_noise"] = bad, len(noise)
     stats["errors"] += [f"server log: {rec.splitlines()[0][:200]} ... {rec.splitlines()[-1][:200]}" for rec in bad]
+    stats["errors"] += [f"liveness took {max(v) / 1e3:.1f} s (> {LIVENESS_LIMIT_S:.0f} s)"
+                        for v in (stats["liveness"], stats["liveness_burst"]) if v and max(v) > LIVENESS_LIMIT_S * 1e3]
     stats["returncode"] = info.get("returncode")
     stats["stop_s"] = info.get("stop_seconds", float("nan"))
     stats["cache_mb"] = limits.CACHE_MB
-    stats["sessions"], stats["seconds"], stats["serve_args"] = sessions, seconds, list(serve_args)
+    stats.update(sessions=sessions, open_over=open_over, seconds=seconds, burst=burst, cpu_sessions=cpu_sessions,
+                 cluster=cluster, serve_args=list(serve_args))
     return stats
 
 
@@ -267,34 +381,57 @@ def _summary(values, unit="ms"):
             f"max {max(values):.0f} {unit}")
 
 
+def _goal(ok: bool) -> str:
+    return "met" if ok else "NOT met"
+
+
 def report(stats: dict) -> str:
-    growth = stats["rss_after_mb"] - stats["rss_before_mb"]
+    ratio = stats["cpu_explorer_s"] / stats["cpu_yardstick_s"] if stats["cpu_yardstick_s"] > 0 else float("nan")
+    burst_max = max(stats["liveness_burst"]) / 1e3 if stats["liveness_burst"] else float("nan")
+    lag = max(stats["loop_lag_burst_ms"], stats["loop_lag_class_ms"]) / 1e3
+    where = (f"solves on a loopback Dask cluster of {stats['cluster']} workers ({stats['cluster_tasks']} solves ran there)"
+             if stats["cluster"] else "solves in the server's threads")
     lines = [
-        f"server options: {' '.join(stats['serve_args']) or '(defaults)'}\n"
-        f"sessions: {stats['sessions']}, activity: {stats['seconds']:.0f} s (wall {stats['wall_s']:.1f} s)",
-        f"errors: {len(stats['errors'])}" + "".join(f"\n  - {e}" for e in stats["errors"][:20]),
-        f"opening all sessions at once: {stats['open_s']:.1f} s; page load per session: "
-        f"{_summary([x * 1e3 for x in stats['loads']])}",
-        f"  liveness while they open: {_summary(stats['liveness_opening'])}",
-        f"solve round trips: {len(stats['latencies'])}; {_summary(stats['latencies'])}",
-        f"  liveness while they work: {len(stats['liveness'])} checks, {_summary(stats['liveness'])}",
+        f"server: panel serve {' '.join(stats['serve_args']) or '(default options)'}; {where}",
+        f"errors: {len(stats['errors'])} (goal 0)" + "".join(f"\n  - {e}" for e in stats["errors"][:20]),
+        f"server CPU per session, opened one after another ({stats['cpu_sessions']} each): explorer "
+        f"{stats['cpu_explorer_s']:.2f} s, yardstick {stats['cpu_yardstick_s']:.2f} s, ratio {ratio:.1f} "
+        f"(goal <= 2: {_goal(ratio <= 2)})",
+        f"{stats['burst']} sessions opening at once: /liveness {_summary(stats['liveness_burst'])} "
+        f"(goal < 2 s: {_goal(burst_max < 2)}); opening {_summary([x * 1e3 for x in stats['loads_burst']])}",
+        f"{stats['sessions']} sessions opening over {stats['open_over']:.0f} s: all up after {stats['all_up_s']:.1f} s; "
+        f"opening {_summary([x * 1e3 for x in stats['loads']])}",
+        f"  then sliders for {stats['seconds']:.0f} s: {len(stats['latencies'])} solve round trips, "
+        f"{_summary(stats['latencies'])}",
+        f"  /liveness meanwhile: {len(stats['liveness'])} checks, {_summary(stats['liveness'])}",
+        f"  server CPU over the whole phase: {stats['cpu_class_s']:.1f} s in {stats['wall_s']:.0f} s of wall time",
+        f"event loop blocked at most: {stats['loop_lag_burst_ms'] / 1e3:.2f} s (burst), "
+        f"{stats['loop_lag_class_ms'] / 1e3:.2f} s (class), {stats['loop_lag_cpu_ms'] / 1e3:.2f} s (one session "
+        f"at a time) (goal <= 0.5 s: {_goal(lag <= 0.5)})",
         f"server memory (RSS): {stats['rss_before_mb']:.0f} MB before, {stats['rss_after_mb']:.0f} MB after "
-        f"({growth:+.0f} MB; the result cache is bounded at {stats['cache_mb']} MB)",
+        f"({stats['rss_after_mb'] - stats['rss_before_mb']:+.0f} MB; the result cache is bounded at {stats['cache_mb']} MB)",
         f"server stopped with exit code {stats['returncode']} in {stats['stop_s']:.1f} s; "
-        f"disconnect noise in its log (Bokeh/Tornado, pages closed mid-update): {stats['disconnect_noise']} records",
+        f"disconnect noise in its log: {stats['disconnect_noise']} records",
     ]
     return "\n".join(lines)
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sessions", type=int, default=20)
-    ap.add_argument("--seconds", type=float, default=60.0)
+    ap.add_argument("--sessions", type=int, default=60)
+    ap.add_argument("--open-over", type=float, default=30.0, help="seconds over which the sessions open")
+    ap.add_argument("--seconds", type=float, default=60.0, help="seconds of slider activity after the last opening")
+    ap.add_argument("--burst", type=int, default=10, help="sessions opened at once while /liveness is timed")
+    ap.add_argument("--cpu-sessions", type=int, default=5, help="sessions per page for the CPU per session")
+    ap.add_argument("--cluster", type=int, default=0, help="solve on a loopback Dask cluster of this many workers")
     ap.add_argument("--json", help="also write the figures to this JSON file")
     ap.add_argument("--log", help="keep the server's log in this file")
     ap.add_argument("--serve-args", default="", help="further 'panel serve' options, e.g. '--num-threads 4'")
     args = ap.parse_args(argv)
-    stats = run_load(args.sessions, args.seconds, keep_log=args.log, serve_args=tuple(args.serve_args.split()))
+    # stopped with SIGTERM: unwind, so that the server and the cluster this script started are stopped too
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    stats = run_load(args.sessions, args.open_over, args.seconds, args.burst, args.cpu_sessions, args.cluster,
+                     keep_log=args.log, serve_args=tuple(args.serve_args.split()))
     print(report(stats))
     if args.json:
         Path(args.json).write_text(json.dumps(stats, indent=1))

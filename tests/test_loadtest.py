@@ -1,9 +1,12 @@
-"""Issue 6, item 3: the short load test (5 sessions, 15 s) runs in the suite and fails on any error.
+"""Issue 12, item 6: the short load test runs in the suite and fails on any error.
 
-``benchmarks/loadtest.py`` serves the app on loopback and drives concurrent
-Chromium sessions that drag and release sliders (every release is a new
-solve). Any console or page error, unfinished round trip, liveness failure,
-or traceback of the app in the server log is an error.
+``benchmarks/loadtest.py`` serves the app and the yardstick page on loopback
+and drives sessions through Bokeh's client protocol (no browser): sessions
+opened one after another for the CPU per session, a burst opened at once
+while ``/liveness`` is timed, then sessions that drag and release sliders
+(every release is a new solve). Any session that fails to open, unfinished
+round trip, failed liveness request, or traceback in the server log is an
+error. The figures' goals are checked by the benchmark at full size, not here.
 """
 
 import importlib.util
@@ -11,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.browser
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -23,14 +26,15 @@ def _loadtest():
     return module
 
 
-def test_five_sessions_for_fifteen_seconds_without_an_error():
+def test_a_few_sessions_for_a_few_seconds_without_an_error():
     lt = _loadtest()
-    stats = lt.run_load(sessions=5, seconds=15)
+    stats = lt.run_load(sessions=3, open_over=2, seconds=8, burst=2, cpu_sessions=1)
     print(lt.report(stats))
     assert stats["errors"] == [], lt.report(stats)
-    assert len(stats["loads"]) == 5, "every session opened"
-    assert len(stats["latencies"]) >= 5, "the sessions solved"
-    assert stats["liveness"] and max(stats["liveness"]) < 5000, "liveness answered while solves ran"
+    assert len(stats["loads"]) == 3 and len(stats["loads_burst"]) == 2, "every session opened"
+    assert len(stats["latencies"]) >= 3, "the sessions solved"
+    assert stats["cpu_explorer_s"] > 0 and stats["cpu_yardstick_s"] > 0, "the server's CPU time was read"
+    assert stats["loop_lag_class_ms"] > 0, "the event loop was watched"
     # no growth beyond the bound of the shared result cache (plus the sessions' own state)
     assert stats["rss_after_mb"] - stats["rss_before_mb"] < stats["cache_mb"] + 200
     assert stats["returncode"] == 0, "the server shut down cleanly on SIGTERM"

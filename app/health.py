@@ -1,0 +1,128 @@
+"""The server's health endpoint and start-up warm-up: ``panel serve app/main.py --plugins app.health``.
+
+Loaded by ``panel serve`` as a plugin (its :data:`ROUTES` are added to the
+server), so it runs once per server process, before the first session:
+
+* it starts warming the solver (:func:`app.runs.start_warm_up`): numba loads
+  the compiled code from its disk cache, or compiles it on a fresh install
+  (about 20 s), in a thread, while the server already answers; then it
+  imports the explorer's modules, which the first session would otherwise
+  import in the event loop;
+* ``GET /liveness`` answers 503 until that is done and 200 after, with a JSON
+  body: ``ready``, the warm-up ``stage`` and ``seconds``, the solver
+  ``backend`` (local, or the Dask scheduler) and, when
+  ``SHAKEDOWN_LOOP_WATCH_MS`` is set, ``loop_max_lag_ms``: the longest the
+  server's event loop was busy (blocked) since the last ``?reset=1``.
+
+Panel's own ``--liveness`` answers 200 as soon as the process listens, which
+says nothing about the solver; this endpoint replaces it (do not pass both).
+
+A read-only container: numba needs a writable cache directory. If
+``SHAKEDOWN_NUMBA_CACHE_SEED`` names a directory of precompiled code (the
+Docker image's, filled at build time for the installed package) and
+``NUMBA_CACHE_DIR`` (a tmpfs) lacks it, it is copied there before the solver
+is imported, so the solver loads instead of compiling.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import threading
+import time
+
+
+def seed_numba_cache() -> bool:
+    """Copy ``SHAKEDOWN_NUMBA_CACHE_SEED`` into ``NUMBA_CACHE_DIR`` (before numba is imported); True if copied."""
+    seed, target = os.environ.get("SHAKEDOWN_NUMBA_CACHE_SEED"), os.environ.get("NUMBA_CACHE_DIR")
+    if not seed or not target or not os.path.isdir(seed) or os.path.abspath(seed) == os.path.abspath(target):
+        return False
+    # files only, not the seed's owner or modes: the copy must be writable by this user (numba checks that)
+    for folder, _, files in os.walk(seed):
+        into = os.path.join(target, os.path.relpath(folder, seed))
+        os.makedirs(into, mode=0o700, exist_ok=True)
+        for name in files:
+            shutil.copyfile(os.path.join(folder, name), os.path.join(into, name))
+    return True
+
+
+seed_numba_cache()
+
+from tornado import ioloop, web  # noqa: E402
+
+from app import runs  # noqa: E402 - after the cache is seeded: this imports the solver
+from app.limits import LOOP_WATCH_MS  # noqa: E402
+
+__all__ = ["ROUTES", "LivenessHandler", "LoopWatch", "watch_loop", "seed_numba_cache"]
+
+
+class LoopWatch:
+    """Measures how long the event loop is blocked: a thread asks it to run a no-op every ``interval_ms``.
+
+    The time from asking to running is how long the loop was busy with
+    something else (a session's build, a callback). Keeps the largest since
+    :meth:`reset`.
+    """
+
+    def __init__(self, loop: ioloop.IOLoop, interval_ms: int):
+        self.loop, self.interval = loop, interval_ms / 1e3
+        self.max_lag = 0.0
+        self.samples = 0
+        self._lock = threading.Lock()
+        self._thread = threading.Thread(target=self._run, name="loop-watch", daemon=True)
+        self._thread.start()
+
+    def _mark(self, sent: float) -> None:
+        lag = time.perf_counter() - sent
+        with self._lock:
+            self.max_lag = max(self.max_lag, lag)
+            self.samples += 1
+
+    def _run(self) -> None:
+        while True:
+            self.loop.add_callback(self._mark, time.perf_counter())
+            time.sleep(self.interval)
+
+    def reset(self) -> float:
+        """Start a new window; returns the largest lag of the old one [s]."""
+        with self._lock:
+            old, self.max_lag = self.max_lag, 0.0
+            return old
+
+
+_WATCH: list[LoopWatch] = []
+
+
+def watch_loop() -> LoopWatch | None:
+    """Start watching this thread's event loop (once per process) if ``SHAKEDOWN_LOOP_WATCH_MS`` is set."""
+    if LOOP_WATCH_MS and not _WATCH:
+        _WATCH.append(LoopWatch(ioloop.IOLoop.current(), LOOP_WATCH_MS))
+    return _WATCH[0] if _WATCH else None
+
+
+class LivenessHandler(web.RequestHandler):
+    """``/liveness``: 200 once the solver is warm, 503 (with the stage) before; JSON either way."""
+
+    def get(self):
+        watch = watch_loop()
+        body = runs.readiness()
+        if watch is not None:
+            body["loop_max_lag_ms"] = round(1e3 * (watch.reset() if self.get_argument("reset", "") else watch.max_lag), 1)
+            body["loop_samples"] = watch.samples
+        self.set_header("Content-Type", "application/json")
+        self.set_header("Cache-Control", "no-store")
+        self.set_status(200 if body["ready"] else 503)
+        self.write(json.dumps(body))
+
+
+#: Routes ``panel serve --plugins app.health`` adds to the server.
+ROUTES = [(r"/liveness", LivenessHandler)]
+
+def _import_the_explorer():
+    """importing the explorer"""
+    # the first session would otherwise import HoloViews and the explorer (seconds) in the event loop
+    import app.explorer  # noqa: F401
+
+
+runs.start_warm_up(also=(_import_the_explorer,))

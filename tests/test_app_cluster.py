@@ -1,0 +1,193 @@
+"""Issue 12, items 4 and 5: solves and maps on a Dask cluster, a queue bound per session, read-only shared results.
+
+The cluster is real: ``dask scheduler`` and ``dask worker`` processes on
+127.0.0.1 (``app.serving.dask_cluster``), and the served app reaches it
+through ``SHAKEDOWN_SCHEDULER`` as an operator would set it.
+"""
+
+import json
+import threading
+from concurrent.futures import ThreadPoolExecutor
+import urllib.error
+import urllib.request
+
+import numpy as np
+import pytest
+
+import core
+from app import limits, runs
+from app.serving import chromium, dask_cluster, served_app, tasks_done, wait_until
+from app.state import ExplorerState
+
+pytestmark = pytest.mark.timeout(400)
+
+BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
+# release the ft slider at a new value; resolve once the run card (text with "el., ... steps") changes
+_RELEASE_FT = """
+async ([value, timeoutMs]) => {
+  const models = () => { const out = []; for (const d of Bokeh.documents) for (const m of d.all_models) out.push(m); return out; };
+  const slider = models().find((m) => m.title === 'ft = Ft/(μ Fn)' && typeof m.value === 'number' && 'value_throttled' in m);
+  const card = () => models().find((m) => typeof m.text === 'string' && m.text.includes(' steps') && m.text.includes('el.,'));
+  const before = card().text;
+  slider.value = value; slider.value_throttled = value;
+  const t0 = performance.now();
+  while (performance.now() - t0 < timeoutMs) {
+    await new Promise((r) => setTimeout(r, 50));
+    if (card().text !== before) return true;
+  }
+  return false;
+}
+"""
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    with dask_cluster(workers=1) as address:
+        yield address
+
+
+def _default():
+    state = ExplorerState()
+    return state.contact(), state.solver_options()
+
+
+def test_scheduler_address_is_checked_at_start_up(monkeypatch):
+    monkeypatch.delenv("SHAKEDOWN_SCHEDULER", raising=False)
+    assert limits.env_scheduler() is None
+    monkeypatch.setenv("SHAKEDOWN_SCHEDULER", " tcp://10.0.0.5:8786 ")
+    assert limits.env_scheduler() == "tcp://10.0.0.5:8786"
+    for bad in ("10.0.0.5:8786", "tcp://10.0.0.5", "http://h:80", "tcp://h:99999", "tcp://:8786"):
+        monkeypatch.setenv("SHAKEDOWN_SCHEDULER", bad)
+        with pytest.raises(ValueError, match="SHAKEDOWN_SCHEDULER must be a Dask scheduler address"):
+            limits.env_scheduler()
+
+
+def test_a_shared_result_cannot_be_written():
+    contact, options = _default()
+    cache = runs.ResultCache()
+    result = runs.solve(contact.replace(w=0.33), dict(options, periods=2), cache=cache)
+    assert cache.get(runs.run_key(contact.replace(w=0.33), dict(options, periods=2))) is result
+    for name in ("traction", "state", "displacement", "xc", "edges", "pressure"):
+        array = getattr(result, name)
+        assert not array.flags.writeable, name
+        with pytest.raises(ValueError, match="read-only"):
+            array[0] = 1
+
+
+def test_a_session_may_queue_only_so_many_solves():
+    contact, options = _default()
+    options = dict(options, periods=60)  # long enough to be still pending when the next requests come
+    limit = runs.MAX_QUEUED_PER_SESSION
+    release = threading.Event()
+    current = [0]
+    futures = []
+    try:
+        for k in range(limit):
+            futures.append(runs.submit(contact.replace(w=0.31 + 0.01 * k), options, owner="session-a",
+                                       cancel=lambda: release.is_set()))
+        refused = runs.submit(contact.replace(w=0.45), options, owner="session-a")
+        with pytest.raises(runs.SolveQueueFull, match="SHAKEDOWN_MAX_QUEUED_PER_SESSION"):
+            refused.result(timeout=5)
+        # another session is not affected by session a's queue
+        other = runs.submit(contact.replace(w=0.46), dict(options, periods=2), owner="session-b")
+        assert other.result(timeout=120).regime in ("shakedown", "ratcheting")
+        # session a's own superseded requests make room for its newest one
+        release.set()
+        newest = runs.submit(contact.replace(w=0.47), dict(options, periods=2), owner="session-a",
+                             cancel=lambda: current[0] != 0)
+        assert newest.result(timeout=120).regime in ("shakedown", "ratcheting")
+    finally:
+        release.set()
+        for f in futures:
+            try:
+                f.result(timeout=120)
+            except (core.SolveCancelled, Exception):  # noqa: BLE001, S110 - cancelled on purpose
+                pass
+    wait_until(lambda: runs._SESSIONS.pending("session-a") == 0, 30, message="session a's queue to empty")
+
+
+def test_solves_and_maps_run_on_the_cluster(cluster):
+    backend = runs._Cluster(cluster)
+    try:
+        contact, options = _default()
+        before = tasks_done(cluster, "simulate_contact")
+        cache = runs.ResultCache()
+        result = backend.submit(contact.replace(w=0.39), options, None, cache).result(timeout=120)
+        assert len(cache) == 1 and not result.traction.flags.writeable
+        local = core.simulate_contact(contact.replace(w=0.39), **options)
+        np.testing.assert_array_equal(result.traction, local.traction)
+        assert tasks_done(cluster, "simulate_contact") == before + 1
+        # a map sweep on the cluster's executor: split in one chunk per worker thread, same table as here
+        grid = np.linspace(0.1, 0.8, 3)
+        table = core.sweep(grid, grid, backend.map_scheduler(), periods=3, dx=0.1, kernel="plane")
+        serial = core.sweep(grid, grid, "serial", periods=3, dx=0.1, kernel="plane")
+        assert table.attrs["backend"] == "_ClusterExecutor"
+        assert list(table["regime"]) == list(serial["regime"])
+    finally:
+        backend.close()
+
+
+def _in_a_thread(fn, *args):
+    """Run ``fn`` in a thread of its own: sync Playwright refuses a thread where an earlier test left an asyncio loop."""
+    with ThreadPoolExecutor(1) as pool:
+        return pool.submit(fn, *args).result()
+
+
+@pytest.mark.browser
+def test_served_app_solves_on_the_cluster(cluster):
+    _in_a_thread(_served_app_solves_on_the_cluster, cluster)
+
+
+def _served_app_solves_on_the_cluster(cluster):
+    info = {}
+    with served_app(env={"SHAKEDOWN_SCHEDULER": cluster}, info=info) as url, chromium() as browser:
+        health = json.loads(urllib.request.urlopen(info["base"] + "/liveness", timeout=10).read())
+        assert health["ready"] and health["backend"] == f"dask({cluster})"
+        before = tasks_done(cluster, "simulate_contact")
+        page = browser.new_page()
+        errors = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(url + "?ft=0.3&w=0.371")
+        page.locator(BADGE).first.wait_for(timeout=120_000)
+        assert tasks_done(cluster, "simulate_contact") == before + 1, "the first run was solved on the cluster"
+        assert page.evaluate(_RELEASE_FT, [0.2917, 60_000]), "the re-solve came back"
+        assert tasks_done(cluster, "simulate_contact") == before + 2, "the re-solve ran on the cluster"
+        assert errors == []
+        page.close()
+
+
+@pytest.mark.browser
+def test_first_page_says_the_solver_is_being_prepared_then_reloads_into_the_explorer():
+    """Until the solver is warm (here: the cluster has no worker yet) a page says so, then becomes the explorer."""
+    _in_a_thread(_prepared_then_reloaded)
+
+
+def _prepared_then_reloaded():
+    import os
+    import subprocess
+    import sys
+
+    from app.serving import ROOT, _stop
+
+    with dask_cluster(workers=0) as address:
+        info = {}
+        with served_app(env={"SHAKEDOWN_SCHEDULER": address}, info=info, wait_ready=False) as url, \
+                chromium() as browser:
+            health = urllib.request.Request(info["base"] + "/liveness")
+            with pytest.raises(urllib.error.HTTPError) as answer:
+                urllib.request.urlopen(health, timeout=10)
+            assert answer.value.code == 503 and not json.loads(answer.value.read())["ready"]
+            page = browser.new_page()
+            page.goto(url + "?ft=0.3&w=0.372")
+            page.get_by_text("The solver is being prepared").wait_for(timeout=60_000)
+            worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
+                                       "--no-nanny", "--no-dashboard", "--host", "127.0.0.1"], cwd=ROOT,
+                                      env={**os.environ, "PYTHONPATH": str(ROOT)}, stdout=subprocess.DEVNULL,
+                                      stderr=subprocess.DEVNULL)
+            try:
+                page.locator(BADGE).first.wait_for(timeout=180_000)  # reloaded by itself, same URL
+                assert "w=0.372" in page.url
+                assert json.loads(urllib.request.urlopen(health, timeout=10).read())["ready"]
+            finally:
+                page.close()
+                _stop(worker)
