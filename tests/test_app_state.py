@@ -162,10 +162,17 @@ def test_player_moves_the_frame_within_a_period():
     ex = Explorer(ExplorerState(periods=3))
     r = ex.result
     assert ex.frame == r.xc.size - 1
-    ex.period_slider.value = 1
-    ex.player.value = 0
-    first_of_period_1 = int(np.flatnonzero(r.period == 1)[0])
-    assert ex.frame == first_of_period_1
+    assert (ex.period_slider.value, ex.period_slider.end) == (3, 3)  # periods numbered from 1, as on the plots
+    ex.period_slider.value = 2
+    ex.step_slider.value = 0
+    first_of_period_2 = int(np.flatnonzero(r.period == 1)[0])  # core numbers periods from 0
+    assert ex.frame == first_of_period_2
+    ex.step(-1)  # back across the period boundary
+    assert ex.frame == first_of_period_2 - 1 and ex.period_slider.value == 1
+    assert ex.step_slider.value == ex.step_slider.end
+    ex.period_slider.value = 0  # the loading phase is reachable
+    assert r.period[ex.frame] == -1
+    assert "loading" in ex._readout(r, ex.frame, ex.plot_units)
 
 
 def test_csv_download_has_the_run_and_its_parameters():
@@ -175,8 +182,12 @@ def test_csv_download_has_the_run_and_its_parameters():
     df = pd.read_csv(io.StringIO(text), comment="#")
     assert {"step", "period", "displacement_muP_Estar", "u_U_over_U0", "displacement_m"} <= set(df.columns)
     ex.csv_table.value = "final"
-    assert ex.csv_download.filename == "shakedown_final.csv"
-    assert "traction_mu_p0" in pd.read_csv(ex._csv(), comment="#").columns
+    assert ex.csv_download.filename == "shakedown_final_ft0.30_w0.50_mu0.58_3p.csv"  # names carry the inputs
+    assert ex.json_download.filename == "shakedown_run_ft0.30_w0.50_mu0.58_3p.json"
+    final = pd.read_csv(ex._csv(), comment="#")
+    assert "traction_mu_p0" in final.columns
+    np.testing.assert_allclose(final["closure_traction_mu_p0"], core.shakedown_traction(final["x_a"].to_numpy(), 0.3, 0.5),
+                               rtol=1e-8, atol=1e-12, err_msg="the closure column is the paper's eqs 22-30")
 
 
 # ---- figures ----------------------------------------------------------------
