@@ -116,6 +116,11 @@ function label(root) {
   for (const h of root.querySelectorAll('.noUi-handle')) {
     if (!h.getAttribute('aria-label') && title) h.setAttribute('aria-label', title.textContent.split(':')[0].trim());
   }
+  for (const i of root.querySelectorAll('input')) {  // a checkbox's text is a sibling, not its <label>
+    if (i.getAttribute('aria-label') || (i.labels && i.labels.length)) continue;
+    const text = (i.nextElementSibling || i.parentNode.querySelector('span, label') || {}).textContent;
+    if (text && text.trim()) i.setAttribute('aria-label', text.trim());
+  }
   for (const b of root.querySelectorAll('button')) {
     if (b.getAttribute('aria-label') || b.textContent.trim()) continue;
     const spin = b.classList.contains('bk-spin-btn-up') ? 'Increase' : b.classList.contains('bk-spin-btn-down')
@@ -125,9 +130,12 @@ function label(root) {
   }
 }
 label(document);
-// a phone: the figures' legends in one column (two do not fit in 390 px)
+// a phone: the figures' legends in one column (two do not fit in 390 px), and no toolbar (it does not fit)
 if (window.innerWidth <= 700) {
-  for (const d of Bokeh.documents) for (const m of d.all_models) if ('ncols' in m && 'items' in m) m.ncols = 1;
+  for (const d of Bokeh.documents) for (const m of d.all_models) {
+    if ('ncols' in m && 'items' in m) m.ncols = 1;
+    if ('toolbar_location' in m && 'renderers' in m) m.toolbar_location = null;
+  }
 }
 // the math fonts: Panel's KaTeX stylesheet in the document's head names font files that Panel does not ship
 // (404s, then the system font); it is replaced by one that names the fonts shipped in app/assets/katex
@@ -795,7 +803,7 @@ class Explorer(pn.viewable.Viewer):
             caption = pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}</div>",
                                    stylesheets=[_CSS], sizing_mode="stretch_width", margin=0)
             return pn.Column(figs[name], caption, *extra, sizing_mode="stretch_width",
-                             styles={"flex": "1 1 560px", "min-width": "300px"})
+                             styles={"flex": "1 1 560px", "min-width": "min(300px, 100%)"})
 
         grid = pn.FlexBox(cell("pressure"), cell("traction"), cell("states"), cell("displacement"),
                           cell("map", self.map_controls()), cell("increments"),

@@ -399,7 +399,7 @@ def _displacement_specs(units: Units) -> list:
     kd, vd = _dim("t", "time [periods]"), _dim("u", units.u_label)
     return [
         Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=LINE)),
-        Layer(hv.HLines, (vd,), (), "u_sd, eq 34 (paper's regression)",
+        Layer(hv.HLines, (vd,), (), "u_sd (eq 34, regression)",
               dict(color=_C["blue"], line_dash="dashed", line_width=2)),
         Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color=_C["yellow"], size=12, line_color="black")),
     ]
@@ -440,7 +440,7 @@ def _increments_specs(units: Units) -> list:
     return [
         Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=2)),
         Layer(hv.Scatter, (kd,), (vd,), "", dict(color=_C["vermillion"], size=9)),
-        Layer(hv.HLines, (vd,), (), "eq 38 (paper's regression)",
+        Layer(hv.HLines, (vd,), (), "eq 38 (regression)",
               dict(color=_C["blue"], line_dash="dashed", line_width=2)),
     ]
 

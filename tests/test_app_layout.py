@@ -223,10 +223,13 @@ def test_every_control_has_an_accessible_name(browser, app_url):
           for (const h of root.querySelectorAll('.noUi-handle')) if (h.getAttribute('aria-label')) ok++; };
         walk(document); return ok >= 5; }""", timeout=20_000)
     unnamed = page.evaluate("""() => { const out = [];
+        // the text a screen reader reads out: the flat tree, shadow roots included
+        const text = (e) => [...(e.shadowRoot ? e.shadowRoot.childNodes : []), ...e.childNodes].map((c) =>
+          c.nodeType === Node.TEXT_NODE ? c.textContent : (c.nodeType === Node.ELEMENT_NODE ? text(c) : '')).join('');
         const walk = (root) => { for (const e of root.querySelectorAll('*')) if (e.shadowRoot) walk(e.shadowRoot);
           for (const e of root.querySelectorAll('button, .noUi-handle, input, select')) {
             if (e.offsetParent === null && e.getClientRects().length === 0) continue;
-            const name = e.getAttribute('aria-label') || e.getAttribute('title') || e.textContent.trim()
+            const name = e.getAttribute('aria-label') || e.getAttribute('title') || text(e).trim()
                          || (e.labels && e.labels.length) || (e.type === 'file') || e.getAttribute('aria-labelledby');
             if (!name && !(e.tagName === 'INPUT' && e.closest('label'))) out.push(e.tagName + '.' + e.className);
           } };
