@@ -13,7 +13,6 @@ import pandas as pd
 import pytest
 
 import core
-from app.serving import chromium, served_app
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
@@ -65,16 +64,7 @@ _MAP_POINT = "() => {" + _FIND + """
 }"""
 
 
-@pytest.fixture(scope="session")
-def app_url():
-    with served_app() as url:
-        yield url
-
-
-@pytest.fixture(scope="session")
-def browser():
-    with chromium() as b:
-        yield b
+# app_url and browser: session fixtures in tests/conftest.py (one served app, one Chromium)
 
 
 @pytest.fixture
@@ -123,9 +113,10 @@ def test_moving_ft_across_the_limit_flips_the_badge(open_app):
     page.get_by_text("RELEASE TO SOLVE").first.wait_for(timeout=10_000)
     # on release the solver runs and the verdict flips
     page.evaluate(_SET_SLIDER, [FT_TITLE, round(lim + 0.15, 2), True])
-    page.locator("[data-regime='ratcheting']").first.wait_for(timeout=30_000)
+    page.wait_for_function("() => window.location.search.includes('ft=0.54')", timeout=60_000)
+    page.locator("[data-regime='ratcheting']").first.wait_for(timeout=90_000)
     page.evaluate(_SET_SLIDER, [FT_TITLE, round(lim - 0.15, 2), True])
-    page.locator("[data-regime='shakedown']").first.wait_for(timeout=30_000)
+    page.locator("[data-regime='shakedown']").first.wait_for(timeout=90_000)
     assert "ft=" + str(round(lim - 0.15, 2)) in page.evaluate("() => window.location.search")
     assert errors == [], errors
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import pytest
 
 import core
-from app.serving import chromium, served_app, wait_until
+from app.serving import served_app, wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
 
@@ -100,16 +100,7 @@ _LAYOUT = r"""
 """
 
 
-@pytest.fixture(scope="module")
-def app_url():
-    with served_app() as url:
-        yield url
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as b:
-        yield b
+# app_url and browser: session fixtures in tests/conftest.py (one served app, one Chromium)
 
 
 def _open(browser, url, size=(1280, 720), query=""):
