@@ -30,3 +30,21 @@ def _check_invariants(result, tol=1e-9):
 @pytest.fixture
 def check_invariants():
     return _check_invariants
+
+
+# ---- the served app and Chromium, shared by every browser test module (Playwright's sync API allows one
+# instance per process at a time) ----------------------------------------------------------------------
+@pytest.fixture(scope="session")
+def app_url():
+    from app.serving import served_app
+
+    with served_app() as url:
+        yield url
+
+
+@pytest.fixture(scope="session")
+def browser():
+    from app.serving import chromium
+
+    with chromium() as b:
+        yield b
