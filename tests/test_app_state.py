@@ -372,7 +372,7 @@ def test_no_tool_takes_the_wheel():
 
 
 def test_badge_and_cards_never_mix_an_old_verdict_with_new_inputs():
-    ex = Explorer(ExplorerState(periods=3))
+    ex = Explorer(ExplorerState(periods=10))  # enough periods for a verdict (3 leave it undetermined)
     r = ex.result
     assert 'data-regime="shakedown"' in ex._badge(0.3, 0.5, r, "")
     # the slider moved, not yet released: no verdict, and no numerical card
