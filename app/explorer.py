@@ -33,6 +33,7 @@ from core.export import to_csv, to_json
 from . import plots
 from . import runs
 from .live import LiveFigure
+from .paper_figures import paper_figures_tab
 from .runs import RESULTS, Generation, run_key, solve, submit
 from .state import PRESET_NOTES, PRESETS, URL_PARAMETERS, ExplorerState, parse_query
 
@@ -781,9 +782,9 @@ class Explorer(pn.viewable.Viewer):
             pn.Column(cards, errors, notices, warnings, sizing_mode="stretch_width",
                       styles={"flex": "1 1 500px", "min-width": "260px"}),
             flex_wrap="wrap", sizing_mode="stretch_width")
-        tabs = pn.Tabs(("Explorer", self.explorer_tab()), ("About the model", self.about()),
-                       # the paper's figures (app/paper_figures.py) are one more tab here
-                       sizing_mode="stretch_width", dynamic=True)
+        tabs = pn.Tabs(("Explorer", self.explorer_tab()), ("Paper's figures", paper_figures_tab()),
+                       ("About the model", self.about()),
+                       sizing_mode="stretch_width", dynamic=True)  # a tab's models are sent only when shown
         return pn.Column(top, tabs, sizing_mode="stretch_width")
 
     def player_controls(self) -> pn.FlexBox:
