@@ -45,6 +45,7 @@ import numpy as np
 from ._validate import check_int, check_scalar
 from .analytical import hertz_pressure_element_mean
 from .kernels import KERNELS, influence_matrix, strip_b_coefficient, strip_u0
+from .matrix_free import FFTMarch, choose_solver
 from .result import CycleResult, SolveCancelled, SolverError, below_bound, central_halfwidth
 from .schedule import Schedule, rocking_schedule
 
@@ -517,7 +518,7 @@ def _kernel_options(kernel, L_over_a, nu):
 
 def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=None, tol=KKT_TOL,
                    maxiter=None, detect_periodic=True, shakedown_rtol=1e-3, params=None,
-                   time_budget=None, cancel=None, progress=None, chunk=256):
+                   time_budget=None, cancel=None, progress=None, chunk=256, solver="auto"):
     """Run the incremental solver over any :class:`~core.schedule.Schedule`.
 
     Parameters
@@ -554,6 +555,9 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
         Called with the fraction of steps done, between chunks and at the end.
     chunk : int
         Steps run between checks of the budget, ``cancel`` and ``progress``.
+    solver : {"auto", "dense", "fft"}
+        Per-step solver: the dense stick-set inverse, the matrix-free one
+        (:mod:`core.matrix_free`), or by the number of elements (default).
 
     Returns
     -------
@@ -585,7 +589,10 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     if len(schedule) * n > MAX_STORED_VALUES:
         raise ValueError(f"{len(schedule)} steps x {n} elements exceeds {MAX_STORED_VALUES:.0e} stored values "
                          "(about 2.4 GB): use fewer periods, a larger dx or a larger dW")
-    K = influence_matrix(n, dx, kernel, **kernel_options)
+    march = None
+    if choose_solver(solver, n) == "fft":
+        march = FFTMarch(n, dx, kernel, kernel_options, tol, maxiter)
+    K = influence_matrix(n, dx, kernel, **kernel_options) if march is None else None
     steps = len(schedule)
     traction = np.empty((steps, n))
     state = np.empty((steps, n), dtype=np.int8)
@@ -596,14 +603,19 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     periodic = bool(detect_periodic) and schedule.is_periodic()
     # solver state carried between chunks of steps
     q_prev, q_block_end, work = np.zeros(n), np.zeros(n), np.zeros(4 * n)
-    kind, B = np.zeros(n, np.int8), np.zeros((n, n))
+    kind, B = np.zeros(n, np.int8), np.zeros((n, n) if march is None else (0, 0))
     fidx, pos = np.zeros(n, np.int64), -np.ones(n, np.int64)
     counters, total = np.zeros(2, np.int64), np.zeros(1)
     done, periodic_from = 0, -1
     budget_end = None if time_budget is None else t0 + time_budget
     while done < steps:
         k1 = min(steps, done + chunk)
-        reached, periodic_from, failed, res = _run_steps(
+        if march is not None:
+            reached, periodic_from, failed, res = march.run(
+                edges, schedule.xc, schedule.P, schedule.Q, schedule.period, periodic, done, k1,
+                traction, state, disp, diss, iters, resid)
+        else:
+            reached, periodic_from, failed, res = _run_steps(
             K, edges, schedule.xc, schedule.P, schedule.Q, schedule.period, dx, tol, maxiter, periodic, done, k1,
             q_prev, kind, B, fidx, pos, work, q_block_end, counters, total,
             traction, state, disp, diss, iters, resid)
@@ -746,7 +758,7 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 
 def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane", shape="triangle",
                     load_steps=1, L_over_a=None, nu=0.5, tol=KKT_TOL, detect_periodic=True,
-                    shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None):
+                    shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, solver="auto"):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -779,6 +791,8 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
         Stop after ``time_budget`` seconds, or when ``cancel()`` returns True
         (:class:`SolveCancelled`); report the fraction done to ``progress``
         (see :func:`solve_schedule`).
+    solver : {"auto", "dense", "fft"}
+        Per-step solver (see :func:`solve_schedule`).
     shakedown_rtol : float
         Tolerance of the shakedown verdict: the run has shaken down when the
         last increment per period is at most this fraction of the largest
@@ -810,7 +824,7 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
         params.update(L_over_a=options["L_over_a"], nu=float(nu))
     return solve_schedule(schedule, dx, kernel, kernel_options=options, tol=tol,
                           detect_periodic=detect_periodic, shakedown_rtol=shakedown_rtol, params=params,
-                          time_budget=time_budget, cancel=cancel, progress=progress)
+                          time_budget=time_budget, cancel=cancel, progress=progress, solver=solver)
 
 
 def strip_options(contact):
