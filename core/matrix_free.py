@@ -60,18 +60,21 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft as sfft
 
 from .analytical import _element_mean
-from .operators import FFTOperator, fft_size
+from .operators import FFTOperator, circulant_product, fft_size
 
 __all__ = ["StepResiduals", "solve_increment_fft", "FFTMarch", "choose_solver", "SOLVERS", "FFT_CROSSOVER"]
 
 #: Per-step solvers by name.
 SOLVERS = ("dense", "fft", "auto")
-#: Number of elements from which ``solver="auto"`` picks the matrix-free solver
-#: (measured by ``benchmarks/solver.py``: below it the dense stick-set inverse is faster).
-FFT_CROSSOVER = 2000
+#: Number of elements from which ``solver="auto"`` picks the matrix-free solver, measured by
+#: ``benchmarks/solver.py`` (on 2 shared cores): the dense stick-set inverse is faster up to about
+#: 1400 elements (the whole heaviest case at dx = a/400, 1418 elements: dense 106 s, matrix-free
+#: 128 s under heavy contention), the matrix-free one from about 2000 (2342 elements: 3.5 times
+#: faster per step). The matrix-free cost per step is nearly flat in n at these sizes (Python and
+#: FFT call overhead), the dense one grows faster than n^2 (its inverse leaves the caches).
+FFT_CROSSOVER = 1600
 
 # active-set kinds of an element (as in core.solver)
 _OUT, _FREE, _UPPER, _LOWER = 0, 1, 2, 3
@@ -137,11 +140,11 @@ class _Window:
 
     def K(self, v):
         self.products += 1
-        return sfft.irfft(sfft.rfft(v, self.N) * self.spec, self.N)[: self.m]
+        return circulant_product(v, self.spec, self.N)
 
     def M(self, v):
         self.products += 1
-        return sfft.irfft(sfft.rfft(v, self.N) * self.pre, self.N)[: self.m]
+        return circulant_product(v, self.pre, self.N)
 
 
 def _project(win, r, f, fb, Mf, c):
