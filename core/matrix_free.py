@@ -69,12 +69,13 @@ __all__ = ["StepResiduals", "solve_increment_fft", "FFTMarch", "choose_solver", 
 #: Per-step solvers by name.
 SOLVERS = ("dense", "fft", "auto")
 #: Number of elements from which ``solver="auto"`` picks the matrix-free solver, measured by
-#: ``benchmarks/solver.py`` (on 2 shared cores): the dense stick-set inverse is faster up to about
-#: 1400 elements (the whole heaviest case at dx = a/400, 1418 elements: dense 106 s, matrix-free
-#: 128 s under heavy contention), the matrix-free one from about 2000 (2342 elements: 3.5 times
-#: faster per step). The matrix-free cost per step is nearly flat in n at these sizes (Python and
-#: FFT call overhead), the dense one grows faster than n^2 (its inverse leaves the caches).
-FFT_CROSSOVER = 1600
+#: ``benchmarks/solver.py`` on 2 cores shared with other jobs (load 10 to 28, so only the ratios
+#: mean anything): the dense stick-set inverse is faster up to 1418 elements (the whole heaviest
+#: case at dx = a/400: dense 288 s, matrix-free 409 s in one run), the matrix-free one from 1548
+#: (cost per rocking step: 66 ms dense, 42 ms matrix-free; at 2000, 129 and 59 ms). The
+#: matrix-free cost per step grows slowly with n at these sizes (Python and FFT call overhead),
+#: the dense one faster than n^2 (its inverse leaves the caches).
+FFT_CROSSOVER = 1500
 
 # active-set kinds of an element (as in core.solver)
 _OUT, _FREE, _UPPER, _LOWER = 0, 1, 2, 3
