@@ -32,9 +32,12 @@ __all__ = ["run", "STEP_SOLVERS", "SOLVER_CHOICES", "AUTO_CROSSOVER", "select_so
 STEP_SOLVERS = {"dense": DenseSolver, "fft": FFTSolver}
 #: The values of the ``solver`` keyword.
 SOLVER_CHOICES = ("auto", "dense", "fft")
-#: Elements above which ``solver="auto"`` picks "fft", measured by ``benchmarks/solver.py`` (see the README,
-#: "Benchmarks"): below it the dense stick-set inverse is faster per step, above it the matrix-free solver.
-AUTO_CROSSOVER = 1600
+#: Elements above which ``solver="auto"`` picks "fft", measured by ``benchmarks/solver.py`` (the README's
+#: "Benchmarks"; 2 cores shared with other jobs, so only the ratios mean anything): the dense stick-set
+#: inverse is faster for the whole heaviest case at dx = a/400 (1418 elements), the matrix-free solver
+#: per rocking step from about 1550 elements on, and increasingly so above (its cost per step grows
+#: slowly with n, the dense one faster than n^2 once its inverse leaves the caches).
+AUTO_CROSSOVER = 1500
 
 
 def select_solver(solver, n):

@@ -204,6 +204,8 @@ def kernel_symbol(k, kernel="plane", **options):
     if kernel == "strip":
         from scipy.special import iti0k0, k0
 
+        if "L_over_a" not in options or "b_coefficient" not in options:
+            raise ValueError("the strip symbol needs L_over_a and b_coefficient")
         S = 0.5 * check_scalar("L_over_a", options["L_over_a"], 0.0, None, lo_closed=False)
         bE = check_scalar("b_coefficient", options["b_coefficient"], 0.0, None)
         X = ak * S

@@ -61,10 +61,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft as sfft
 
 from .dense import RESIDUALS, StepReport, Trajectory
-from .operators import FFTOperator, fft_size
+from .operators import FFTOperator, circulant_product, fft_size
 from .result import read_only
 
 __all__ = ["StepResiduals", "solve_increment_fft", "FFTSolver"]
@@ -122,11 +121,11 @@ class _Window:
 
     def K(self, v):
         self.products += 1
-        return sfft.irfft(sfft.rfft(v, self.N) * self.spec, self.N)[: self.m]
+        return circulant_product(v, self.spec, self.N)
 
     def M(self, v):
         self.products += 1
-        return sfft.irfft(sfft.rfft(v, self.N) * self.pre, self.N)[: self.m]
+        return circulant_product(v, self.pre, self.N)
 
 
 def _project(win, r, f, fb, Mf, c):

@@ -54,6 +54,11 @@ MAX_DENSE_SIZE = 10_000
 FORMS = ("dense", "fft")
 
 
+def circulant_product(v, spectrum, N):
+    """First ``v.size`` entries of the circulant product of ``v`` (zero-padded to ``N``) with a real ``spectrum``."""
+    return sfft.irfft(sfft.rfft(v, N) * spectrum, N)[: v.size]
+
+
 def fft_size(m: int) -> int:
     """Padded circulant size for a window of ``m`` elements: a fast real-FFT length >= 2 m."""
     return sfft.next_fast_len(2 * max(int(m), 1), real=True)
@@ -137,7 +142,7 @@ class _ToeplitzOperator:
         """
         r = self._check(r)
         N = fft_size(self.n)
-        return sfft.irfft(sfft.rfft(r, N) * self.inverse_symbol(N), N)[: self.n]
+        return circulant_product(r, self.inverse_symbol(N), N)
 
 
 class DenseOperator(_ToeplitzOperator):
@@ -167,7 +172,7 @@ class FFTOperator(_ToeplitzOperator):
         """Displacements ``u = K q`` [mu P/E*] of tractions ``q`` [mu p0]."""
         q = self._check(q)
         N = fft_size(self.n)
-        return sfft.irfft(sfft.rfft(q, N) * self.spectrum(N), N)[: self.n]
+        return circulant_product(q, self.spectrum(N), N)
 
 
 def elastic_operator(n, dx, kernel="plane", form="fft", **options):
@@ -175,16 +180,10 @@ def elastic_operator(n, dx, kernel="plane", form="fft", **options):
 
     Parameters
     ----------
-    n : int
-        Number of elements, >= 1.
-    dx : float
-        Element width [a], > 0.
-    kernel : {"plane", "strip"}
-        Which kernel of :mod:`core.kernels`.
+    n, dx, kernel, **options :
+        As in :class:`DenseOperator` and :class:`FFTOperator`.
     form : {"dense", "fft"}
         Dense matrix products or FFT products.
-    **options
-        Passed to the kernel.
 
     Returns
     -------

@@ -105,3 +105,5 @@ def test_operator_interface_and_bad_inputs():
         elastic_operator(MAX_DENSE_SIZE + 1, 0.1, "plane", "fft").matrix()
     with pytest.raises(ValueError, match="k must"):
         kernels.kernel_symbol(0.0)
+    with pytest.raises(ValueError, match="L_over_a"):
+        kernels.kernel_symbol(1.0, "strip")
