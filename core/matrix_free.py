@@ -384,15 +384,7 @@ class FFTSolver:
         return out
 
     def step(self, bound, target) -> StepReport:
-        """Solve one increment from the current tractions and advance to it (as :meth:`core.dense.DenseSolver.step`).
-
-        Parameters
-        ----------
-        bound : ndarray, shape (n,)
-            Traction bound ``mu p`` of each element [mu p0]; 0 out of contact.
-        target : float
-            Required ``sum q_i`` [mu p0] (the load over the element size).
-        """
+        """Solve one increment from the current tractions and advance to it (see :meth:`core.dense.DenseSolver.step`)."""
         q, _, _, codes, lam, info = self._solve(bound, target)
         return StepReport(traction=read_only(q.copy()), state=read_only(codes), displacement=lam,
                           iterations=int(info["iterations"]), residuals=self.residuals, converged=bool(info["ok"]),
