@@ -2,9 +2,14 @@
 
 Prints the compile/cache-load time separately from warm runs, and the step and
 iteration counts beside every wall time, so that an algorithmic regression can
-be told from machine noise.
+be told from machine noise. Both per-step solvers of :data:`core.engine.STEP_SOLVERS`
+are timed: the dense stick-set inverse (``solver="dense"``) and the matrix-free
+one (``solver="fft"``, :mod:`core.matrix_free`), with their active-set and CG
+iterations per step, the fitted exponent of each, and the crossover that
+``solver="auto"`` uses (:data:`core.engine.AUTO_CROSSOVER`), checked at every
+size printed.
 
-Run: python benchmarks/solver.py [--quick]
+Run: python benchmarks/solver.py [--quick] [--solvers-only]
 """
 
 import os
@@ -72,5 +77,140 @@ def main(quick: bool = False) -> None:
           f"(steps ~ n and each step is O(m^2) rank-one updates, so n^3 is the asymptote)")
 
 
+# --------------------------------------------------------------------------
+# the two per-step solvers: dense stick-set inverse and matrix-free (FFT + CG)
+# --------------------------------------------------------------------------
+def _heavy_schedule(dx, periods=10, rocking_steps=None):
+    """The heaviest case's schedule at element width dx (dW = dx), optionally cut after some rocking steps."""
+    import core
+
+    s = core.rocking_schedule(HEAVY["ft"], HEAVY["w"], periods=periods, dW=dx)
+    if rocking_steps is None:
+        return s
+    k = 1 + rocking_steps
+    return core.Schedule(xc=s.xc[:k], P=s.P[:k], Q=s.Q[:k], period=s.period[:k])
+
+
+def _fft_march_any_size(schedule, n, dx):
+    """The engine's matrix-free solver marched over ``schedule`` on ``n`` elements, beyond the run's grid cap
+    (core.bodies.MAX_ELEMENTS, set by the dense matrix). Returns (wall [s], its Trajectory)."""
+    from core._hertz import element_means
+    from core.dense import Trajectory
+    from core.engine import STEP_SOLVERS
+    from core.operators import FFTOperator
+
+    edges = dx * (np.arange(n + 1) - n // 2)
+    steps = len(schedule)
+    out = Trajectory(steps, n)
+    t = time.perf_counter()
+    a = np.sqrt(schedule.P)  # half-width and peak pressure of the Hertz contact (eq 5)
+    bounds = element_means(edges, schedule.xc, a, a)
+    solver = STEP_SOLVERS["fft"](FFTOperator(n, dx), element_size=dx, tol=1e-10, maxiter=50 + 2 * n)
+    done, _, failed = solver.march(bounds, schedule.Q, schedule.period, 0.5 * np.pi / dx, 0, steps, False, out)
+    wall = time.perf_counter() - t
+    if failed >= 0:
+        raise RuntimeError(f"matrix-free step {failed} failed (residuals {solver.residuals})")
+    return wall, out
+
+
+def _line(r):
+    solved = r.iterations > 0
+    return (f"{r.runtime:8.3f} s  solver={r.solver}, {r.xc.size} steps ({int(solved.sum())} not settled by the "
+            f"zero increment), per such step: {r.iterations[solved].mean():.2f} active-set, "
+            f"{r.cg_iterations[solved].mean():.1f} CG iterations; worst KKT residual {r.max_kkt_residual:.1e}")
+
+
+def _steady_cost(schedule, dx, solver, first=8):
+    """Wall time per step [s] after the first ``first`` steps (the dense solver builds its inverse in step 0)."""
+    import core
+
+    marks = []
+    core.solve_schedule(schedule, dx, solver=solver, detect_periodic=False, chunk=first,
+                        progress=lambda f: marks.append(time.perf_counter()))
+    return (marks[-1] - marks[0]) / (len(schedule) - first)
+
+
+def _best(fn, reps):
+    """The run with the smallest runtime out of ``reps`` (the machine is shared: the minimum is the figure)."""
+    return min((fn() for _ in range(reps)), key=lambda r: r.runtime)
+
+
+def solvers(quick: bool = False) -> None:
+    import core
+    from core.engine import AUTO_CROSSOVER, select_solver
+
+    reps = 2 if quick else 3
+    print("\n=== per-step solvers: dense stick-set inverse vs matrix-free (active set + PCG, FFT products) ===")
+    # (a) the paper's heaviest case, (b) the same at dx = a/400: "auto" runs the solver it picks
+    # ((b) runs only the solver auto picks, its whole run taking minutes; (d) compares both at that size)
+    for label, case, n_reps in (("(a)", HEAVY, reps), ("(b)", {**HEAVY, "dx": 1 / 400}, 1)):
+        n = core.solver.make_grid(_heavy_schedule(case["dx"]).reach, case["dx"]).size - 1
+        pick = select_solver("auto", n).name
+        runs = {solver: _best(lambda: core.simulate_cycles(**case, solver=solver), n_reps)
+                for solver in (("dense", "fft") if label == "(a)" else (pick,))}
+        auto = runs[pick]  # what solver="auto" runs at this size (the same call)
+        assert label == "(b)" or core.simulate_cycles(**case).solver == pick
+        target = "0.1 s" if label == "(a)" else "4 s"
+        print(f"{label} heaviest case ft={case['ft']} w={case['w']} {case['periods']} periods, dx = dW = "
+              f"a/{1 / case['dx']:.2f}: {n} elements, {auto.xc.size} steps, best of {n_reps}")
+        print(f"    auto picks {pick}: {auto.runtime:.3f} s (target <= {target}), "
+              f"regime {auto.regime}, periodic from {auto.periodic_from}")
+        for solver, r in runs.items():
+            print(f"    {solver:5s} {_line(r)}")
+    # (c) the matrix-free solver's cost per step against n
+    sizes = [500, 1000, 2000, 4000] if quick else [500, 1000, 2000, 4000, 8000]
+    print("(c) matrix-free cost per step (heaviest case, dW = dx, 40 rocking steps after the loading; best of "
+          f"{reps})")
+    print("  elements   us/step  active-set/step  CG/step")
+    rows = []
+    for n in sizes:
+        dx = 2 * 1.77 / n
+        sched = _heavy_schedule(dx, periods=1, rocking_steps=40)
+        best = min((_fft_march_any_size(sched, n, dx) for _ in range(reps)), key=lambda x: x[0])
+        wall, out = best
+        rows.append((n, wall / len(sched)))
+        print(f"  {n:8d} {wall / len(sched) * 1e6:9.0f} {out.iterations.mean():16.2f} "
+              f"{out.cg_iterations.mean():8.1f}")
+    ns, cost = np.array(rows).T
+    k = np.polyfit(np.log(ns), np.log(cost), 1)[0]
+    k_ref = np.polyfit(np.log(ns), np.log(ns * np.log(ns)), 1)[0]
+    print(f"  fitted exponent: cost per step ~ n^{k:.2f} (n log n over this range would be n^{k_ref:.2f}; "
+          f"the dense solver's is n^2 per rank-one update)")
+    # (d) the crossover of the automatic choice
+    sizes = [250, 1000, 2000, 3900] if quick else [500, 1000, 1400, 1700, 2400, 3200]
+    print(f"(d) steady cost per rocking step, both solvers (100 steps after 8 warm-up steps, best of {reps}); "
+          f"auto picks fft above AUTO_CROSSOVER = {AUTO_CROSSOVER} elements")
+    print("  elements  dense us/step  fft us/step  faster  auto picks")
+    rows, ok = [], True
+    for target in sizes:
+        dx = 2 * 1.77 / target
+        sched = _heavy_schedule(dx, periods=1, rocking_steps=108)
+        n = core.solver.make_grid(sched.reach, dx).size - 1
+        d = min(_steady_cost(sched, dx, "dense") for _ in range(reps))
+        f = min(_steady_cost(sched, dx, "fft") for _ in range(reps))
+        faster = "dense" if d <= f else "fft"
+        pick = select_solver("auto", n).name
+        ok &= pick == faster
+        rows.append((n, d, f))
+        print(f"  {n:8d} {d * 1e6:14.0f} {f * 1e6:12.0f}  {faster:6s}  {pick}{'' if pick == faster else '  <-- WRONG'}")
+    n, d, f = np.array(rows).T
+    kd = np.polyfit(np.log(n), np.log(d), 1)[0]
+    kf = np.polyfit(np.log(n), np.log(f), 1)[0]
+    ratio = np.log(d / f)
+    cross = None
+    for i in range(len(n) - 1):
+        if ratio[i] <= 0 < ratio[i + 1]:
+            t = -ratio[i] / (ratio[i + 1] - ratio[i])
+            cross = float(np.exp(np.log(n[i]) + t * (np.log(n[i + 1]) - np.log(n[i]))))
+    print(f"  fitted exponents of the cost per step: dense n^{kd:.2f}, fft n^{kf:.2f}")
+    print("  measured crossover: " + (f"{cross:.0f} elements" if cross is not None else
+                                      ("none in range: dense is faster at every size" if ratio[-1] <= 0 else
+                                       "none in range: fft is faster at every size")))
+    print(f"  auto picks the faster solver at every size printed: {ok}")
+
+
 if __name__ == "__main__":
-    main(quick="--quick" in sys.argv)
+    quick = "--quick" in sys.argv
+    if "--solvers-only" not in sys.argv:
+        main(quick=quick)
+    solvers(quick=quick)

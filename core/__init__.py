@@ -7,13 +7,22 @@ without importing numba, scipy and pandas.
 
 import importlib
 import importlib.util
+import threading
 
-_loading = False
+# the thread running _load (its own look-ups inside it must fail fast); other threads wait on the lock,
+# e.g. the app's warm-up thread loading core while the main thread reads core.PAPER_SIMULATION
+_loading = None
+_lock = threading.RLock()
 
 
 def _load():
+    with _lock:
+        _load_locked()
+
+
+def _load_locked():
     global _loading
-    _loading = True
+    _loading = threading.get_ident()
     try:
         from . import analytical
         globals().update({name: getattr(analytical, name) for name in analytical.__all__})
@@ -32,11 +41,11 @@ def _load():
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
         globals().update({k: v for k, v in locals().items() if k != "analytical"})
     finally:
-        _loading = False
+        _loading = None
 
 
 def __getattr__(name):
-    if name.startswith("__") or _loading:
+    if name.startswith("__") or _loading == threading.get_ident():
         raise AttributeError(name)
     if importlib.util.find_spec(f"{__name__}.{name}") is not None:
         # a submodule (``from . import analytical`` inside a submodule): import just it,

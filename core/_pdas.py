@@ -12,6 +12,7 @@ with offsets).
 
 from __future__ import annotations
 
+import math
 from collections import namedtuple
 
 import numpy as np
@@ -150,14 +151,67 @@ def _inverse_rebuild(K, st):
 
 
 @jit
+def _inverse_replace(K, B, fidx, pos, m, k, i, work):
+    """Put element ``i`` in place of the element in row ``k`` of ``B``; return False (B untouched) if not PD.
+
+    ``K_FF`` changes by the symmetric rank-two term ``e_k d^T + d e_k^T``; the
+    Sherman-Morrison-Woodbury formula updates ``B`` in one read and one
+    read-write pass, where a removal and an addition would take three and a
+    row and column swap.
+    """
+    j = fidx[k]
+    w1 = work[:m]
+    w2 = work[m:2 * m]
+    d = work[2 * m:3 * m]
+    for c in range(m):
+        d[c] = K[i, fidx[c]] - K[j, fidx[c]]
+        w1[c] = B[k, c]
+    d[k] = 0.5 * (K[i, i] - K[j, j])
+    for r in range(m):
+        w2[r] = _dot(B[r, :m], d)
+    # M = C + U^T B U with U = [e_k, d], C = [[0, 1], [1, 0]]
+    m11 = w1[k]
+    m12 = 1.0 + _dot(w1, d)
+    m22 = _dot(d, w2)
+    det = m11 * m22 - m12 * m12
+    if det == 0.0 or not math.isfinite(det):
+        return False
+    i11, i12, i22 = m22 / det, -m12 / det, m11 / det
+    # the new diagonal entry of the inverse must stay positive (K' positive definite)
+    a, b = w1[k], w2[k]
+    if not B[k, k] - (a * (i11 * a + i12 * b) + b * (i12 * a + i22 * b)) > 0.0:
+        return False
+    for r in range(m):
+        u = w1[r] * i11 + w2[r] * i12
+        v = w1[r] * i12 + w2[r] * i22
+        row = B[r, :m]
+        for c in range(m):
+            row[c] -= u * w1[c] + v * w2[c]
+    fidx[k] = i
+    pos[i] = k
+    pos[j] = -1
+    return True
+
+
+@jit
 def _inverse_sync(K, st, m):
-    """Bring the inverse to the current free set; return its size, -1 on loss of definiteness."""
+    """Bring the inverse to the current free set; return its size, -1 on loss of definiteness.
+
+    Elements leaving and entering the free set are paired and replaced in place
+    (:func:`_inverse_replace`); the rest are removed or added one at a time.
+    """
     kind, B, fidx, pos, work = st.kind, st.B, st.fidx, st.pos, st.work
     n = kind.size
     updates = 0
-    for i in range(n):
-        if pos[i] >= 0 and kind[i] != FREE:
-            m = _inverse_remove(B, fidx, pos, m, i)
+    i_in = 0
+    for i_out in range(n):
+        if pos[i_out] >= 0 and kind[i_out] != FREE:
+            while i_in < n and not (pos[i_in] < 0 and kind[i_in] == FREE):
+                i_in += 1
+            if i_in < n and _inverse_replace(K, B, fidx, pos, m, pos[i_out], i_in, work):
+                i_in += 1
+            else:
+                m = _inverse_remove(B, fidx, pos, m, i_out)
             updates += 1
     for i in range(n):
         if pos[i] < 0 and kind[i] == FREE:

@@ -96,7 +96,7 @@ def converged_increment(ft, w, dx=DEFAULT_DX, **options) -> ConvergedIncrement:
     Examples
     --------
     >>> import core
-    >>> c = core.converged_increment(0.58, 0.77, dx=1 / 40, periods=4)
+    >>> c = core.converged_increment(0.58, 0.77, dx=1 / 80, periods=4)
     >>> c.clean, abs(c.extrapolated - c.value) == c.error
     (True, True)
     """

@@ -67,6 +67,8 @@ class StepReport:
         The named KKT residuals (:data:`RESIDUALS`).
     converged : bool
         Whether every residual is within the tolerance.
+    cg_iterations : int
+        Conjugate-gradient iterations (the matrix-free solver; 0 for the dense one, which solves directly).
     """
 
     traction: np.ndarray
@@ -75,6 +77,7 @@ class StepReport:
     iterations: int
     residuals: dict
     converged: bool
+    cg_iterations: int = 0
 
     @property
     def kkt_residual(self) -> float:
@@ -83,7 +86,10 @@ class StepReport:
 
 
 class Trajectory:
-    """The per-step outputs of a march (all (steps,) or (steps, n) arrays), and the worst named residuals."""
+    """The per-step outputs of a march (all (steps,) or (steps, n) arrays), and the worst named residuals.
+
+    ``cg_iterations`` stays 0 for a solver without conjugate gradients (the dense one).
+    """
 
     def __init__(self, steps: int, n: int):
         self.traction = np.empty((steps, n))
@@ -91,6 +97,7 @@ class Trajectory:
         self.displacement = np.empty(steps)
         self.dissipation = np.empty(steps)
         self.iterations = np.empty(steps, dtype=np.int64)
+        self.cg_iterations = np.zeros(steps, dtype=np.int64)
         self.kkt_residual = np.empty(steps)
         self.worst = np.zeros(len(RESIDUALS))
 
@@ -115,6 +122,8 @@ class DenseSolver:
     """
 
     name = "dense"
+    #: The operator form :func:`core.solver.solve_schedule` builds for this solver (it needs the matrix).
+    form = "dense"
 
     def __init__(self, operator, *, element_size, tol, maxiter):
         self.K = np.ascontiguousarray(operator.matrix(), dtype=float)

@@ -19,19 +19,25 @@ import time
 import numpy as np
 
 from .dense import DenseSolver, Trajectory
-from .kernels import influence_matrix
+from .matrix_free import FFTSolver
+from .operators import elastic_operator
 from .result import CycleResult, SolveCancelled, SolverError
 from .schedule import Schedule
 
-__all__ = ["run", "STEP_SOLVERS", "SOLVER_CHOICES", "AUTO_CROSSOVER", "select_solver", "KernelOperator"]
+__all__ = ["run", "STEP_SOLVERS", "SOLVER_CHOICES", "AUTO_CROSSOVER", "select_solver", "make_operator"]
 
 #: The per-step solvers by name: each is built as ``cls(operator, element_size=, tol=, maxiter=)`` and
-#: has ``march`` and ``step`` (see :class:`core.dense.DenseSolver`). The matrix-free "fft" solver registers here.
-STEP_SOLVERS = {"dense": DenseSolver}
+#: has ``name``, ``form`` (the operator form it needs), ``march``, ``step`` and ``residuals`` (see
+#: :class:`core.dense.DenseSolver` and :class:`core.matrix_free.FFTSolver`).
+STEP_SOLVERS = {"dense": DenseSolver, "fft": FFTSolver}
 #: The values of the ``solver`` keyword.
 SOLVER_CHOICES = ("auto", "dense", "fft")
-#: Elements above which ``solver="auto"`` picks "fft" (None: "dense" at every size until "fft" is registered).
-AUTO_CROSSOVER = None
+#: Elements above which ``solver="auto"`` picks "fft", measured by ``benchmarks/solver.py`` (the README's
+#: "Benchmarks"; 2 cores shared with other jobs, so only the ratios mean anything): the dense stick-set
+#: inverse is faster for the whole heaviest case at dx = a/400 (1418 elements), the matrix-free solver
+#: per rocking step from about 1550 elements on, and increasingly so above (its cost per step grows
+#: slowly with n, the dense one faster than n^2 once its inverse leaves the caches).
+AUTO_CROSSOVER = 1500
 
 
 def select_solver(solver, n):
@@ -41,46 +47,29 @@ def select_solver(solver, n):
     ------
     ValueError
         If ``solver`` is not one of :data:`SOLVER_CHOICES`.
-    NotImplementedError
-        If the named solver is not available in this build (``"fft"`` before the matrix-free solver is added).
     """
     if solver not in SOLVER_CHOICES:
         raise ValueError(f"solver must be one of {SOLVER_CHOICES}, got {solver!r:.60}")
     if solver == "auto":
-        solver = "fft" if AUTO_CROSSOVER is not None and n > AUTO_CROSSOVER and "fft" in STEP_SOLVERS else "dense"
-    if solver not in STEP_SOLVERS:
-        raise NotImplementedError(f"solver={solver!r} is not available yet: use solver='dense' or 'auto'")
+        solver = "fft" if n > AUTO_CROSSOVER else "dense"
     return STEP_SOLVERS[solver]
 
 
-class KernelOperator:
-    """The dense influence operator of a 1D kernel (:func:`core.kernels.influence_matrix`) on a body's grid.
+def make_operator(step_solver, n, dx, kernel="plane", **options):
+    """The elastic operator (:mod:`core.operators`) in the form ``step_solver`` needs.
+
+    The dense matrix only for the dense solver; the FFT form (the kernel's
+    column and its circulant spectra, never an ``n x n`` matrix) for the
+    matrix-free one.
 
     Parameters
     ----------
-    n : int
-        Elements.
-    dx : float
-        Element width [a].
-    kernel : str
-        Name in :data:`core.kernels.KERNELS`.
-    **options
-        The kernel's options.
+    step_solver : type
+        A class of :data:`STEP_SOLVERS` (its ``form``: ``"dense"`` or ``"fft"``).
+    n, dx, kernel, **options :
+        As in :func:`core.operators.elastic_operator`.
     """
-
-    def __init__(self, n, dx, kernel="plane", **options):
-        self.kernel = kernel
-        self.shape = (int(n),)
-        self.size = int(n)
-        self._K = influence_matrix(n, dx, kernel, **options)
-
-    def matrix(self) -> np.ndarray:
-        """The dense influence matrix [mu P/E* per mu p0]."""
-        return self._K
-
-    def apply(self, q) -> np.ndarray:
-        """Displacements of the traction field ``q``."""
-        return self._K @ np.asarray(q, dtype=float)
+    return elastic_operator(n, dx, kernel, form=step_solver.form, **options)
 
 
 def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_periodic=True, shakedown_rtol=1e-3,
@@ -93,7 +82,8 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
         A discretised body (e.g. :class:`core.bodies.Cylinder`): ``bounds``,
         ``load_target``, ``edges``, ``dx``, ``name``.
     operator : object
-        Elastic operator on the body's grid (``shape``, ``size``, ``apply``, ``matrix``).
+        Elastic operator on the body's grid (:mod:`core.operators`; :func:`make_operator`
+        builds the form the solver needs).
     history : Schedule
         The steps.
     solver : str
@@ -149,7 +139,8 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     return CycleResult(
         edges=body.edges, xc=history.xc, P=history.P, Q=history.Q, period=history.period,
         traction=out.traction, state=out.state, displacement=out.displacement, dissipation=out.dissipation,
-        iterations=out.iterations, kkt_residual=out.kkt_residual, kernel=kernel, u0=u0,
+        iterations=out.iterations, cg_iterations=out.cg_iterations, kkt_residual=out.kkt_residual, kernel=kernel,
+        u0=u0,
         periodic_from=None if periodic_from < 0 else int(periodic_from),
         params=dict(params or {}), tol=tol, shakedown_rtol=shakedown_rtol,
         runtime=time.perf_counter() - t0, body=body.name, solver=step_solver.name, residuals=out.residuals(),
@@ -172,4 +163,5 @@ def _repeat_last_period(period, done, p, out):
     disp[rest] = disp[src] + repeats * increment
     out.dissipation[rest] = out.dissipation[src]
     out.iterations[rest] = 0
+    out.cg_iterations[rest] = 0
     out.kkt_residual[rest] = out.kkt_residual[src]

@@ -42,6 +42,8 @@ __all__ = [
     "influence_matrix",
     "strip_b_coefficient",
     "strip_u0",
+    "kernel_column",
+    "kernel_symbol",
 ]
 
 #: Reference length [a] of the plane-strain kernel (displacement zero at that distance).
@@ -131,6 +133,85 @@ KERNELS = {
     "plane": plane_strain_influence,
     "strip": strip_influence,
 }
+
+
+def kernel_column(n, dx, kernel="plane", **options):
+    """First column of the influence matrix: the influence of element 0 on elements ``0 .. n-1``.
+
+    The matrix is symmetric Toeplitz, ``K[i, j] = column[|i - j|]``; this is
+    all that the FFT form of the operator (:mod:`core.operators`) keeps.
+
+    Parameters
+    ----------
+    n : int
+        Number of entries, >= 1.
+    dx : float
+        Element width [a].
+    kernel : {"plane", "strip"}
+        Which kernel (see the module docstring).
+    **options
+        Passed to the kernel.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Element influences [mu P/E* per mu p0] at offsets ``0, dx, .., (n-1) dx``.
+    """
+    n = check_int("n", n, 1, 10**8)
+    if kernel not in KERNELS:
+        raise ValueError(f"kernel must be one of {sorted(KERNELS)}, got {kernel!r:.60}")
+    return np.asarray(KERNELS[kernel](np.arange(n) * float(dx), dx, **options), dtype=float)
+
+
+def kernel_symbol(k, kernel="plane", **options):
+    """Continuous symbol of the kernel: the Fourier transform of ``u = K q`` at wavenumbers ``k`` != 0.
+
+    With ``u(x) = integral k(x - xi) q(xi) dxi`` and ``hat f(k) = integral f(x) exp(-i k x) dx``,
+    ``hat u = symbol(k) hat q``. For the plane-strain kernel
+    ``k(t) = (4/pi^2) ln(l/|t|)``, ``hat ln(1/|t|) = pi/|k|`` away from ``k = 0``, so
+
+        ``symbol = 4 / (pi |k|)``   [mu P/E* per mu p0, k in 1/a]
+
+    (the reference length ``l`` adds only a multiple of ``delta(k)``). For the
+    strip of length ``L = 2 S``, integrating the Cerruti kernel over the strip
+    (the x-transforms of ``1/rho`` and ``x^2/rho^3`` are ``2 K0(|k eta|)`` and
+    ``2 (K0 - |k eta| K1)(|k eta|)``, and ``integral_0^X t K1 = integral_0^X K0 - X K0(X)``):
+
+        ``symbol = (4 / (pi^2 |k|)) [2 integral_0^{|k| S} K0(t) dt + bE |k| S K0(|k| S)]``,
+
+    which tends to the plane-strain symbol for ``|k| S >> 1``. Both are first
+    order and decay as ``1/|k|``; their inverse (about ``pi |k| / 4``) is the
+    preconditioner of the matrix-free solver.
+
+    Parameters
+    ----------
+    k : array_like
+        Wavenumbers [1/a], != 0.
+    kernel : {"plane", "strip"}
+    **options
+        ``L_over_a`` and ``b_coefficient`` for ``"strip"`` (``reference_length`` is accepted and unused).
+
+    Returns
+    -------
+    ndarray
+        The symbol at ``|k|``.
+    """
+    ak = np.abs(np.asarray(k, dtype=float))
+    if np.any(ak == 0) or not np.all(np.isfinite(ak)):
+        raise ValueError("k must be finite and non-zero (the symbols are singular at k = 0)")
+    if kernel == "plane":
+        return 4.0 / (np.pi * ak)
+    if kernel == "strip":
+        from scipy.special import iti0k0, k0
+
+        if "L_over_a" not in options or "b_coefficient" not in options:
+            raise ValueError("the strip symbol needs L_over_a and b_coefficient")
+        S = 0.5 * check_scalar("L_over_a", options["L_over_a"], 0.0, None, lo_closed=False)
+        bE = check_scalar("b_coefficient", options["b_coefficient"], 0.0, None)
+        X = ak * S
+        # K0(X) underflows harmlessly to 0 for large X; X K0(X) -> 0 as X -> 0
+        return 4.0 / (np.pi**2 * ak) * (2.0 * iti0k0(X)[1] + bE * X * k0(X))
+    raise ValueError(f"kernel must be one of {sorted(KERNELS)}, got {kernel!r:.60}")
 
 
 def influence_matrix(n, dx, kernel="plane", **options):

@@ -109,6 +109,9 @@ class CycleResult:
         Frictional work of each step, ``sum q s dx`` (>= 0).
     iterations : ndarray of int, shape (steps,)
         Active-set iterations of each step (0: nothing slipped).
+    cg_iterations : ndarray of int, shape (steps,)
+        Conjugate-gradient iterations of each step (``solver="fft"``; 0 for
+        ``"dense"``, which solves its stick set directly).
     kkt_residual : ndarray, shape (steps,)
         Worst KKT residual of each step (the largest of :attr:`residuals`' kinds).
     kernel : str
@@ -162,8 +165,11 @@ class CycleResult:
     body: str = "cylinder"
     solver: str = "dense"
     residuals: dict = field(default_factory=dict)
+    cg_iterations: np.ndarray | None = None
 
     def __post_init__(self):
+        if self.cg_iterations is None:
+            object.__setattr__(self, "cg_iterations", np.zeros(self.iterations.shape, dtype=np.int64))
         for name, value in vars(self).items():
             if isinstance(value, np.ndarray):
                 read_only(value)

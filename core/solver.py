@@ -3,8 +3,8 @@
 :func:`simulate_cycles` (normalised inputs), :func:`simulate_contact`
 (a :class:`~core.contact.Contact` in SI units) and :func:`solve_schedule`
 (any :class:`~core.schedule.Schedule`) build a body (:mod:`core.bodies`), an
-elastic operator (:mod:`core.kernels`), a per-step solver (``solver="dense"``,
-``"fft"`` or ``"auto"``: :mod:`core.dense`, :data:`core.engine.STEP_SOLVERS`)
+elastic operator (:mod:`core.operators`), a per-step solver (``solver="dense"``,
+``"fft"`` or ``"auto"``: :mod:`core.dense`, :mod:`core.matrix_free`, :data:`core.engine.STEP_SOLVERS`)
 and a loading history (:mod:`core.schedule`, :mod:`core.histories`) and
 hand them to :func:`core.engine.run`. :func:`solve_static` and
 :func:`shakedown_state` solve one static partial-slip problem.
@@ -29,7 +29,7 @@ from ._validate import check_int, check_scalar
 from .bodies import MAX_ELEMENTS, Cylinder, get_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, below_bound, central_halfwidth, read_only
-from .engine import KernelOperator, run, select_solver
+from .engine import make_operator, run, select_solver
 from .schedule import Schedule, rocking_schedule
 
 __all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
@@ -109,7 +109,10 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     solver : {"auto", "dense", "fft"}
         Per-step solver (:func:`core.engine.select_solver`): ``"dense"`` (the
         primal-dual active set on the dense matrix, :mod:`core.dense`),
-        ``"fft"`` (matrix-free) or ``"auto"`` (by size; the default).
+        ``"fft"`` (matrix-free: active set with FFT-preconditioned conjugate
+        gradients, :mod:`core.matrix_free`) or ``"auto"`` (``"fft"`` above
+        :data:`core.engine.AUTO_CROSSOVER` elements; the default). The result
+        records it (``solver``) and the CG iterations of each step (``cg_iterations``).
     body : str
         Body name in :data:`core.bodies.BODIES` (``"cylinder"``).
 
@@ -142,8 +145,8 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     if len(schedule) * n > MAX_STORED_VALUES:
         raise ValueError(f"{len(schedule)} steps x {n} elements exceeds {MAX_STORED_VALUES:.0e} stored values "
                          "(about 2.4 GB): use fewer periods, a larger dx or a larger dW")
-    select_solver(solver, n)  # a bad name fails before the operator is built
-    operator = KernelOperator(n, body.dx, kernel, **kernel_options)
+    # the operator in the form the chosen solver needs: no n x n matrix for the matrix-free one
+    operator = make_operator(select_solver(solver, n), n, body.dx, kernel, **kernel_options)
     u0 = strip_u0(kernel_options["L_over_a"], kernel_options["b_coefficient"]) if kernel == "strip" else None
     return run(body, operator, schedule, solver=solver, tol=tol, maxiter=maxiter, detect_periodic=detect_periodic,
                shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget, cancel=cancel,
@@ -232,8 +235,9 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=KKT_T
     if abs(target) >= bound.sum():
         raise ValueError(f"Q = {Q:g} exceeds what the bound can carry ({2 / np.pi * bound.sum() * dx:g})")
     n = bound.size
-    operator = KernelOperator(n, dx, kernel, **dict(kernel_options or {}))
-    step = select_solver(solver, n)(operator, element_size=dx, tol=tol, maxiter=50 + 2 * n).step(bound, target)
+    step_solver = select_solver(solver, n)
+    operator = make_operator(step_solver, n, dx, kernel, **dict(kernel_options or {}))
+    step = step_solver(operator, element_size=dx, tol=tol, maxiter=50 + 2 * n).step(bound, target)
     if not step.converged:
         raise SolverError(0, 0.0, step.kkt_residual, "static partial slip")
     return StaticSolution(traction=step.traction, displacement=step.displacement, iterations=step.iterations,

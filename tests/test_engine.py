@@ -13,12 +13,14 @@ from numpy.testing import assert_allclose
 import core
 from core.bodies import Cylinder
 from core.dense import RESIDUALS, DenseSolver
-from core.engine import KernelOperator, run, select_solver
+from core.engine import AUTO_CROSSOVER, run, select_solver
+from core.matrix_free import FFTSolver
+from core.operators import DenseOperator, FFTOperator
 from core.states import State
 
 
 def _solver(n=40, dx=1 / 20, tol=1e-10):
-    return DenseSolver(KernelOperator(n, dx), element_size=dx, tol=tol, maxiter=200)
+    return DenseSolver(DenseOperator(n, dx), element_size=dx, tol=tol, maxiter=200)
 
 
 def test_dense_step_reports_named_residuals_and_cattaneo():
@@ -45,37 +47,45 @@ def test_dense_step_reports_named_residuals_and_cattaneo():
 
 def test_dense_step_that_cannot_settle_says_so():
     body = Cylinder.for_reach(1.0, 1 / 20)
-    s = DenseSolver(KernelOperator(body.size, body.dx), element_size=body.dx, tol=1e-10, maxiter=1)
+    s = DenseSolver(DenseOperator(body.size, body.dx), element_size=body.dx, tol=1e-10, maxiter=1)
     step = s.step(body.bounds([0.0], [1.0])[0], float(body.load_target(0.9)))
     assert not step.converged and step.kkt_residual > 1e-10
     assert not s.traction.any()  # a failed step does not advance
 
 
 def test_solver_choice():
-    assert select_solver("dense", 100) is DenseSolver
-    assert select_solver("auto", 100) is core.engine.STEP_SOLVERS["dense"]
+    assert select_solver("dense", 100) is DenseSolver and select_solver("fft", 10) is FFTSolver
+    assert select_solver("auto", AUTO_CROSSOVER) is DenseSolver
+    assert select_solver("auto", AUTO_CROSSOVER + 1) is FFTSolver
     with pytest.raises(ValueError, match="solver must be one of"):
         select_solver("cholesky", 10)
-    if "fft" not in core.engine.STEP_SOLVERS:
-        with pytest.raises(NotImplementedError, match="solver='fft'"):
-            core.simulate_cycles(0.2, 0.3, periods=1, solver="fft")
     with pytest.raises(ValueError, match="solver"):
         core.simulate_cycles(0.2, 0.3, periods=1, solver="magic")
+
+
+def test_each_solver_gets_the_operator_form_it_needs():
+    """Dense matrix only for "dense"; the FFT form (no n x n matrix) for "fft"."""
+    dense = core.engine.make_operator(DenseSolver, 40, 0.05)
+    fft = core.engine.make_operator(FFTSolver, 40, 0.05)
+    assert isinstance(dense, DenseOperator) and isinstance(fft, FFTOperator)
+    assert not any(isinstance(v, np.ndarray) and v.ndim == 2 for v in vars(fft).values())
+    with pytest.raises(ValueError, match="operator"):
+        FFTSolver(object(), element_size=0.05, tol=1e-10, maxiter=10)
 
 
 def test_entry_points_are_the_run_function_on_the_parts():
     s = core.rocking_schedule(0.58, 0.52, periods=3, dW=1 / 30)
     body = Cylinder.for_history(s, 1 / 30)
-    direct = run(body, KernelOperator(body.size, body.dx), s, solver="dense", tol=1e-10)
+    direct = run(body, DenseOperator(body.size, body.dx), s, solver="dense", tol=1e-10)
     via = core.simulate_cycles(0.58, 0.52, periods=3, dx=1 / 30, solver="dense")
     auto = core.simulate_cycles(0.58, 0.52, periods=3, dx=1 / 30)
     for r in (via, auto):
         assert np.array_equal(r.traction, direct.traction) and np.array_equal(r.displacement, direct.displacement)
-    assert direct.solver == "dense" and direct.body == "cylinder"
+    assert direct.solver == "dense" and direct.body == "cylinder" and not direct.cg_iterations.any()
     assert set(direct.residuals) == set(RESIDUALS) and max(direct.residuals.values()) <= direct.tol
     assert direct.max_kkt_residual == pytest.approx(max(direct.residuals.values()))
     with pytest.raises(ValueError, match="shape"):
-        run(body, KernelOperator(body.size + 2, body.dx), s, tol=1e-10)
+        run(body, DenseOperator(body.size + 2, body.dx), s, tol=1e-10)
 
 
 def test_import_on_a_read_only_install_without_a_numba_cache(tmp_path):

@@ -27,8 +27,8 @@ def test_rocking_runs_keep_coulomb_balance_and_dissipation(ft, w, inv_dx, period
     check_invariants(r)
     assert r.regime in ("shakedown", "ratcheting", "undetermined")  # undetermined: too few periods to tell
     assert 0.0 <= r.stick_halfwidth <= 1.0
-    # the body walks along the load, never against it
-    assert np.all(np.sign(r.increment_per_period) * np.sign(ft) >= -1e-9)
+    # the body walks along the load, never against it (beyond round-off: at w ~ 0 the increment is ~1e-16)
+    assert np.all(r.increment_per_period * np.sign(ft) >= -1e-12)
 
 
 @st.composite

@@ -13,10 +13,14 @@ from core.solver import shakedown_state
 # ---------------------------------------------------------------------------
 # Cattaneo-Mindlin: the first validation of any tangential solver
 # ---------------------------------------------------------------------------
+SOLVERS = ["dense", "fft"]  # the validations below run on both per-step solvers (the slow ones on one case)
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
 @pytest.mark.parametrize("dx", [1 / 40, 1 / 100])
 @pytest.mark.parametrize("ft", [0.1, 0.4, 0.8])
-def test_cattaneo_stick_zone_and_traction(ft, dx):
-    r = simulate_cycles(ft, 0.0, periods=1, dx=dx)
+def test_cattaneo_stick_zone_and_traction(ft, dx, solver):
+    r = simulate_cycles(ft, 0.0, periods=1, dx=dx, solver=solver)
     c = float(core.cattaneo_stick_halfwidth(ft))
     assert abs(r.stick_halfwidth - c) <= dx, f"c = {r.stick_halfwidth} vs {c} (dx = {dx})"
     # element means of the closed form: exact for piecewise-constant tractions
@@ -42,17 +46,19 @@ CASES = [
 ]
 
 
+@pytest.mark.parametrize("solver", SOLVERS)
 @pytest.mark.parametrize("case", CASES, ids=lambda c: ",".join(f"{k}={v}" for k, v in c.items()))
-def test_invariants_at_every_step(case, check_invariants):
-    r = simulate_cycles(periods=6, dx=1 / 30, **case)
+def test_invariants_at_every_step(case, check_invariants, solver):
+    r = simulate_cycles(periods=6, dx=1 / 30, solver=solver, **case)
     check_invariants(r)
 
 
-def test_mirrored_schedule_gives_mirrored_result():
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_mirrored_schedule_gives_mirrored_result(solver):
     s = core.rocking_schedule(0.45, 0.5, periods=4, dW=1 / 30, load_steps=3)
     m = Schedule(xc=-s.xc, P=s.P, Q=-s.Q, period=s.period)
-    a = solve_schedule(s, dx=1 / 30, detect_periodic=False)
-    b = solve_schedule(m, dx=1 / 30, detect_periodic=False)
+    a = solve_schedule(s, dx=1 / 30, detect_periodic=False, solver=solver)
+    b = solve_schedule(m, dx=1 / 30, detect_periodic=False, solver=solver)
     assert_allclose(b.traction, -a.traction[:, ::-1], atol=1e-9)
     assert_allclose(b.displacement, -a.displacement, atol=1e-9)
     mirrored_state = a.state[:, ::-1].copy()
@@ -61,10 +67,11 @@ def test_mirrored_schedule_gives_mirrored_result():
     assert np.array_equal(b.state, mirrored_state)
 
 
-def test_periodic_detection_changes_nothing():
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_periodic_detection_changes_nothing(solver):
     for ft, w in [(0.58, 0.52), (0.08, 0.26)]:
-        a = simulate_cycles(ft, w, periods=10, dx=1 / 30)
-        b = simulate_cycles(ft, w, periods=10, dx=1 / 30, detect_periodic=False)
+        a = simulate_cycles(ft, w, periods=10, dx=1 / 30, solver=solver)
+        b = simulate_cycles(ft, w, periods=10, dx=1 / 30, detect_periodic=False, solver=solver)
         assert a.periodic_from is not None, "the steady state should have been detected"
         assert b.periodic_from is None
         assert_allclose(a.traction, b.traction, atol=1e-9)
@@ -76,19 +83,20 @@ def test_periodic_detection_changes_nothing():
 # ---------------------------------------------------------------------------
 # convergence and agreement with the analysis
 # ---------------------------------------------------------------------------
-@pytest.mark.parametrize("ft, w", [(0.58, 0.77), (0.58, 0.52)])
-def test_increment_per_period_converges_with_the_grid(ft, w):
-    inc = [simulate_cycles(ft, w, periods=6, dx=dx).increment_per_period[-1] for dx in (1 / 20, 1 / 40, 1 / 80)]
+@pytest.mark.parametrize("ft, w, solver", [(0.58, 0.77, "dense"), (0.58, 0.52, "dense"), (0.58, 0.52, "fft")])
+def test_increment_per_period_converges_with_the_grid(ft, w, solver):
+    inc = [simulate_cycles(ft, w, periods=6, dx=dx, solver=solver).increment_per_period[-1]
+           for dx in (1 / 20, 1 / 40, 1 / 80)]
     d1, d2 = abs(inc[1] - inc[0]), abs(inc[2] - inc[1])
     assert d2 < 0.75 * d1, inc                 # converging
     assert d2 / abs(inc[2]) < 0.005, inc        # the default dx = 1/40 is within about 0.5 %
 
 
-@pytest.mark.parametrize("w", [0.26, 0.52, 0.77])
-def test_numerical_limit_brackets_eq35(w):
+@pytest.mark.parametrize("w, solver", [(0.26, "dense"), (0.52, "dense"), (0.77, "dense"), (0.26, "fft")])
+def test_numerical_limit_brackets_eq35(w, solver):
     lim = float(core.ft_limit(w))
-    below = simulate_cycles(lim - 0.03, w, periods=12)
-    above = simulate_cycles(lim + 0.03, w, periods=12)
+    below = simulate_cycles(lim - 0.03, w, periods=12, solver=solver)
+    above = simulate_cycles(lim + 0.03, w, periods=12, solver=solver)
     assert below.regime == "shakedown", below.increment_per_period
     assert above.regime == "ratcheting", above.increment_per_period
     assert above.increment_per_period[-1] > 0  # walks along Ft
