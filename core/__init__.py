@@ -8,3 +8,7 @@ from .result import CycleResult, SolverError, SolveCancelled, STATE_NAMES  # noq
 from .solver import simulate_cycles, simulate_contact, solve_schedule, strip_options  # noqa: F401
 from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                     numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
+from .point_contact import Ellipsoid, Sphere, PointContact, POINT_BODIES  # noqa: F401
+from .halfspace import HalfSpaceOperator  # noqa: F401
+from .solver3d import (simulate_point_contact, solve_point_schedule, mindlin_state, shakedown_state_3d,  # noqa: F401
+                       PointContactResult, StaticResult3D)

@@ -47,7 +47,7 @@ from scipy.special import ellipe, ellipk
 
 from ._validate import check_range, check_scalar
 
-__all__ = ["Ellipsoid", "Sphere", "resolve_body", "POINT_BODIES", "axis_ratio", "ft_limit_point",
+__all__ = ["Ellipsoid", "Sphere", "resolve_body", "limit_body", "POINT_BODIES", "axis_ratio", "ft_limit_point",
            "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d", "PointContact"]
 
 #: Body names of the point contacts.
@@ -70,7 +70,7 @@ class Ellipsoid:
     --------
     >>> from core.point_contact import Ellipsoid
     >>> round(Ellipsoid(1.0).kappa, 12), round(Ellipsoid(4.0).kappa, 3)
-    (1.0, 2.318)
+    (1.0, 2.501)
     """
 
     ratio: float = 1.0
@@ -126,6 +126,19 @@ def resolve_body(body, ratio=None) -> Ellipsoid:
     raise ValueError(f"body must be 'cylinder', 'sphere', 'ellipsoid' or a core.Ellipsoid, got {body!r:.60}")
 
 
+def limit_body(body) -> bool:
+    """True for a point-contact body of the limit functions (any ellipsoid: the limit does not depend on the ratio).
+
+    Raises
+    ------
+    ValueError
+        For anything but ``"sphere"``, ``"ellipsoid"`` or an :class:`Ellipsoid`.
+    """
+    if isinstance(body, Ellipsoid) or body in POINT_BODIES:
+        return True
+    raise ValueError(f"body must be 'cylinder', 'sphere', 'ellipsoid' or a core.Ellipsoid, got {body!r:.60}")
+
+
 def _curvature_ratio(m):
     """``C_minor / C_major`` of the Hertz ellipse with semi-axis ratio ``m = major/minor >= 1`` (Johnson eq 4.39)."""
     e2 = 1.0 - 1.0 / (m * m)
@@ -161,7 +174,7 @@ def axis_ratio(ratio):
     if abs(ratio - 1.0) < 1e-12:
         return 1.0
     target = max(ratio, 1.0 / ratio)
-    m = brentq(lambda m: _curvature_ratio(m) - target, 1.0 + 1e-7, 1e3, xtol=1e-15, rtol=4e-16)
+    m = brentq(lambda m: _curvature_ratio(m) - target, 1.0 + 1e-7, 1e3, xtol=1e-15, rtol=1e-15)
     return m if ratio > 1.0 else 1.0 / m
 
 
@@ -319,7 +332,7 @@ class PointContact:
     >>> from core.point_contact import PointContact
     >>> c = PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
     >>> round(c.ft, 3), round(c.a * 1e3, 3)
-    (0.4, 1.792)
+    (0.4, 2.657)
     """
 
     Rx: float

@@ -684,7 +684,7 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
     Examples
     --------
     >>> import core
-    >>> r = core.simulate_cycles(0.2, 0.3, periods=3, dx=0.2, body="sphere")
+    >>> r = core.simulate_cycles(0.2, 0.3, periods=6, dx=0.2, body="sphere")
     >>> r.regime
     'shakedown'
     """
