@@ -48,13 +48,15 @@ from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth
 from .schedule import Schedule, rocking_schedule
 
 __all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
-           "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D",
+           "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
            "MAX_GRID_ELEMENTS"]
 
 #: Names of the per-step residuals (see :func:`solve_increment`).
 RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "load_balance")
 #: Default KKT tolerance of the 3D steps (tractions in mu p0, slips in mu Fn/(E* a), loads in mu Fn).
 TOL_3D = 1e-8
+#: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
+PERIODIC_TOL = 1e-6
 #: Largest grid (elements) a point-contact run accepts.
 MAX_GRID_ELEMENTS = 200_000
 #: Largest number of stored full-field values (snapshots at the turning points).
@@ -494,8 +496,8 @@ def _turning_points(schedule):
 
 
 def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, detect_periodic=True,
-                         shakedown_rtol=1e-3, params=None, time_budget=None, cancel=None, progress=None,
-                         chunk=50):
+                         periodic_tol=PERIODIC_TOL, shakedown_rtol=1e-3, params=None, time_budget=None, cancel=None,
+                         progress=None, chunk=50):
     """Solve a loading :class:`~core.schedule.Schedule` for a point contact, step by step.
 
     Parameters
@@ -514,7 +516,9 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         KKT tolerance of every step.
     detect_periodic : bool
         When the traction at the end of a period repeats the previous one to
-        ``10 tol``, copy the remaining periods (same steps every period only).
+        ``periodic_tol`` [mu p0], copy the remaining periods (same steps every
+        period only; a shaken-down period repeats exactly, a ratcheting one
+        converges geometrically to its periodic state).
     shakedown_rtol : float
         Relative size of the last increment for the shakedown verdict.
     params : dict, optional
@@ -541,6 +545,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     nu = check_scalar("nu", nu, 0.0, 0.5)
     angle = check_scalar("angle", angle, -math.pi, math.pi)
     tol = check_scalar("tol", tol, 1e-13, 1e-4)
+    periodic_tol = check_scalar("periodic_tol", periodic_tol, 0.0, 1e-2)
     chunk = check_int("chunk", chunk, 1, 10**7)
     t0 = time.perf_counter()
     scales = np.cbrt(schedule.P)
@@ -606,7 +611,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         k += 1
         # ---- periodic detection at the end of each period
         if k < steps and schedule.period[k] != schedule.period[k - 1] and per >= 0 and periodic:
-            if period_start_q is not None and np.abs(q - period_start_q).max() <= 10.0 * tol:
+            if period_start_q is not None and np.abs(q - period_start_q).max() <= periodic_tol:
                 periodic_from = per
                 break
             period_start_q = q.copy()
@@ -647,8 +652,8 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
 
 
 def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
-                           shape="triangle", load_steps=1, tol=TOL_3D, detect_periodic=True, shakedown_rtol=1e-3,
-                           time_budget=None, cancel=None, progress=None):
+                           shape="triangle", load_steps=1, tol=TOL_3D, detect_periodic=True, periodic_tol=PERIODIC_TOL,
+                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None):
     """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
 
     Parameters
@@ -673,7 +678,7 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
         Substrate's Poisson ratio under a rigid body, in [0, 0.5] (default 0.5: beta = 0).
     shape, load_steps :
         As in :func:`core.schedule.rocking_schedule`.
-    tol, detect_periodic, shakedown_rtol, time_budget, cancel, progress :
+    tol, detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress :
         As in :func:`solve_point_schedule`.
 
     Returns
@@ -695,7 +700,7 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
     params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name, ratio=body.ratio,
                   angle=float(angle), nu=float(nu), shape=shape, load_steps=int(load_steps))
     return solve_point_schedule(schedule, dx, body, nu=nu, angle=angle, tol=tol, detect_periodic=detect_periodic,
-                                shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget,
+                                periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget,
                                 cancel=cancel, progress=progress)
 
 
