@@ -66,6 +66,8 @@ MAX_SNAPSHOT_VALUES = 2e7
 _OUT, _STICK, _SLIP = 0, 1, 2
 # active-set iterations that move every violator before moving only the worst ones
 _FULL_MOVES = 6
+# |s|/g, in units of the self-influence, above which slip directions take the Newton update
+_NEWTON_CURV = 1.0
 
 
 @dataclass
@@ -110,7 +112,7 @@ class _Projector:
 
 
 def _pcg(op, proj, rhs, curv, x, tol, maxiter, stick, slip_diag):
-    """Projected preconditioned CG for ``P (K x + curv x) = P rhs`` with ``x`` in V; returns (x, K x, its).
+    """Projected preconditioned CG for ``P (K x + curv x) = P rhs`` with ``x`` in V; returns (x, K x, its, residual).
 
     Preconditioner: the inverse continuous symbol on the stick set, the inverse
     diagonal ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
@@ -139,7 +141,7 @@ def _pcg(op, proj, rhs, curv, x, tol, maxiter, stick, slip_diag):
         rz_new = float(np.vdot(r, z))
         p = z + (rz_new / rz) * p
         rz = rz_new
-    return x, Kx, its
+    return x, Kx, its, float(np.abs(r).max())
 
 
 def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
@@ -220,7 +222,7 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         # ---- the linear problem of this active set (warm start projected on its space)
         x0 = proj(x) + proj.particular(D)
         cg_tol = max(0.1 * tol, 1e-3 * measure)
-        x, Kx, its = _pcg(op, proj, -Kfix, curv, x0, cg_tol, cg_maxiter, stick, 1.0 / (curv + k_self))
+        x, Kx, its, cg_res = _pcg(op, proj, -Kfix, curv, x0, cg_tol, cg_maxiter, stick, 1.0 / (curv + k_self))
         cg_total += its
         Kdq = Kfix + Kx
         lam = proj.multiplier(Kdq + curv * x)
@@ -236,7 +238,7 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         tangent = float(np.abs(np.where(slip, t * np.maximum(1.0, curv), 0.0)).max())
         worst = max(float(over.max()), float(wrong.max()))
         measure = max(worst, tangent)
-        if worst <= tol and tangent <= tol and cg_tol <= 0.1 * tol:
+        if worst <= tol and tangent <= tol and cg_res <= 0.5 * tol:
             break
         if worst > tol:
             level = tol if it <= _FULL_MOVES else max(tol, 0.5 * worst)
@@ -252,8 +254,15 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         keep = slip & (kind == _SLIP)
         qs = np.where(keep, q, 0.0)
         nq = np.hypot(qs[0], qs[1])
-        d[:, keep] = (qs / np.where(nq > 0, nq, 1.0))[:, keep]
-        warm.curv[keep] = (np.hypot(s[0], s[1]) / np.where(g > 0, g, 1.0))[keep]
+        ns = np.hypot(s[0], s[1])
+        curv_new = ns / np.where(g > 0, g, 1.0)
+        # where the slip dominates (|s|/g above the self-influence) linearise q = g s/|s| about the slip
+        # direction (semismooth Newton); elsewhere follow the corrected traction
+        newton = keep & (curv_new > _NEWTON_CURV * k_self)
+        rest = keep & ~newton
+        d[:, newton] = (s / np.where(ns > 0, ns, 1.0))[:, newton]
+        d[:, rest] = (qs / np.where(nq > 0, nq, 1.0))[:, rest]
+        warm.curv[keep] = curv_new[keep]
         x = np.where(keep, 0.0, x)
     else:
         raise RuntimeError(f"active set did not settle in {maxiter} iterations (worst violation {worst:.3g})")
