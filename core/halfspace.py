@@ -142,9 +142,11 @@ class HalfSpaceOperator:
         # zero-padded circulant embedding of the convolution
         self._pad = (sfft.next_fast_len(2 * self.ny - 1, real=True), sfft.next_fast_len(2 * self.nx - 1, real=True))
         self._hat = tuple(self._embed(k) for k in self._kernels)
-        # inverse of the continuous symbol on the padded grid
-        ky = 2 * np.pi * sfft.fftfreq(self._pad[0], d=self.h)[:, None]
-        kx = 2 * np.pi * sfft.rfftfreq(self._pad[1], d=self.h)[None, :]
+        # inverse of the continuous symbol, on a periodic grid just covering the field (an approximate
+        # inverse needs no padding: its kernel decays like 1/rho^3)
+        self._pre_grid = (sfft.next_fast_len(self.ny, real=True), sfft.next_fast_len(self.nx, real=True))
+        ky = 2 * np.pi * sfft.fftfreq(self._pre_grid[0], d=self.h)[:, None]
+        kx = 2 * np.pi * sfft.rfftfreq(self._pre_grid[1], d=self.h)[None, :]
         k2 = kx * kx + ky * ky
         k2[0, 0] = min(kx[0, 1] ** 2 if kx.size > 1 else 1.0, ky[1, 0] ** 2 if ky.size > 1 else 1.0)
         k = np.sqrt(k2)
@@ -169,24 +171,24 @@ class HalfSpaceOperator:
             big[-(ny - 1):, -(nx - 1):] = kern[:ny - 1, :nx - 1]
         return sfft.rfft2(big)
 
-    def _convolve(self, q, hats):
+    def _convolve(self, q, hats, grid):
         q = np.asarray(q, dtype=float)
         if q.shape != self.shape:
             raise ValueError(f"q must have shape {self.shape}, got {q.shape}")
-        f = sfft.rfft2(q, s=self._pad, axes=(1, 2))
+        f = sfft.rfft2(q, s=grid, axes=(1, 2))
         hxx, hyy, hxy = hats
         out = np.empty_like(f)
         out[0] = hxx * f[0] + hxy * f[1]
         out[1] = hxy * f[0] + hyy * f[1]
-        return sfft.irfft2(out, s=self._pad, axes=(1, 2))[:, :self.ny, :self.nx]
+        return sfft.irfft2(out, s=grid, axes=(1, 2))[:, :self.ny, :self.nx]
 
     def apply(self, q):
         """Displacements ``(u_x, u_y)`` at the element centres [mu Fn/(E* a)] from tractions ``q`` of shape :attr:`shape`."""
-        return self._convolve(q, self._hat)
+        return self._convolve(q, self._hat, self._pad)
 
     def precondition(self, r):
         """Approximate inverse of :meth:`apply`: the inverse continuous symbol, by FFT (SPD)."""
-        return self._convolve(r, self._pre)
+        return self._convolve(r, self._pre, self._pre_grid)
 
     def matrix(self):
         """Dense ``(size, size)`` matrix of :meth:`apply` (x components first, row-major grid).

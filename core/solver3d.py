@@ -111,8 +111,10 @@ class _Projector:
         return self.local(np.broadcast_to((self.Minv @ D)[:, None, None], (2,) + self.pxx.shape))
 
 
-def _pcg(op, proj, rhs, curv, x, tol, maxiter, stick, slip_diag):
-    """Projected preconditioned CG for ``P (K x + curv x) = P rhs`` with ``x`` in V; returns (x, K x, its, residual).
+def _pcg(op, proj, Kdq, curv, x, tol, maxiter, stick, slip_diag):
+    """Projected preconditioned CG for ``P (K dq + curv x) = 0``, ``dq = dq_fixed + x``, ``x`` in V.
+
+    ``Kdq`` is ``K dq`` of the starting ``x``; returns (x, K dq, its, residual).
 
     Preconditioner: the inverse continuous symbol on the stick set, the inverse
     diagonal ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
@@ -120,8 +122,7 @@ def _pcg(op, proj, rhs, curv, x, tol, maxiter, stick, slip_diag):
     def pre(r):
         return proj(np.where(stick, op.precondition(np.where(stick, r, 0.0)), r * slip_diag))
 
-    Kx = op.apply(x)
-    r = proj(rhs - Kx - curv * x)
+    r = proj(-Kdq - curv * x)
     z = pre(r)
     p = z
     rz = float(np.vdot(r, z))
@@ -135,13 +136,13 @@ def _pcg(op, proj, rhs, curv, x, tol, maxiter, stick, slip_diag):
             break
         alpha = rz / pAp
         x = x + alpha * p
-        Kx += alpha * Kp
+        Kdq = Kdq + alpha * Kp
         r = r - alpha * Ap
         z = pre(r)
         rz_new = float(np.vdot(r, z))
         p = z + (rz_new / rz) * p
         rz = rz_new
-    return x, Kx, its, float(np.abs(r).max())
+    return x, Kdq, its, float(np.abs(r).max())
 
 
 def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
@@ -218,13 +219,12 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         base = np.where(stick, q_prev, np.where(slip, g * d, 0.0))
         D = target / dA - base.sum(axis=(1, 2))
         curv = np.where(slip, warm.curv, 0.0)
-        Kfix = op.apply(base - q_prev)
         # ---- the linear problem of this active set (warm start projected on its space)
         x0 = proj(x) + proj.particular(D)
+        Kdq0 = op.apply(base - q_prev + x0)
         cg_tol = max(0.1 * tol, 1e-3 * measure)
-        x, Kx, its, cg_res = _pcg(op, proj, -Kfix, curv, x0, cg_tol, cg_maxiter, stick, 1.0 / (curv + k_self))
+        x, Kdq, its, cg_res = _pcg(op, proj, Kdq0, curv, x0, cg_tol, cg_maxiter, stick, 1.0 / (curv + k_self))
         cg_total += its
-        Kdq = Kfix + Kx
         lam = proj.multiplier(Kdq + curv * x)
         q = base + x
         s = np.where(contact, lam[:, None, None] - Kdq, 0.0)
