@@ -69,15 +69,17 @@ def test_operator_matches_point_force_far_away():
 
 
 def test_preconditioner_is_an_approximate_inverse():
-    """On smooth fields the preconditioned operator is close to the identity (spectrum bounded)."""
+    """On oscillating fields (what CG sees once the force balances remove the mean) the preconditioned
+    operator is close to the identity."""
     op = HalfSpaceOperator(40, 40, 0.05, 0.5, 0.15)
     y, x = np.mgrid[-1:1:40j, -1:1:40j]
-    bump = np.exp(-8 * (x**2 + y**2))
-    q = np.stack([bump, 0.5 * bump])
-    back = op.precondition(op.apply(q))
-    inner = slice(10, 30)
-    ratio = back[:, inner, inner].ravel() @ q[:, inner, inner].ravel() / (q[:, inner, inner] ** 2).sum()
-    assert 0.7 < ratio < 1.3, ratio
+    for k in (6, 12):
+        bump = np.exp(-8 * (x**2 + y**2)) * np.cos(k * x)
+        q = np.stack([bump, 0.5 * bump])
+        back = op.precondition(op.apply(q))
+        inner = slice(10, 30)
+        ratio = back[:, inner, inner].ravel() @ q[:, inner, inner].ravel() / (q[:, inner, inner] ** 2).sum()
+        assert 0.8 < ratio < 1.2, (k, ratio)
 
 
 def test_dense_refused_above_cap():
