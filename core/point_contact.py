@@ -46,6 +46,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
 from ._validate import check_range, check_scalar
+from .analytical import _ellipse_primitive
 
 __all__ = ["Ellipsoid", "Sphere", "resolve_body", "limit_body", "POINT_BODIES", "axis_ratio", "ft_limit_point",
            "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d", "PointContact"]
@@ -185,11 +186,6 @@ def hertz_pressure_3d(x, y, xc=0.0, kappa=1.0):
     """Hertz pressure ``p/p0 = sqrt(1 - (x - xc)^2 - (y/kappa)^2)`` (0 outside the ellipse); lengths in ``a``."""
     x, y = check_range("x", x), check_range("y", y)
     return np.sqrt(np.clip(1.0 - (x - xc) ** 2 - (y / kappa) ** 2, 0.0, None))
-
-
-def _ellipse_primitive(t):
-    t = np.clip(t, -1.0, 1.0)
-    return 0.5 * (t * np.sqrt(1.0 - t * t) + np.arcsin(t))
 
 
 def hertz_element_means(x_edges, y_edges, xc=0.0, kappa=1.0, scale=1.0):
@@ -413,3 +409,14 @@ class PointContact:
     def displacement_unit(self) -> float:
         """``mu Fn / (E* a)`` [m]."""
         return self.mu * self.Fn / (self.E_star * self.a)
+
+    def simulate(self, periods=10, dx=0.05, **options):
+        """Run :func:`core.solver3d.simulate_point_contact` with this contact's ``ft``, ``w``, body, angle and ``nu``.
+
+        The result stays normalised: multiply lengths by :attr:`a`, tractions
+        by :attr:`traction_unit` and displacements by :attr:`displacement_unit`.
+        """
+        from .solver3d import simulate_point_contact
+
+        return simulate_point_contact(self.ft, self.w, periods, dx, body=self.body, angle=self.angle, nu=self.nu,
+                                      **options)

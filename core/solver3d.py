@@ -327,8 +327,30 @@ def _freeze(obj):
                     v.setflags(write=False)
 
 
+class _GridFields:
+    """Grid helpers shared by the point-contact results (``x_edges``, ``y_edges``; arrays frozen on creation)."""
+
+    def __post_init__(self):
+        _freeze(self)
+
+    @property
+    def x(self):
+        """Element centres along x [a]."""
+        return 0.5 * (self.x_edges[1:] + self.x_edges[:-1])
+
+    @property
+    def y(self):
+        """Element centres along y [a]."""
+        return 0.5 * (self.y_edges[1:] + self.y_edges[:-1])
+
+    @property
+    def cut_row(self) -> int:
+        """Index of the grid row on ``y = 0``."""
+        return (self.y_edges.size - 1) // 2
+
+
 @dataclass(frozen=True, eq=False)
-class PointContactResult:
+class PointContactResult(_GridFields):
     """The transient of a rocking point contact: per step, per period, and its verdict.
 
     Normalised units: lengths in ``a`` (semi-axis along x), pressure in ``p0``,
@@ -392,28 +414,9 @@ class PointContactResult:
     shakedown_rtol: float = 1e-3
     runtime: float = 0.0
 
-    def __post_init__(self):
-        _freeze(self)
-
-    # ---- grid ------------------------------------------------------------
-    @property
-    def x(self):
-        """Element centres along x [a]."""
-        return 0.5 * (self.x_edges[1:] + self.x_edges[:-1])
-
-    @property
-    def y(self):
-        """Element centres along y [a]."""
-        return 0.5 * (self.y_edges[1:] + self.y_edges[:-1])
-
     @property
     def dx(self) -> float:
         return float(self.x_edges[1] - self.x_edges[0])
-
-    @property
-    def cut_row(self) -> int:
-        """Index of the grid row on ``y = 0``."""
-        return (self.y_edges.size - 1) // 2
 
     @property
     def periods(self) -> int:
@@ -717,7 +720,7 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
 # static references: Mindlin and the shaken-down state
 # --------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
-class StaticResult3D:
+class StaticResult3D(_GridFields):
     """A static partial-slip solution on a point-contact grid (read-only arrays).
 
     Attributes
@@ -742,21 +745,10 @@ class StaticResult3D:
     displacement: np.ndarray
     residuals: dict
 
-    def __post_init__(self):
-        _freeze(self)
-
-    @property
-    def x(self):
-        return 0.5 * (self.x_edges[1:] + self.x_edges[:-1])
-
-    @property
-    def y(self):
-        return 0.5 * (self.y_edges[1:] + self.y_edges[:-1])
-
     @property
     def stick_halfwidth(self) -> float:
         """Half-extent along x [a] of the central stick zone on ``y = 0``."""
-        return central_halfwidth(self.state[(self.y_edges.size - 1) // 2] == 1, self.x_edges)
+        return central_halfwidth(self.state[self.cut_row] == 1, self.x_edges)
 
     @property
     def stick_halfwidth_y(self) -> float:

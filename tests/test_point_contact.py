@@ -116,3 +116,10 @@ def test_bad_contact_inputs():
         PointContact(Rx=0.01, Ry=0.01, Fn=1.0, mu=0.5, E2=1e6, nu2=0.7)
     with pytest.raises(ValueError, match="ratio"):
         core.simulate_cycles(0.2, 0.2, body="ellipsoid")
+
+
+def test_physical_contact_runs_normalised():
+    c = PointContact(Rx=0.01, Ry=0.02, Fn=10.0, mu=0.5, E2=3e6, nu2=0.4, Ft=1.0, W=2e-4)
+    r = c.simulate(periods=1, dx=0.25)
+    assert r.params["ft"] == pytest.approx(c.ft) and r.params["w"] == pytest.approx(c.w)
+    assert r.body.ratio == pytest.approx(2.0) and r.nu == pytest.approx(0.4)
