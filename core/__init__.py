@@ -37,6 +37,10 @@ def _load_locked():
         from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
                              solve_static, shakedown_state)
         from .convergence import ConvergedIncrement, converged_increment  # noqa: F401
+        from .point_contact import Ellipsoid, Sphere, PointContact, POINT_BODIES  # noqa: F401
+        from .halfspace import HalfSpaceOperator  # noqa: F401
+        from .solver3d import (simulate_point_contact, solve_point_schedule, mindlin_state,  # noqa: F401
+                               shakedown_state_3d, PointContactResult, StaticResult3D)
         from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
         globals().update({k: v for k, v in locals().items() if k != "analytical"})

@@ -182,7 +182,7 @@ def _segment_area(s):
     return (2.0 / np.pi) * (np.arccos(s) - s * np.sqrt(1.0 - s * s))
 
 
-def ft_limit(w):
+def ft_limit(w, body="cylinder"):
     """Exact shakedown limit of the tangential load (eq 35).
 
     As the shaken-down stick zone shrinks to nothing, the whole load is
@@ -194,6 +194,8 @@ def ft_limit(w):
     ----------
     w : array_like
         ``W / a`` in [0, 1].
+    body : {"cylinder", "sphere", "ellipsoid"} or core.Ellipsoid
+        Point contacts: :func:`core.point_contact.ft_limit_point`.
 
     Returns
     -------
@@ -206,11 +208,15 @@ def ft_limit(w):
     >>> round(float(core.ft_limit(0.26)), 4)
     0.6727
     """
+    if body != "cylinder":  # point contacts: core/point_contact.py
+        from .point_contact import ft_limit_point, limit_body
+        limit_body(body)
+        return ft_limit_point(w)
     w = _w(w, upper_closed=True)
     return _segment_area(w)
 
 
-def w_limit(ft):
+def w_limit(ft, body="cylinder"):
     """Exact inverse of :func:`ft_limit`: the largest amplitude that shakes down.
 
     Solved numerically (elementwise Chandrupatla root finding, to about
@@ -220,12 +226,18 @@ def w_limit(ft):
     ----------
     ft : array_like
         ``Ft / (mu Fn)`` in [0, 1].
+    body : {"cylinder", "sphere", "ellipsoid"} or core.Ellipsoid
+        Point contacts: :func:`core.point_contact.w_limit_point`.
 
     Returns
     -------
     ndarray
         ``w_lim`` in [0, 1] with ``ft_limit(w_lim) == ft``.
     """
+    if body != "cylinder":  # point contacts: core/point_contact.py
+        from .point_contact import limit_body, w_limit_point
+        limit_body(body)
+        return w_limit_point(ft)
     ft = _ft(ft, upper_closed=True)
     shape = ft.shape
     flat = ft.ravel()

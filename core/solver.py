@@ -280,7 +280,7 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane", shape="triangle",
                     load_steps=1, L_over_a=None, nu=0.5, tol=KKT_TOL, detect_periodic=True,
                     shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, solver="auto",
-                    body="cylinder"):
+                    body="cylinder", ratio=None, angle=0.0):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -320,8 +320,13 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
         each period away from the limit), ratcheting ones settle to a constant.
     solver : {"auto", "dense", "fft"}
         Per-step solver (see :func:`solve_schedule`).
-    body : str
-        Body name in :data:`core.bodies.BODIES` (``"cylinder"``).
+    body : {"cylinder", "sphere", "ellipsoid"} or core.Ellipsoid
+        ``"cylinder"`` (default) is the line contact; the point contacts run
+        :func:`core.solver3d.simulate_point_contact` (with ``ratio = Ry/Rx`` of
+        an ellipsoid and ``angle`` of Ft to the rocking direction [rad]; ``dx``
+        is the element side, ``nu`` the substrate's; ``kernel``, ``L_over_a``
+        and ``tol`` are the cylinder's) and return a
+        :class:`core.solver3d.PointContactResult`.
 
     Returns
     -------
@@ -338,6 +343,12 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
     >>> abs(r.stick_halfwidth - float(core.shakedown_stick_halfwidth(0.2, 0.3))) < 0.05
     True
     """
+    if not (isinstance(body, str) and body == "cylinder"):  # point contacts: core/solver3d.py
+        from .solver3d import simulate_point_contact
+        return simulate_point_contact(ft, w, periods, dx, dW, body=body, ratio=ratio, angle=angle, nu=nu, shape=shape,
+                                      load_steps=load_steps, detect_periodic=detect_periodic,
+                                      shakedown_rtol=shakedown_rtol, time_budget=time_budget, cancel=cancel,
+                                      progress=progress)
     dx = check_scalar("dx", dx, 1e-4, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     options = _kernel_options(kernel, L_over_a, nu)

@@ -1,0 +1,208 @@
+"""The tangential elastic operator of a half-space on a uniform 2D grid (Boussinesq-Cerruti).
+
+A point force ``Qx`` at the origin of the surface of an elastic half-space
+(shear modulus ``G``, Poisson ratio ``nu``) displaces the surface by (Cerruti,
+Johnson eq 2.19 at ``z = 0``)
+
+``u_x = Qx/(2 pi G) [(1 - nu)/rho + nu x^2/rho^3]``,  ``u_y = Qx/(2 pi G) nu x y/rho^3``,
+
+and symmetrically for ``Qy``. With ``E* = E/(1 - nu^2)`` this is
+``u = Q/(pi E*) [1/rho + nu/(1 - nu) x_i x_j/rho^3]``. Tractions are
+piecewise constant on square elements of side ``h``; displacements are
+collocated at element centres. The element integrals of ``1/rho``,
+``x^2/rho^3``, ``y^2/rho^3`` and ``x y/rho^3`` over a rectangle have closed
+forms (their primitives with ``d^2 F/dx dy`` equal to the kernel are
+``x asinh(y/|x|) + y asinh(x/|y|)``, ``y asinh(x/|y|)``, ``x asinh(y/|x|)``
+and ``-rho``), so the coefficients are exact for piecewise-constant tractions.
+
+The operator is a 2D convolution (it depends on index offsets only), applied
+by FFT with zero padding (circulant embedding), O(N log N); :meth:`matrix`
+gives the dense form for small grids, equal to round-off.
+:meth:`precondition` applies the inverse of the operator's continuous symbol,
+``(1 - nu) |k| / (2 pi s) [I + nu/(1 - nu) k k^T/|k|^2]`` (the Fourier
+transform of ``1/rho`` is ``2 pi/|k|`` and that of ``x_i x_j/rho^3`` is
+``2 pi (delta_ij - k_i k_j/|k|^2)/|k|``).
+
+Units: lengths in ``a`` (the contact's semi-axis along x), tractions in
+``mu p0``, displacements in ``mu Fn / (E* a)``. The scale factor ``s`` of
+the kernel is ``p0 a^2 / (pi Fn)`` (``3/(2 pi^2 kappa)`` for a Hertz contact
+with semi-axes ``a`` and ``b = kappa a``).
+
+References
+----------
+.. [1] K. L. Johnson, *Contact Mechanics*, CUP 1985, section 2.2 (eq 2.19).
+.. [2] J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*,
+   Kluwer 1990 (influence coefficients of rectangular elements).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.fft as sfft
+
+from ._validate import check_int, check_scalar
+
+__all__ = ["HalfSpaceOperator", "rectangle_integrals", "MAX_DENSE_SIZE"]
+
+#: Largest number of unknowns for which :meth:`HalfSpaceOperator.matrix` builds a dense matrix.
+MAX_DENSE_SIZE = 6000
+
+
+def _x_asinh_y_over_x(x, y):
+    """``x asinh(y/|x|)`` with the limit 0 at ``x = 0``."""
+    ax = np.abs(x)
+    return np.where(ax > 0, x * np.arcsinh(y / np.where(ax > 0, ax, 1.0)), 0.0)
+
+
+def _corner_sum(F, x, y, h):
+    """``F`` differenced over the rectangle ``[x - h/2, x + h/2] x [y - h/2, y + h/2]``."""
+    x1, x2, y1, y2 = x - 0.5 * h, x + 0.5 * h, y - 0.5 * h, y + 0.5 * h
+    return F(x2, y2) - F(x1, y2) - F(x2, y1) + F(x1, y1)
+
+
+def rectangle_integrals(x, y, h):
+    """Integrals of the Cerruti kernels over a square element of side ``h`` centred at ``(x, y)``.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Offset of the element's centre from the field point [length].
+    h : float
+        Element side [length], > 0.
+
+    Returns
+    -------
+    I1, Ixx, Iyy, Ixy : ndarray
+        ``integral of 1/rho``, ``x^2/rho^3``, ``y^2/rho^3`` and ``x y/rho^3``
+        over the element (``rho`` the distance from the field point), exact.
+    """
+    x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
+    Fyy = _x_asinh_y_over_x  # primitive of y^2/rho^3: x asinh(y/|x|)
+
+    def Fxx(u, v):  # primitive of x^2/rho^3: y asinh(x/|y|)
+        return _x_asinh_y_over_x(v, u)
+
+    def F1(u, v):
+        return Fyy(u, v) + Fxx(u, v)
+
+    def Fxy(u, v):
+        return -np.hypot(u, v)
+
+    return (_corner_sum(F1, x, y, h), _corner_sum(Fxx, x, y, h), _corner_sum(Fyy, x, y, h),
+            _corner_sum(Fxy, x, y, h))
+
+
+class HalfSpaceOperator:
+    """Tangential surface displacements of a half-space from element tractions (the 3D protocol).
+
+    Parameters
+    ----------
+    ny, nx : int
+        Grid rows (along y) and columns (along x), each in [1, 4096].
+    h : float
+        Element side [a], > 0.
+    nu : float
+        Poisson ratio of the substrate, in [0, 0.5].
+    scale : float
+        Kernel factor ``s`` [mu Fn/(E* a) per (mu p0 a)], > 0: the displacement
+        is ``s [1/rho + nu/(1 - nu) x_i x_j/rho^3]`` integrated against the
+        traction.
+
+    Attributes
+    ----------
+    shape : tuple
+        ``(2, ny, nx)``: the x and y traction components on the grid.
+    size : int
+        ``2 ny nx`` unknowns.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from core.halfspace import HalfSpaceOperator
+    >>> op = HalfSpaceOperator(5, 6, 0.2, 0.3)
+    >>> q = np.random.default_rng(0).normal(size=op.shape)
+    >>> bool(np.allclose(op.apply(q).ravel(), op.matrix() @ q.ravel()))
+    True
+    """
+
+    def __init__(self, ny, nx, h, nu=0.5, scale=1.0 / np.pi):
+        self.ny = check_int("ny", ny, 1, 4096)
+        self.nx = check_int("nx", nx, 1, 4096)
+        self.h = check_scalar("h", h, 0.0, None, lo_closed=False)
+        self.nu = check_scalar("nu", nu, 0.0, 0.5)
+        self.scale = check_scalar("scale", scale, 0.0, None, lo_closed=False)
+        self.shape = (2, self.ny, self.nx)
+        self.size = 2 * self.ny * self.nx
+        # influence of one element on the offsets -(n-1) .. n-1 in each direction
+        iy = np.arange(-(self.ny - 1), self.ny)[:, None]
+        ix = np.arange(-(self.nx - 1), self.nx)[None, :]
+        I1, Ixx, Iyy, Ixy = rectangle_integrals(ix * self.h, iy * self.h, self.h)
+        c = self.nu / (1.0 - self.nu)
+        self._kernels = (self.scale * (I1 + c * Ixx), self.scale * (I1 + c * Iyy), self.scale * c * Ixy)
+        # zero-padded circulant embedding of the convolution
+        self._pad = (sfft.next_fast_len(2 * self.ny - 1, real=True), sfft.next_fast_len(2 * self.nx - 1, real=True))
+        self._hat = tuple(self._embed(k) for k in self._kernels)
+        # inverse of the continuous symbol, on a periodic grid just covering the field (an approximate
+        # inverse needs no padding: its kernel decays like 1/rho^3)
+        self._pre_grid = (sfft.next_fast_len(self.ny, real=True), sfft.next_fast_len(self.nx, real=True))
+        ky = 2 * np.pi * sfft.fftfreq(self._pre_grid[0], d=self.h)[:, None]
+        kx = 2 * np.pi * sfft.rfftfreq(self._pre_grid[1], d=self.h)[None, :]
+        k2 = kx * kx + ky * ky
+        k2[0, 0] = min(kx[0, 1] ** 2 if kx.size > 1 else 1.0, ky[1, 0] ** 2 if ky.size > 1 else 1.0)
+        k = np.sqrt(k2)
+        f = (1.0 - self.nu) * k / (2.0 * np.pi * self.scale)
+        self._pre = (f * (1.0 + c * kx * kx / k2), f * (1.0 + c * ky * ky / k2), f * c * kx * ky / k2)
+
+    @property
+    def self_influence(self) -> float:
+        """Displacement of an element under its own unit traction (the diagonal of the matrix)."""
+        return float(self._kernels[0][self.ny - 1, self.nx - 1])
+
+    def _embed(self, kern):
+        """FFT of the kernel placed on the padded grid with offset 0 at index 0 (wrapped)."""
+        big = np.zeros(self._pad)
+        ny, nx = self.ny, self.nx
+        big[:ny, :nx] = kern[ny - 1:, nx - 1:]
+        if ny > 1:
+            big[-(ny - 1):, :nx] = kern[:ny - 1, nx - 1:]
+        if nx > 1:
+            big[:ny, -(nx - 1):] = kern[ny - 1:, :nx - 1]
+        if ny > 1 and nx > 1:
+            big[-(ny - 1):, -(nx - 1):] = kern[:ny - 1, :nx - 1]
+        return sfft.rfft2(big)
+
+    def _convolve(self, q, hats, grid):
+        q = np.asarray(q, dtype=float)
+        if q.shape != self.shape:
+            raise ValueError(f"q must have shape {self.shape}, got {q.shape}")
+        f = sfft.rfft2(q, s=grid, axes=(1, 2))
+        hxx, hyy, hxy = hats
+        out = np.empty_like(f)
+        out[0] = hxx * f[0] + hxy * f[1]
+        out[1] = hxy * f[0] + hyy * f[1]
+        return sfft.irfft2(out, s=grid, axes=(1, 2))[:, :self.ny, :self.nx]
+
+    def apply(self, q):
+        """Displacements ``(u_x, u_y)`` at the element centres [mu Fn/(E* a)] from tractions ``q`` of shape :attr:`shape`."""
+        return self._convolve(q, self._hat, self._pad)
+
+    def precondition(self, r):
+        """Approximate inverse of :meth:`apply`: the inverse continuous symbol, by FFT (SPD)."""
+        return self._convolve(r, self._pre, self._pre_grid)
+
+    def matrix(self):
+        """Dense ``(size, size)`` matrix of :meth:`apply` (x components first, row-major grid).
+
+        Raises
+        ------
+        ValueError
+            Above :data:`MAX_DENSE_SIZE` unknowns.
+        """
+        if self.size > MAX_DENSE_SIZE:
+            raise ValueError(f"the dense matrix needs size <= {MAX_DENSE_SIZE}, got {self.size}: use apply()")
+        ny, nx = self.ny, self.nx
+        iy, ix = np.divmod(np.arange(ny * nx), nx)
+        dy = iy[:, None] - iy[None, :] + ny - 1
+        dx = ix[:, None] - ix[None, :] + nx - 1
+        kxx, kyy, kxy = (k[dy, dx] for k in self._kernels)
+        return np.block([[kxx, kxy], [kxy, kyy]])

@@ -1,0 +1,422 @@
+"""Point contacts: the rocking sphere and ellipsoid (Hertz pressure, shakedown limit, physical units).
+
+A rigid sphere or ellipsoid (principal relative radii ``Rx``, ``Ry``; the
+sphere is ``Rx = Ry``) is pressed by ``Fn`` onto an elastic half-space, pulled
+by a constant tangential force ``Ft`` (along x, or at an angle to it) and
+rocked so that its contact centre moves along x between ``-W`` and ``+W``.
+Uncoupled (Dundurs beta = 0): the pressure is Hertz's at the current centre.
+
+Normalised units: lengths in ``a``, the contact's semi-axis along x (the
+other is ``b = kappa a``); pressure in ``p0``; tractions in ``mu p0``;
+displacements in ``mu Fn / (E* a)``; ``ft = Ft/(mu Fn)``, ``w = W/a``.
+
+The exact shakedown limit follows from the bound ``|q| <= mu p_min`` that a
+shaken-down state must respect at every point, ``p_min`` the lowest pressure
+over the period, i.e. the pressure of the farther turning point,
+``p_min = p0 sqrt(1 - (|x| + w)^2 - (y/kappa)^2)``. Shakedown is possible iff
+``Ft <= integral of mu p_min`` (Melan's theorem holds for uncoupled frictional
+systems). With ``u = |x| + w`` the y-integral of the ellipsoidal cap is
+``kappa (pi/2)(1 - u^2)``, so
+
+``ft_lim = [2 integral_w^1 kappa (pi/2) (1 - u^2) du] / (2 pi kappa/3) = (1 - w)^2 (2 + w)/2``
+
+for the sphere and every ellipsoid rocked along a principal axis, whatever
+the direction of ``Ft`` (the disk bound is isotropic). Its inverse is the
+root in [0, 1] of the cubic ``w^3 - 3 w + 2 (1 - ft) = 0``,
+``w_lim = 2 cos(arccos(ft - 1)/3 - 2 pi/3)``.
+
+References
+----------
+.. [1] K. L. Johnson, *Contact Mechanics*, CUP 1985, ch. 4 (Hertz elliptical
+   contact, eqs 4.36-4.41) and ch. 7 (Mindlin).
+.. [2] R. Wetter, V. L. Popov, Int. J. Solids Struct. 51 (2014) 930-935 (the
+   rocking sphere); R. Wetter, Physical Mesomechanics 18 (2015), Fig. 14.
+.. [3] A. Klarbring, M. Ciavarella, J. R. Barber, "Shakedown in elastic
+   contact problems with Coulomb friction", Int. J. Solids Struct. 44 (2007) 8355.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import ellipe, ellipk
+
+from ._validate import check_range, check_scalar
+from .analytical import _ellipse_primitive
+
+__all__ = ["Ellipsoid", "Sphere", "resolve_body", "limit_body", "POINT_BODIES", "axis_ratio", "ft_limit_point",
+           "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d", "PointContact"]
+
+#: Body names of the point contacts.
+POINT_BODIES = ("sphere", "ellipsoid")
+#: Gauss points per element row of the pressure quadrature (the x-integral is exact).
+_GAUSS_POINTS = 12
+
+
+@dataclass(frozen=True)
+class Ellipsoid:
+    """A point-contact body given by the ratio ``Ry/Rx`` of its principal relative radii.
+
+    Parameters
+    ----------
+    ratio : float
+        ``Ry / Rx`` in [0.05, 20] (1: the sphere). ``Rx`` is the radius in the
+        rocking direction x.
+
+    Examples
+    --------
+    >>> from core.point_contact import Ellipsoid
+    >>> round(Ellipsoid(1.0).kappa, 12), round(Ellipsoid(4.0).kappa, 3)
+    (1.0, 2.501)
+    """
+
+    ratio: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "ratio", check_scalar("ratio", self.ratio, 0.05, 20.0))
+
+    @property
+    def name(self) -> str:
+        return "sphere" if self.ratio == 1.0 else "ellipsoid"
+
+    @cached_property
+    def kappa(self) -> float:
+        """``b / a``: the contact's semi-axis along y over that along x (Hertz, Johnson ch. 4)."""
+        return axis_ratio(self.ratio)
+
+    @property
+    def total_load(self) -> float:
+        """Integral of the Hertz pressure in ``p0 a^2``: ``2 pi kappa / 3`` (i.e. ``Fn``)."""
+        return 2.0 * math.pi * self.kappa / 3.0
+
+    @property
+    def kernel_scale(self) -> float:
+        """``p0 a^2 / (pi Fn) = 3 / (2 pi^2 kappa)``: the factor of the half-space kernel in these units."""
+        return 1.5 / (math.pi ** 2 * self.kappa)
+
+
+def Sphere() -> Ellipsoid:
+    """The sphere: ``Ellipsoid(1.0)``."""
+    return Ellipsoid(1.0)
+
+
+def resolve_body(body, ratio=None) -> Ellipsoid:
+    """A point-contact body from ``"sphere"``, ``"ellipsoid"`` (with ``ratio = Ry/Rx``) or an :class:`Ellipsoid`.
+
+    Raises
+    ------
+    ValueError
+        For another name, or ``"ellipsoid"`` without ``ratio``.
+    """
+    if isinstance(body, Ellipsoid):
+        if ratio is not None and float(ratio) != body.ratio:
+            raise ValueError(f"ratio = {ratio!r} contradicts body = {body!r}")
+        return body
+    if body == "sphere":
+        if ratio is not None and float(ratio) != 1.0:
+            raise ValueError(f"the sphere has ratio 1, got ratio = {ratio!r}: use body='ellipsoid'")
+        return Ellipsoid(1.0)
+    if body == "ellipsoid":
+        if ratio is None:
+            raise ValueError("body='ellipsoid' needs ratio = Ry/Rx in [0.05, 20]")
+        return Ellipsoid(ratio)
+    raise ValueError(f"body must be 'cylinder', 'sphere', 'ellipsoid' or a core.Ellipsoid, got {body!r:.60}")
+
+
+def limit_body(body) -> bool:
+    """True for a point-contact body of the limit functions (any ellipsoid: the limit does not depend on the ratio).
+
+    Raises
+    ------
+    ValueError
+        For anything but ``"sphere"``, ``"ellipsoid"`` or an :class:`Ellipsoid`.
+    """
+    if isinstance(body, Ellipsoid) or body in POINT_BODIES:
+        return True
+    raise ValueError(f"body must be 'cylinder', 'sphere', 'ellipsoid' or a core.Ellipsoid, got {body!r:.60}")
+
+
+def _curvature_ratio(m):
+    """``C_minor / C_major`` of the Hertz ellipse with semi-axis ratio ``m = major/minor >= 1`` (Johnson eq 4.39)."""
+    e2 = 1.0 - 1.0 / (m * m)
+    K, E = ellipk(e2), ellipe(e2)
+    return (m * m * E - K) / (K - E)
+
+
+def _k_minus_e_over_e2(e2):
+    """``(K(e) - E(e)) / e^2``, with its series near ``e = 0``."""
+    if e2 < 1e-6:
+        return 0.25 * math.pi * (1.0 + 0.375 * e2)
+    return float((ellipk(e2) - ellipe(e2)) / e2)
+
+
+def axis_ratio(ratio):
+    """Semi-axis ratio ``kappa = b/a`` of the Hertz contact of relative radii with ``Ry/Rx = ratio``.
+
+    The ellipse's minor axis lies along the more curved direction, and
+    ``C_minor/C_major = (m^2 E(e) - K(e))/(K(e) - E(e))`` with ``m`` the
+    major/minor ratio and ``e^2 = 1 - 1/m^2`` (Johnson eq 4.39).
+
+    Parameters
+    ----------
+    ratio : float
+        ``Ry / Rx`` in [0.05, 20].
+
+    Returns
+    -------
+    float
+        ``kappa = b / a`` (> 1 when ``Ry > Rx``).
+    """
+    ratio = check_scalar("ratio", ratio, 0.05, 20.0)
+    if abs(ratio - 1.0) < 1e-12:
+        return 1.0
+    target = max(ratio, 1.0 / ratio)
+    m = brentq(lambda m: _curvature_ratio(m) - target, 1.0 + 1e-7, 1e3, xtol=1e-15, rtol=1e-15)
+    return m if ratio > 1.0 else 1.0 / m
+
+
+# --------------------------------------------------------------------------
+# Hertz pressure
+# --------------------------------------------------------------------------
+def hertz_pressure_3d(x, y, xc=0.0, kappa=1.0):
+    """Hertz pressure ``p/p0 = sqrt(1 - (x - xc)^2 - (y/kappa)^2)`` (0 outside the ellipse); lengths in ``a``."""
+    x, y = check_range("x", x), check_range("y", y)
+    return np.sqrt(np.clip(1.0 - (x - xc) ** 2 - (y / kappa) ** 2, 0.0, None))
+
+
+def hertz_element_means(x_edges, y_edges, xc=0.0, kappa=1.0, scale=1.0):
+    """Element means of the Hertz pressure over the rectangles of a grid [p0 of the nominal load].
+
+    The x-integral of each element is exact; the y-integral uses
+    Gauss-Legendre points per row, and the field is rescaled so the element
+    loads add up exactly to the normal load ``(2 pi/3) kappa scale^3`` (so that
+    any ``ft < 1`` stays feasible). ``scale`` is the contact size relative to
+    the nominal one (``(Fn/Fn0)^(1/3)``; semi-axes and peak pressure scale
+    with it).
+
+    Parameters
+    ----------
+    x_edges, y_edges : ndarray
+        Increasing edges of the uniform grid [a].
+    xc : float
+        Contact centre on the x axis [a].
+    kappa : float
+        ``b / a``.
+    scale : float
+        Load scale ``(Fn/Fn0)^(1/3)``.
+
+    Returns
+    -------
+    ndarray, shape (ny, nx)
+        Mean pressure per element [p0].
+    """
+    gx, gw = np.polynomial.legendre.leggauss(_GAUSS_POINTS)
+    y0, y1 = y_edges[:-1, None], y_edges[1:, None]
+    ys = 0.5 * (y0 + y1) + 0.5 * (y1 - y0) * gx[None, :]  # (ny, g)
+    c2 = np.clip(1.0 - (ys / (kappa * scale)) ** 2, 0.0, None)[:, :, None]  # (ny, g, 1)
+    c = np.sqrt(c2)
+    safe = np.where(c > 0, c, 1.0)
+    t = (x_edges[None, None, :] - xc) / scale / safe
+    F = _ellipse_primitive(t)
+    inner = scale * scale * c2 * np.diff(F, axis=-1)  # integral over x of p(x, y) (peak = scale)
+    loads = np.einsum("rgi,g->ri", inner, 0.5 * gw) * (y1 - y0)  # element loads
+    total = 2.0 * math.pi / 3.0 * kappa * scale ** 3
+    s = loads.sum()
+    if s > 0:
+        loads *= total / s
+    area = np.diff(y_edges)[:, None] * np.diff(x_edges)[None, :]
+    return np.clip(loads / area, 0.0, None)
+
+
+def lowest_pressure_3d(x_edges, y_edges, w, kappa=1.0):
+    """``p_min``: the lowest element-mean pressure over a rocking period ``xc in [-w, w]`` [p0].
+
+    The element mean of the concave Hertz cap is quasi-concave in ``xc``, so
+    the minimum over the period is at a turning point.
+    """
+    return np.minimum(hertz_element_means(x_edges, y_edges, -w, kappa), hertz_element_means(x_edges, y_edges, w, kappa))
+
+
+# --------------------------------------------------------------------------
+# exact shakedown limit and its inverse
+# --------------------------------------------------------------------------
+def ft_limit_point(w):
+    """Exact shakedown limit of a rocking sphere or ellipsoid: ``ft_lim = (1 - w)^2 (2 + w) / 2``.
+
+    Derived in the module docstring from ``Ft <= integral of mu p_min``; the
+    same for every axis ratio and every direction of ``Ft``.
+
+    Parameters
+    ----------
+    w : array_like
+        ``W / a`` in [0, 1].
+
+    Returns
+    -------
+    ndarray
+        ``ft_lim`` in [0, 1], decreasing in ``w``.
+
+    Examples
+    --------
+    >>> from core.point_contact import ft_limit_point
+    >>> round(float(ft_limit_point(0.3)), 4)
+    0.5635
+    """
+    w = check_range("w", w, 0.0, 1.0)
+    return (1.0 - w) ** 2 * (2.0 + w) / 2.0
+
+
+def w_limit_point(ft):
+    """Exact inverse of :func:`ft_limit_point`: ``w_lim = 2 cos(arccos(ft - 1)/3 - 2 pi/3)``.
+
+    Parameters
+    ----------
+    ft : array_like
+        ``Ft / (mu Fn)`` in [0, 1].
+
+    Returns
+    -------
+    ndarray
+        ``w_lim`` in [0, 1].
+
+    Examples
+    --------
+    >>> from core.point_contact import w_limit_point
+    >>> round(float(w_limit_point(0.5635)), 3)
+    0.3
+    """
+    ft = check_range("ft", ft, 0.0, 1.0)
+    return np.clip(2.0 * np.cos(np.arccos(ft - 1.0) / 3.0 - 2.0 * math.pi / 3.0), 0.0, 1.0)
+
+
+# --------------------------------------------------------------------------
+# physical units
+# --------------------------------------------------------------------------
+def _compliance(E, nu):
+    return 0.0 if math.isinf(E) else (1.0 - nu * nu) / E
+
+
+@dataclass(frozen=True)
+class PointContact:
+    """A sphere or ellipsoid on a substrate, in SI units (m, N, Pa), and its normalised loads.
+
+    Parameters
+    ----------
+    Rx, Ry : float
+        Principal relative radii [m] (x: the rocking direction); ``Ry/Rx`` in [0.05, 20].
+    Fn : float
+        Normal force [N], > 0.
+    mu : float
+        Friction coefficient, in (0, 10].
+    E2, nu2 : float
+        Substrate's Young's modulus [Pa] and Poisson ratio (default 0.5), in [0, 0.5].
+    E1, nu1 : float
+        The body's (default rigid, ``E1 = inf``).
+    Ft : float
+        Tangential force [N], in [0, mu Fn).
+    W : float
+        Rocking amplitude of the contact centre [m], in [0, a).
+    angle : float
+        Angle of ``Ft`` to the rocking direction [rad].
+
+    Examples
+    --------
+    >>> from core.point_contact import PointContact
+    >>> c = PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
+    >>> round(c.ft, 3), round(c.a * 1e3, 3)
+    (0.4, 2.657)
+    """
+
+    Rx: float
+    Ry: float
+    Fn: float
+    mu: float
+    E2: float
+    nu2: float = 0.5
+    E1: float = math.inf
+    nu1: float = 0.3
+    Ft: float = 0.0
+    W: float = 0.0
+    angle: float = 0.0
+
+    def __post_init__(self):
+        for name, lo, hi, inf in (("Rx", 0.0, None, False), ("Ry", 0.0, None, False), ("Fn", 0.0, None, False),
+                                  ("mu", 0.0, 10.0, False), ("E2", 0.0, None, False), ("E1", 0.0, None, True)):
+            object.__setattr__(self, name, check_scalar(name, getattr(self, name), lo, hi, lo_closed=False,
+                                                        allow_inf=inf))
+        for name in ("nu1", "nu2"):
+            object.__setattr__(self, name, check_scalar(name, getattr(self, name), 0.0, 0.5))
+        check_scalar("Ry/Rx", self.Ry / self.Rx, 0.05, 20.0)
+        object.__setattr__(self, "Ft", check_scalar("Ft", self.Ft, 0.0, self.mu * self.Fn, hi_closed=False))
+        object.__setattr__(self, "angle", check_scalar("angle", self.angle, -math.pi, math.pi))
+        object.__setattr__(self, "W", check_scalar("W", self.W, 0.0, self.a, hi_closed=False))
+
+    @property
+    def body(self) -> Ellipsoid:
+        return Ellipsoid(self.Ry / self.Rx)
+
+    @property
+    def E_star(self) -> float:
+        """``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` [Pa]."""
+        return 1.0 / (_compliance(self.E1, self.nu1) + _compliance(self.E2, self.nu2))
+
+    @property
+    def nu(self) -> float:
+        """Poisson ratio of the equivalent rigid-on-substrate Cerruti kernel: ``2 nu/(1 - nu) = E* sum nu_i/G_i``."""
+        g = sum(0.0 if math.isinf(E) else 2.0 * (1.0 + n) * n / E for E, n in ((self.E1, self.nu1), (self.E2, self.nu2)))
+        b = self.E_star * g
+        return b / (2.0 + b)
+
+    @cached_property
+    def a(self) -> float:
+        """Semi-axis of the contact along x [m] (Johnson eqs 4.36-4.41)."""
+        kappa = self.body.kappa
+        major_y = kappa >= 1.0
+        m = kappa if major_y else 1.0 / kappa
+        C_major = 0.5 / (self.Ry if major_y else self.Rx)
+        e2 = 1.0 - 1.0 / (m * m)
+        a_major = (3.0 * self.Fn * _k_minus_e_over_e2(e2) / (2.0 * math.pi * self.E_star * C_major)) ** (1.0 / 3.0)
+        return a_major / kappa if major_y else a_major
+
+    @property
+    def b(self) -> float:
+        """Semi-axis along y [m]."""
+        return self.body.kappa * self.a
+
+    @property
+    def p0(self) -> float:
+        """Peak pressure ``3 Fn / (2 pi a b)`` [Pa]."""
+        return 3.0 * self.Fn / (2.0 * math.pi * self.a * self.b)
+
+    @property
+    def ft(self) -> float:
+        return self.Ft / (self.mu * self.Fn)
+
+    @property
+    def w(self) -> float:
+        return self.W / self.a
+
+    @property
+    def traction_unit(self) -> float:
+        """``mu p0`` [Pa]."""
+        return self.mu * self.p0
+
+    @property
+    def displacement_unit(self) -> float:
+        """``mu Fn / (E* a)`` [m]."""
+        return self.mu * self.Fn / (self.E_star * self.a)
+
+    def simulate(self, periods=10, dx=0.05, **options):
+        """Run :func:`core.solver3d.simulate_point_contact` with this contact's ``ft``, ``w``, body, angle and ``nu``.
+
+        The result stays normalised: multiply lengths by :attr:`a`, tractions
+        by :attr:`traction_unit` and displacements by :attr:`displacement_unit`.
+        """
+        from .solver3d import simulate_point_contact
+
+        return simulate_point_contact(self.ft, self.w, periods, dx, body=self.body, angle=self.angle, nu=self.nu,
+                                      **options)

@@ -1,0 +1,829 @@
+"""The 3D incremental tangential problem of a rocking point contact, matrix-free.
+
+At each step the pressure ``p`` is Hertz's at the current centre (uncoupled,
+Dundurs beta = 0) and the unknowns are the element tractions ``q`` (a vector
+per element) and the rigid-body displacement increment ``lam = (lam_x,
+lam_y)``. With ``K`` the half-space operator (:mod:`core.halfspace`) and
+``dq = q - q_prev``, the slip increment of an element is ``s = lam - K dq``
+(the sign convention of :mod:`core.solver`), and Coulomb's law reads
+
+* ``|q_i| <= g_i = mu p_i`` (the Coulomb disk), ``q_i = 0`` out of contact;
+* stick (``s_i = 0``) where ``|q_i| < g_i``;
+* where ``s_i != 0``: ``q_i = g_i s_i/|s_i|`` (friction dissipates, ``q.s >= 0``);
+* ``sum q_i dA = Ft`` (both components; ``lam`` their multipliers).
+
+These are the KKT conditions of ``min 1/2 dq^T K dq`` over the disks and the
+two force balances (a second-order-cone programme). :func:`solve_increment`
+solves them by a semismooth Newton / active-set loop: stick elements are
+free, slipping elements are held on the disk at their slip direction ``d``
+with the tangential correction ``t d_perp`` free and the Newton curvature
+``|s|/g`` on it (the linearisation of ``q = g s/|s|``); the linear system of
+each iteration is solved by conjugate gradients projected on the force
+balances, with FFT products and the inverse continuous symbol as
+preconditioner (:meth:`core.halfspace.HalfSpaceOperator.precondition`), and
+warm-started from the previous iteration and step. The zero increment is
+checked first (it is the unique solution whenever it is feasible).
+
+References
+----------
+.. [1] J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990.
+.. [2] E. A. H. Vollebregt, J. Comput. Phys. 257 (2014) 333-351; I. A. Polonsky,
+   L. M. Keer, Wear 231 (1999) 206-219 (CG with FFT products).
+.. [3] M. Hintermueller, K. Ito, K. Kunisch, SIAM J. Optim. 13 (2003) 865-888.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from ._validate import check_int, check_scalar
+from .halfspace import HalfSpaceOperator
+from .point_contact import Ellipsoid, hertz_element_means, resolve_body
+from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth
+from .schedule import Schedule, rocking_schedule
+
+__all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
+           "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
+           "MAX_GRID_ELEMENTS"]
+
+#: Names of the per-step residuals (see :func:`solve_increment`).
+RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "load_balance")
+#: Default KKT tolerance of the 3D steps (tractions in mu p0, slips in mu Fn/(E* a), loads in mu Fn).
+TOL_3D = 1e-8
+#: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
+PERIODIC_TOL = 1e-6
+#: Largest grid (elements) a point-contact run accepts.
+MAX_GRID_ELEMENTS = 200_000
+#: Largest number of stored full-field values (snapshots at the turning points).
+MAX_SNAPSHOT_VALUES = 2e7
+
+# element kinds (internal)
+_OUT, _STICK, _SLIP = 0, 1, 2
+# active-set iterations that move every violator before moving only the worst ones
+_FULL_MOVES = 6
+# |s|/g, in units of the self-influence, above which slip directions take the Newton update
+_NEWTON_CURV = 1.0
+
+
+@dataclass
+class _WarmStart:
+    """Solver state carried from step to step: kinds, slip directions, Newton curvatures, last increment."""
+
+    kind: np.ndarray
+    d: np.ndarray
+    curv: np.ndarray
+    x: np.ndarray
+
+    @classmethod
+    def empty(cls, shape):
+        return cls(np.zeros(shape, np.int8), np.zeros((2,) + shape), np.zeros(shape), np.zeros((2,) + shape))
+
+
+class _Projector:
+    """Orthogonal projection on {x in V, sum x = 0}: V holds both components on stick, ``d_perp`` on slip."""
+
+    def __init__(self, stick, slip, dperp):
+        self.pxx = stick + slip * dperp[0] ** 2
+        self.pyy = stick + slip * dperp[1] ** 2
+        self.pxy = slip * dperp[0] * dperp[1]
+        M = np.array([[self.pxx.sum(), self.pxy.sum()], [self.pxy.sum(), self.pyy.sum()]])
+        self.Minv = np.linalg.pinv(M)
+
+    def local(self, v):
+        return np.stack([self.pxx * v[0] + self.pxy * v[1], self.pxy * v[0] + self.pyy * v[1]])
+
+    def multiplier(self, v):
+        """``M^-1 sum P v``: the constant field whose projection matches ``P v`` in the mean."""
+        return self.Minv @ self.local(v).sum(axis=(1, 2))
+
+    def __call__(self, v):
+        y = self.local(v)
+        mu = self.Minv @ y.sum(axis=(1, 2))
+        return y - self.local(np.broadcast_to(mu[:, None, None], v.shape))
+
+    def particular(self, D):
+        """A field in V with ``sum = D`` (least norm)."""
+        return self.local(np.broadcast_to((self.Minv @ D)[:, None, None], (2,) + self.pxx.shape))
+
+
+def _pcg(op, proj, Kdq, curv, x, tol, maxiter, stick, slip_diag):
+    """Projected preconditioned CG for ``P (K dq + curv x) = 0``, ``dq = dq_fixed + x``, ``x`` in V.
+
+    ``Kdq`` is ``K dq`` of the starting ``x``; returns (x, K dq, its, residual).
+
+    Preconditioner: the inverse continuous symbol on the stick set, the inverse
+    diagonal ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
+    """
+    def pre(r):
+        return proj(np.where(stick, op.precondition(np.where(stick, r, 0.0)), r * slip_diag))
+
+    r = proj(-Kdq - curv * x)
+    z = pre(r)
+    p = z
+    rz = float(np.vdot(r, z))
+    its = 0
+    while its < maxiter and np.abs(r).max() > tol:
+        its += 1
+        Kp = op.apply(p)
+        Ap = proj(Kp + curv * p)
+        pAp = float(np.vdot(p, Ap))
+        if not pAp > 0.0:
+            break
+        alpha = rz / pAp
+        x = x + alpha * p
+        Kdq = Kdq + alpha * Kp
+        r = r - alpha * Ap
+        z = pre(r)
+        rz_new = float(np.vdot(r, z))
+        p = z + (rz_new / rz) * p
+        rz = rz_new
+    return x, Kdq, its, float(np.abs(r).max())
+
+
+def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
+    """Solve one increment of the 3D tangential problem (see the module docstring).
+
+    Parameters
+    ----------
+    op : HalfSpaceOperator
+        The elastic operator of the grid.
+    g : ndarray, shape (ny, nx)
+        Traction bounds ``mu p`` [mu p0]; 0 out of contact.
+    q_prev : ndarray, shape (2, ny, nx)
+        Tractions after the previous step [mu p0].
+    target : ndarray, shape (2,)
+        Required ``sum q dA`` [mu p0 a^2].
+    dA : float
+        Element area [a^2].
+    warm : _WarmStart
+        Kinds, slip directions, curvatures and last increment; updated in place.
+    tol : float
+        KKT tolerance (tractions [mu p0], slips [displacement unit]).
+    maxiter, cg_maxiter : int
+        Largest numbers of active-set and CG iterations.
+
+    Returns
+    -------
+    q : ndarray, shape (2, ny, nx)
+        Tractions.
+    s : ndarray, shape (2, ny, nx)
+        Slip increments (0 where sticking or out of contact).
+    lam : ndarray, shape (2,)
+        Rigid-body displacement increment.
+    info : dict
+        ``iterations`` (active set), ``cg_iterations`` and the residuals of
+        :data:`RESIDUAL_NAMES` (``load_balance`` in ``sum q dA`` units).
+
+    Raises
+    ------
+    RuntimeError
+        If the iteration does not settle within ``maxiter``.
+    """
+    contact = g > 0
+    kind, d = warm.kind, warm.d
+    kind[~contact] = _OUT
+    kind[contact & (kind == _OUT)] = _STICK
+    mag_prev = np.hypot(q_prev[0], q_prev[1])
+    # ---- the zero increment, if feasible, is the unique solution
+    balance = np.abs(q_prev.sum(axis=(1, 2)) * dA - target).max()
+    if (not np.any(q_prev[:, ~contact])) and np.all(mag_prev <= g + tol) and balance <= tol:
+        kind[(kind == _SLIP) & (mag_prev < g - tol)] = _STICK
+        warm.x[:] = 0.0
+        zero = np.zeros_like(q_prev)
+        info = dict(iterations=0, cg_iterations=0, stick_slip=0.0, bound=max(float((mag_prev - g).max()), 0.0),
+                    slip_direction=0.0, out_of_contact=0.0, load_balance=float(balance))
+        return q_prev.copy(), zero, np.zeros(2), info
+    cg_total = 0
+    x = warm.x
+    k_self = op.self_influence
+    # ---- predicted active set: what is above its new bound slips back along its traction
+    above = contact & (kind == _STICK) & (mag_prev > g)
+    kind[above] = _SLIP
+    d[:, above] = (q_prev / np.where(mag_prev > 0, mag_prev, 1.0))[:, above]
+    warm.curv[above] = 0.0
+    # inexact Newton: the linear solves tighten with the violation they correct
+    measure = max(float((mag_prev - g).max()), balance)
+    for it in range(1, maxiter + 1):
+        stick, slip = kind == _STICK, kind == _SLIP
+        if not stick.any():  # the force balances need at least one free element
+            i = np.unravel_index(np.argmax(np.where(contact, g, -1.0)), g.shape)
+            kind[i] = _STICK
+            stick, slip = kind == _STICK, kind == _SLIP
+        dperp = np.stack([-d[1], d[0]])
+        proj = _Projector(stick.astype(float), slip.astype(float), dperp)
+        base = np.where(stick, q_prev, np.where(slip, g * d, 0.0))
+        D = target / dA - base.sum(axis=(1, 2))
+        curv = np.where(slip, warm.curv, 0.0)
+        # ---- the linear problem of this active set (warm start projected on its space)
+        x0 = proj(x) + proj.particular(D)
+        Kdq0 = op.apply(base - q_prev + x0)
+        cg_tol = max(0.1 * tol, 1e-3 * measure)
+        x, Kdq, its, cg_res = _pcg(op, proj, Kdq0, curv, x0, cg_tol, cg_maxiter, stick, 1.0 / (curv + k_self))
+        cg_total += its
+        lam = proj.multiplier(Kdq + curv * x)
+        q = base + x
+        s = np.where(contact, lam[:, None, None] - Kdq, 0.0)
+        # ---- check: bounds on the stick set, slip direction on the slip set
+        mag = np.hypot(q[0], q[1])
+        over = np.where(stick, mag - g, -np.inf)
+        s_par = d[0] * s[0] + d[1] * s[1]
+        wrong = np.where(slip, -s_par, -np.inf)
+        t = dperp[0] * x[0] + dperp[1] * x[1]
+        # off the disk by t; the slip then has the normal component curv t
+        tangent = float(np.abs(np.where(slip, t * np.maximum(1.0, curv), 0.0)).max())
+        worst = max(float(over.max()), float(wrong.max()))
+        measure = max(worst, tangent)
+        if worst <= tol and tangent <= tol and cg_res <= 0.5 * tol:
+            break
+        if worst > tol:
+            level = tol if it <= _FULL_MOVES else max(tol, 0.5 * worst)
+            to_slip = over > level
+            to_stick = wrong > level
+            kind[to_slip] = _SLIP
+            safe = np.where(mag > 0, mag, 1.0)
+            d[:, to_slip] = (q / safe)[:, to_slip]
+            warm.curv[to_slip] = 0.0
+            kind[to_stick] = _STICK
+            x = np.where(to_stick, 0.0, x)
+        # ---- Newton update of the slip directions and their curvature |s|/g
+        keep = slip & (kind == _SLIP)
+        qs = np.where(keep, q, 0.0)
+        nq = np.hypot(qs[0], qs[1])
+        ns = np.hypot(s[0], s[1])
+        curv_new = ns / np.where(g > 0, g, 1.0)
+        # where the slip dominates (|s|/g above the self-influence) linearise q = g s/|s| about the slip
+        # direction (semismooth Newton); elsewhere follow the corrected traction
+        newton = keep & (curv_new > _NEWTON_CURV * k_self)
+        rest = keep & ~newton
+        d[:, newton] = (s / np.where(ns > 0, ns, 1.0))[:, newton]
+        d[:, rest] = (qs / np.where(nq > 0, nq, 1.0))[:, rest]
+        warm.curv[keep] = curv_new[keep]
+        x = np.where(keep, 0.0, x)
+    else:
+        raise RuntimeError(f"active set did not settle in {maxiter} iterations (worst violation {worst:.3g})")
+    # ---- the final traction: slipping elements exactly on the disk
+    q = np.where(slip, g * d, q)
+    q[:, ~contact] = 0.0
+    slipping = slip & (np.hypot(s[0], s[1]) > tol)
+    s = np.where(slipping, s, 0.0)
+    warm.x = np.where(stick, x, 0.0)
+    qn = np.hypot(q[0], q[1])
+    e = q / np.where(qn > 0, qn, 1.0)
+    along = e[0] * s[0] + e[1] * s[1]
+    direction = np.where(slipping, np.maximum(np.abs(e[0] * s[1] - e[1] * s[0]), -along), 0.0)
+    info = dict(
+        iterations=it, cg_iterations=cg_total,
+        stick_slip=float(np.abs(np.where(stick, lam[:, None, None] - Kdq, 0.0)).max()),
+        bound=max(float((np.hypot(q[0], q[1]) - g).max()), 0.0),
+        slip_direction=float(direction.max()),
+        out_of_contact=float(np.abs(q[:, ~contact]).max()) if (~contact).any() else 0.0,
+        load_balance=float(np.abs(q.sum(axis=(1, 2)) * dA - target).max()),
+    )
+    return q, s, lam, info
+
+
+def _state_codes(q, s, g, tol):
+    """Element states: 0 released, 1 stick, 2 slip forward (+x), 3 slip backward (the codes of core.result)."""
+    codes = np.where(g > 0, 1, 0).astype(np.int8)
+    slipping = (np.hypot(s[0], s[1]) > tol) & (g > 0)
+    codes[slipping & (s[0] >= 0)] = 2
+    codes[slipping & (s[0] < 0)] = 3
+    return codes
+
+
+# --------------------------------------------------------------------------
+# grids
+# --------------------------------------------------------------------------
+def _centred_edges(reach, h):
+    """Edges of an odd number of elements of side ``h`` centred on 0 (one element at 0) covering ``[-reach, reach]``."""
+    half = math.ceil(reach / h - 0.5 - 1e-9) + 1
+    return h * (np.arange(2 * half + 2) - half - 0.5)
+
+
+def _grid(body, reach_x, scale, h):
+    xe = _centred_edges(reach_x, h)
+    ye = _centred_edges(body.kappa * scale, h)
+    if (xe.size - 1) * (ye.size - 1) > MAX_GRID_ELEMENTS:
+        raise ValueError(f"dx = {h:g} needs {(xe.size - 1) * (ye.size - 1)} elements (> {MAX_GRID_ELEMENTS}): "
+                         "use a larger dx")
+    return xe, ye
+
+
+# --------------------------------------------------------------------------
+# results
+# --------------------------------------------------------------------------
+def _freeze(obj):
+    for name, value in vars(obj).items():
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)
+        elif isinstance(value, dict):
+            for v in value.values():
+                if isinstance(v, np.ndarray):
+                    v.setflags(write=False)
+
+
+class _GridFields:
+    """Grid helpers shared by the point-contact results (``x_edges``, ``y_edges``; arrays frozen on creation)."""
+
+    def __post_init__(self):
+        _freeze(self)
+
+    @property
+    def x(self):
+        """Element centres along x [a]."""
+        return 0.5 * (self.x_edges[1:] + self.x_edges[:-1])
+
+    @property
+    def y(self):
+        """Element centres along y [a]."""
+        return 0.5 * (self.y_edges[1:] + self.y_edges[:-1])
+
+    @property
+    def cut_row(self) -> int:
+        """Index of the grid row on ``y = 0``."""
+        return (self.y_edges.size - 1) // 2
+
+
+@dataclass(frozen=True, eq=False)
+class PointContactResult(_GridFields):
+    """The transient of a rocking point contact: per step, per period, and its verdict.
+
+    Normalised units: lengths in ``a`` (semi-axis along x), pressure in ``p0``,
+    tractions in ``mu p0``, loads in ``mu Fn``, displacements in
+    ``mu Fn/(E* a)``, dissipation in ``(mu Fn)^2/(E* a)``. Arrays are read-only.
+
+    Attributes
+    ----------
+    body : Ellipsoid
+        The body (``body.kappa = b/a``).
+    nu, angle : float
+        Substrate's Poisson ratio; angle of ``Ft`` to the rocking direction [rad].
+    x_edges, y_edges : ndarray
+        Grid edges; the grid has a row centred on ``y = 0`` (the cut).
+    xc, P, Q, period : ndarray, shape (steps,)
+        The schedule (``P`` in nominal ``Fn``, ``Q = Ft/(mu Fn0)``).
+    displacement : ndarray, shape (steps, 2)
+        Rigid-body displacement (x, y) after each step.
+    traction_cut : ndarray, shape (steps, 2, nx)
+        Traction (both components) on the row ``y = 0`` after each step.
+    state_cut : ndarray of int8, shape (steps, nx)
+        Element states on that row (0 released, 1 stick, 2 slip +x, 3 slip -x).
+    snapshot_steps : ndarray of int
+        Steps whose full fields are stored: the end of the loading, the turning
+        points, the last step.
+    traction_snapshots : ndarray, shape (k, 2, ny, nx)
+    state_snapshots : ndarray of int8, shape (k, ny, nx)
+    lowest_pressure : ndarray, shape (ny, nx)
+        Lowest element pressure of the last period [p0].
+    dissipation, iterations, cg_iterations : ndarray, shape (steps,)
+        Frictional work (>= 0), active-set and CG iterations of each step.
+    residuals : dict of ndarray
+        Per-step residuals named in :data:`RESIDUAL_NAMES`.
+    periodic_from : int or None
+        Period from which the state repeated to the tolerance, later periods copied.
+    """
+
+    body: Ellipsoid
+    nu: float
+    angle: float
+    x_edges: np.ndarray
+    y_edges: np.ndarray
+    xc: np.ndarray
+    P: np.ndarray
+    Q: np.ndarray
+    period: np.ndarray
+    displacement: np.ndarray
+    traction_cut: np.ndarray
+    state_cut: np.ndarray
+    snapshot_steps: np.ndarray
+    traction_snapshots: np.ndarray
+    state_snapshots: np.ndarray
+    lowest_pressure: np.ndarray
+    dissipation: np.ndarray
+    iterations: np.ndarray
+    cg_iterations: np.ndarray
+    residuals: dict
+    periodic_from: int | None
+    params: dict = field(default_factory=dict)
+    tol: float = TOL_3D
+    shakedown_rtol: float = 1e-3
+    runtime: float = 0.0
+
+    @property
+    def dx(self) -> float:
+        return float(self.x_edges[1] - self.x_edges[0])
+
+    @property
+    def periods(self) -> int:
+        return int(self.period.max()) + 1 if self.period.size else 0
+
+    def pressure(self, step):
+        """Element-mean Hertz pressure at ``step`` [p0], shape (ny, nx) (the traction bound in mu p0)."""
+        return hertz_element_means(self.x_edges, self.y_edges, float(self.xc[step]), self.body.kappa,
+                                   float(self.P[step]) ** (1.0 / 3.0))
+
+    @property
+    def final_traction(self):
+        """Traction after the last step, shape (2, ny, nx)."""
+        return self.traction_snapshots[-1]
+
+    @property
+    def final_state(self):
+        return self.state_snapshots[-1]
+
+    # ---- per period --------------------------------------------------------
+    @cached_property
+    def increment_per_period(self):
+        """Rigid-body displacement increment of each period along Ft [mu Fn/(E* a)]."""
+        ends = np.append(np.flatnonzero(np.diff(self.period) != 0), self.period.size - 1)
+        along = self.displacement @ np.array([math.cos(self.angle), math.sin(self.angle)])
+        disp = along[ends]
+        return np.diff(disp) if self.period[0] < 0 else np.diff(np.concatenate([[0.0], disp]))
+
+    @cached_property
+    def _verdict(self):
+        inc = np.abs(self.increment_per_period)
+        if inc.size == 0:
+            return "undetermined", "no rocking period was run"
+        scale = float(inc.max())
+        floor = 10.0 * self.tol
+        if scale <= floor or inc[-1] <= self.shakedown_rtol * scale:
+            return "shakedown", f"the last increment is {inc[-1]:.3g} (largest {scale:.3g})"
+        if self.periodic_from is not None:
+            return "ratcheting", f"the state repeats from period {self.periodic_from} with increment {inc[-1]:.4g}"
+        if inc.size >= 3 and abs(inc[-1] - inc[-2]) <= 0.01 * inc[-1] and abs(inc[-2] - inc[-3]) <= 0.02 * inc[-1]:
+            return "ratcheting", f"the increment settled at {inc[-1]:.4g} per period"
+        ratio = inc[-1] / inc[-2] if inc.size >= 2 and inc[-2] > 0 else float("nan")
+        return "undetermined", (f"after {inc.size} periods the increment is {inc[-1]:.3g} ({inc[-1] / scale:.2g} of "
+                                f"the largest), changing by a factor {ratio:.3g} per period: run more periods")
+
+    @property
+    def regime(self) -> str:
+        """``"shakedown"``, ``"ratcheting"`` or ``"undetermined"`` (see :attr:`regime_reason`)."""
+        return self._verdict[0]
+
+    @property
+    def regime_reason(self) -> str:
+        return self._verdict[1]
+
+    # ---- the final state ---------------------------------------------------
+    @cached_property
+    def stick_halfwidth(self) -> float:
+        """Half-extent along x [a] of the central zone on ``y = 0`` whose final ``|q|`` stays below mu p_min."""
+        q = self.traction_cut[-1]
+        bound = self.lowest_pressure[self.cut_row]
+        mask = (bound > 0) & (np.hypot(q[0], q[1]) < bound - STICK_MARGIN)
+        return central_halfwidth(mask, self.x_edges)
+
+    @property
+    def max_residual(self) -> float:
+        return max(float(v.max()) for v in self.residuals.values()) if self.xc.size else 0.0
+
+    def summary(self) -> dict:
+        inc = self.increment_per_period
+        return {**self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
+                "regime_reason": self.regime_reason, "stick_halfwidth": self.stick_halfwidth,
+                "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
+                "elements": int((self.x_edges.size - 1) * (self.y_edges.size - 1)), "steps": int(self.xc.size),
+                "periodic_from": self.periodic_from, "max_iterations": int(self.iterations.max()),
+                "max_cg_iterations": int(self.cg_iterations.max()), "max_residual": self.max_residual,
+                "runtime_s": self.runtime}
+
+
+# --------------------------------------------------------------------------
+# a run over a schedule
+# --------------------------------------------------------------------------
+def _turning_points(schedule):
+    xc, per = schedule.xc, schedule.period
+    steps = []
+    for k in range(1, xc.size - 1):
+        if per[k] >= 0 and ((xc[k] > xc[k - 1] and xc[k] >= xc[k + 1]) or (xc[k] < xc[k - 1] and xc[k] <= xc[k + 1])):
+            steps.append(k)
+    return steps
+
+
+def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, detect_periodic=True,
+                         periodic_tol=PERIODIC_TOL, shakedown_rtol=1e-3, params=None, time_budget=None, cancel=None,
+                         progress=None, chunk=50):
+    """Solve a loading :class:`~core.schedule.Schedule` for a point contact, step by step.
+
+    Parameters
+    ----------
+    schedule : Schedule
+        Steps (``xc`` [a], ``P`` [nominal Fn], ``Q = Ft/(mu Fn0)``, period).
+    dx : float
+        Element side [a], in [0.005, 0.5].
+    body : Ellipsoid
+        The body.
+    nu : float
+        Substrate's Poisson ratio, in [0, 0.5].
+    angle : float
+        Angle of Ft to the rocking direction x [rad].
+    tol : float
+        KKT tolerance of every step.
+    detect_periodic : bool
+        When the traction at the end of a period repeats the previous one to
+        ``periodic_tol`` [mu p0], copy the remaining periods (same steps every
+        period only; a shaken-down period repeats exactly, a ratcheting one
+        converges geometrically to its periodic state).
+    shakedown_rtol : float
+        Relative size of the last increment for the shakedown verdict.
+    params : dict, optional
+        Recorded on the result.
+    time_budget, cancel, progress, chunk :
+        As in :func:`core.solver.solve_schedule`.
+
+    Returns
+    -------
+    PointContactResult
+
+    Raises
+    ------
+    SolverError
+        If a step does not settle (names the step, ``xc`` and the residual).
+    SolveCancelled
+        On request or when the time budget ran out.
+    """
+    if not isinstance(schedule, Schedule):
+        raise ValueError(f"schedule must be a core.Schedule, got {type(schedule).__name__}")
+    if not isinstance(body, Ellipsoid):
+        raise ValueError(f"body must be a core.Ellipsoid, got {type(body).__name__}")
+    dx = check_scalar("dx", dx, 0.005, 0.5)
+    nu = check_scalar("nu", nu, 0.0, 0.5)
+    angle = check_scalar("angle", angle, -math.pi, math.pi)
+    tol = check_scalar("tol", tol, 1e-13, 1e-4)
+    periodic_tol = check_scalar("periodic_tol", periodic_tol, 0.0, 1e-2)
+    chunk = check_int("chunk", chunk, 1, 10**7)
+    t0 = time.perf_counter()
+    scales = np.cbrt(schedule.P)
+    xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
+    ny, nx = ye.size - 1, xe.size - 1
+    op = HalfSpaceOperator(ny, nx, dx, nu, body.kernel_scale)
+    dA = dx * dx
+    direction = np.array([math.cos(angle), math.sin(angle)])
+    steps = len(schedule)
+    turning = set(_turning_points(schedule))
+    load_end = int(np.flatnonzero(schedule.period < 0)[-1]) if (schedule.period < 0).any() else -1
+    snap_all = sorted(turning | {load_end, steps - 1} - {-1})
+    if len(snap_all) * 3 * ny * nx > MAX_SNAPSHOT_VALUES:  # keep the last period's turning points only
+        last = set(np.flatnonzero(schedule.period == schedule.period[-1]).tolist())
+        snap_all = sorted((turning & last) | {load_end, steps - 1} - {-1})
+    snap_index = {k: i for i, k in enumerate(snap_all)}
+    row = ny // 2
+    disp = np.zeros((steps, 2))
+    tcut = np.zeros((steps, 2, nx))
+    scut = np.zeros((steps, nx), np.int8)
+    tsnap = np.zeros((len(snap_all), 2, ny, nx))
+    ssnap = np.zeros((len(snap_all), ny, nx), np.int8)
+    diss = np.zeros(steps)
+    iters = np.zeros(steps, np.int64)
+    cg = np.zeros(steps, np.int64)
+    res = {name: np.zeros(steps) for name in RESIDUAL_NAMES}
+    pressure_cache = {}
+    warm = _WarmStart.empty((ny, nx))
+    q = np.zeros((2, ny, nx))
+    periodic = bool(detect_periodic) and schedule.is_periodic()
+    period_start_q = None
+    periodic_from = None
+    pmin = {}
+    total = 0.0 * direction
+    budget_end = None if time_budget is None else t0 + float(time_budget)
+    k = 0
+    while k < steps:
+        key = (float(schedule.xc[k]), float(scales[k]))
+        g = pressure_cache.get(key)
+        if g is None:
+            g = pressure_cache[key] = hertz_element_means(xe, ye, key[0], body.kappa, key[1])
+        per = int(schedule.period[k])
+        pmin[per] = g if per not in pmin else np.minimum(pmin[per], g)
+        target = schedule.Q[k] * body.total_load * direction
+        try:
+            q_new, s, lam, info = solve_increment(op, g, q, target, dA, warm, tol)
+        except RuntimeError as e:
+            raise SolverError(k, schedule.xc[k], float("inf"), str(e)) from e
+        worst = max(info[name] for name in RESIDUAL_NAMES)
+        if not worst <= 10.0 * tol:
+            raise SolverError(k, schedule.xc[k], worst, "residual above tolerance")
+        diss[k] = float(np.vdot(q_new, s)) * dA / body.total_load
+        q = q_new
+        total = total + lam
+        disp[k] = total
+        codes = _state_codes(q, s, g, tol)
+        tcut[k], scut[k] = q[:, row], codes[row]
+        iters[k], cg[k] = info["iterations"], info["cg_iterations"]
+        for name in RESIDUAL_NAMES:
+            res[name][k] = info[name]
+        if k in snap_index:
+            tsnap[snap_index[k]], ssnap[snap_index[k]] = q, codes
+        k += 1
+        # ---- periodic detection at the end of each period
+        if k < steps and schedule.period[k] != schedule.period[k - 1] and per >= 0 and periodic:
+            if period_start_q is not None and np.abs(q - period_start_q).max() <= periodic_tol:
+                periodic_from = per
+                break
+            period_start_q = q.copy()
+        if k % chunk == 0 and k < steps:
+            if cancel is not None and cancel():
+                raise SolveCancelled(f"solve cancelled after {k} of {steps} steps")
+            if budget_end is not None and time.perf_counter() > budget_end:
+                raise SolveCancelled(f"solve stopped after {time_budget:g} s (its time budget) at step {k} of {steps}")
+            if progress is not None:
+                progress(k / steps)
+    if k < steps:  # copy the repeating period
+        block = np.flatnonzero(schedule.period == periodic_from)
+        m, start = block.size, block[0]
+        before = disp[start - 1]
+        inc = disp[block[-1]] - before
+        rest = np.arange(k, steps)
+        src = start + (rest - k) % m
+        rep = 1 + (rest - k) // m
+        disp[rest] = disp[src] + rep[:, None] * inc
+        for arr in (tcut, scut, diss):
+            arr[rest] = arr[src]
+        for name in RESIDUAL_NAMES:
+            res[name][rest] = res[name][src]
+        for kk in snap_all:
+            if kk >= k:
+                tsnap[snap_index[kk]] = tsnap[snap_index[src[kk - k]]] if src[kk - k] in snap_index else q
+                ssnap[snap_index[kk]] = ssnap[snap_index[src[kk - k]]] if src[kk - k] in snap_index else ssnap[0]
+    if progress is not None:
+        progress(1.0)
+    last_period = int(schedule.period[-1]) if periodic_from is None else periodic_from
+    return PointContactResult(
+        body=body, nu=nu, angle=angle, x_edges=xe, y_edges=ye, xc=np.array(schedule.xc), P=np.array(schedule.P),
+        Q=np.array(schedule.Q), period=np.array(schedule.period), displacement=disp, traction_cut=tcut,
+        state_cut=scut, snapshot_steps=np.array(snap_all, dtype=np.int64), traction_snapshots=tsnap,
+        state_snapshots=ssnap, lowest_pressure=pmin[last_period], dissipation=diss, iterations=iters,
+        cg_iterations=cg, residuals=res, periodic_from=periodic_from, params=dict(params or {}), tol=tol,
+        shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0)
+
+
+def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
+                           shape="triangle", load_steps=1, tol=TOL_3D, detect_periodic=True, periodic_tol=PERIODIC_TOL,
+                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None):
+    """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
+
+    Parameters
+    ----------
+    ft : float
+        ``Ft / (mu Fn)`` in [0, 1).
+    w : float
+        Rocking amplitude ``W / a`` in [0, 1) (``a`` the semi-axis along x).
+    periods : int
+        Rocking periods, in [1, 10000].
+    dx : float
+        Element side over ``a``, in [0.005, 0.5]; default 0.05 (40 elements across the contact).
+    dW : float, optional
+        Rocking step over ``a``; defaults to ``dx``.
+    body : {"sphere", "ellipsoid"} or Ellipsoid
+        The body; ``"ellipsoid"`` takes ``ratio = Ry/Rx`` (x: the rocking direction).
+    ratio : float, optional
+        ``Ry / Rx`` of the ellipsoid, in [0.05, 20].
+    angle : float
+        Angle of Ft to the rocking direction [rad], in [-pi, pi].
+    nu : float
+        Substrate's Poisson ratio under a rigid body, in [0, 0.5] (default 0.5: beta = 0).
+    shape, load_steps :
+        As in :func:`core.schedule.rocking_schedule`.
+    tol, detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress :
+        As in :func:`solve_point_schedule`.
+
+    Returns
+    -------
+    PointContactResult
+        With ``increment_per_period`` [mu Fn/(E* a)], ``regime``, ``stick_halfwidth`` [a].
+
+    Examples
+    --------
+    >>> import core
+    >>> r = core.simulate_cycles(0.2, 0.3, periods=6, dx=0.2, body="sphere")
+    >>> r.regime
+    'shakedown'
+    """
+    body = resolve_body(body, ratio)
+    dx = check_scalar("dx", dx, 0.005, 0.5)
+    dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
+    schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
+    params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name, ratio=body.ratio,
+                  angle=float(angle), nu=float(nu), shape=shape, load_steps=int(load_steps))
+    return solve_point_schedule(schedule, dx, body, nu=nu, angle=angle, tol=tol, detect_periodic=detect_periodic,
+                                periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget,
+                                cancel=cancel, progress=progress)
+
+
+# --------------------------------------------------------------------------
+# static references: Mindlin and the shaken-down state
+# --------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class StaticResult3D(_GridFields):
+    """A static partial-slip solution on a point-contact grid (read-only arrays).
+
+    Attributes
+    ----------
+    x_edges, y_edges : ndarray
+    bound : ndarray, shape (ny, nx)
+        Traction bound [mu p0].
+    traction : ndarray, shape (2, ny, nx)
+        Traction [mu p0].
+    state : ndarray of int8
+        0 out of contact, 1 stick (below the bound), 2 at the bound.
+    displacement : ndarray, shape (2,)
+        Rigid-body displacement [mu Fn/(E* a)].
+    residuals : dict
+    """
+
+    x_edges: np.ndarray
+    y_edges: np.ndarray
+    bound: np.ndarray
+    traction: np.ndarray
+    state: np.ndarray
+    displacement: np.ndarray
+    residuals: dict
+
+    @property
+    def stick_halfwidth(self) -> float:
+        """Half-extent along x [a] of the central stick zone on ``y = 0``."""
+        return central_halfwidth(self.state[self.cut_row] == 1, self.x_edges)
+
+    @property
+    def stick_halfwidth_y(self) -> float:
+        """Half-extent along y [a] of the central stick zone on ``x = 0``."""
+        return central_halfwidth(self.state[:, (self.x_edges.size - 1) // 2] == 1, self.y_edges)
+
+
+def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
+    """Static partial slip under a traction bound, loaded from zero in one step.
+
+    With ``bound = mu p`` it is Mindlin's problem; with ``mu p_min`` the
+    shaken-down state of a rocking contact.
+
+    Parameters
+    ----------
+    bound : ndarray, shape (ny, nx)
+        Traction bound [mu p0], >= 0.
+    ft : float
+        ``Ft / (mu Fn)``, below what the bound carries.
+    x_edges, y_edges : ndarray
+        The grid (square elements).
+    body : Ellipsoid
+    nu, angle, tol :
+        As in :func:`solve_point_schedule`.
+
+    Returns
+    -------
+    StaticResult3D
+    """
+    h = float(x_edges[1] - x_edges[0])
+    dA = h * h
+    carried = float(bound.sum()) * dA / body.total_load
+    ft = check_scalar("ft", ft, 0.0, carried, hi_closed=False)
+    op = HalfSpaceOperator(y_edges.size - 1, x_edges.size - 1, h, nu, body.kernel_scale)
+    warm = _WarmStart.empty(bound.shape)
+    target = ft * body.total_load * np.array([math.cos(angle), math.sin(angle)])
+    q, s, lam, info = solve_increment(op, bound, np.zeros((2,) + bound.shape), target, dA, warm, tol)
+    mag = np.hypot(q[0], q[1])
+    state = np.where(bound > 0, np.where(mag < bound - STICK_MARGIN, 1, 2), 0).astype(np.int8)
+    return StaticResult3D(x_edges, y_edges, bound, q, state, lam,
+                          {name: info[name] for name in RESIDUAL_NAMES})
+
+
+def mindlin_state(ft, dx=0.05, body="sphere", *, ratio=None, nu=0.5, angle=0.0, tol=TOL_3D):
+    """Mindlin's partial slip of a point contact loaded from rest to ``ft`` (numerical, on the grid).
+
+    Mindlin's solution (exact for ``nu = 0``) has ``c/a = (1 - ft)^(1/3)``; for
+    ``nu > 0`` the x-y coupling adds a small ``q_y`` and a slightly
+    non-circular stick zone, which this solution contains.
+
+    Returns
+    -------
+    StaticResult3D
+    """
+    body = resolve_body(body, ratio)
+    dx = check_scalar("dx", dx, 0.005, 0.5)
+    xe, ye = _grid(body, 1.0, 1.0, dx)
+    return solve_static_3d(hertz_element_means(xe, ye, 0.0, body.kappa), ft, xe, ye, body, nu=nu, angle=angle, tol=tol)
+
+
+def shakedown_state_3d(ft, w, dx=0.05, body="sphere", *, ratio=None, nu=0.5, angle=0.0, tol=TOL_3D):
+    """The shaken-down state of a rocking point contact, computed directly as one static problem.
+
+    The bound is ``mu p_min``, the lowest pressure of a period (that of the
+    farther turning point); below the exact limit
+    (:func:`core.point_contact.ft_limit_point`) the transient's end state
+    equals it (``tests/test_solver3d.py``).
+
+    Returns
+    -------
+    StaticResult3D
+    """
+    body = resolve_body(body, ratio)
+    dx = check_scalar("dx", dx, 0.005, 0.5)
+    w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
+    xe, ye = _grid(body, 1.0 + w, 1.0, dx)
+    pmin = np.minimum(hertz_element_means(xe, ye, -w, body.kappa), hertz_element_means(xe, ye, w, body.kappa))
+    return solve_static_3d(pmin, ft, xe, ye, body, nu=nu, angle=angle, tol=tol)

@@ -1,0 +1,95 @@
+"""The 3D half-space operator: exact element integrals, FFT == dense, symmetry, preconditioner."""
+
+import numpy as np
+import pytest
+from scipy.integrate import dblquad
+
+from core.halfspace import HalfSpaceOperator, rectangle_integrals
+
+KERNELS = {
+    "1/rho": lambda v, u: 1.0 / np.hypot(u, v),
+    "x^2/rho^3": lambda v, u: u * u / np.hypot(u, v) ** 3,
+    "y^2/rho^3": lambda v, u: v * v / np.hypot(u, v) ** 3,
+    "xy/rho^3": lambda v, u: u * v / np.hypot(u, v) ** 3,
+}
+
+
+@pytest.mark.parametrize("x, y", [(0.3, 0.0), (0.6, -0.3), (-0.9, 0.6), (1.5, 0.9), (0.0, 2.1)])
+def test_rectangle_integrals_match_quadrature(x, y):
+    h = 0.3
+    exact = rectangle_integrals(x, y, h)
+    for (name, f), value in zip(KERNELS.items(), exact):
+        num, err = dblquad(f, x - h / 2, x + h / 2, y - h / 2, y + h / 2, epsabs=1e-13, epsrel=1e-11)
+        np.testing.assert_allclose(value, num, rtol=1e-9, atol=1e-12, err_msg=f"{name} at offset ({x}, {y})")
+
+
+def test_self_element_closed_form():
+    """Integral of 1/rho over a square of side h about its centre: 4 h asinh(1)."""
+    h = 0.25
+    I1, Ixx, Iyy, Ixy = rectangle_integrals(0.0, 0.0, h)
+    np.testing.assert_allclose(I1, 4 * h * np.arcsinh(1.0), rtol=1e-14)
+    np.testing.assert_allclose(Ixx, 0.5 * I1, rtol=1e-14)  # x^2 + y^2 = rho^2, symmetric
+    np.testing.assert_allclose(Ixy, 0.0, atol=1e-15)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.3, 0.5])
+@pytest.mark.parametrize("ny, nx", [(1, 1), (5, 8), (9, 6)])
+def test_fft_equals_dense(ny, nx, nu):
+    op = HalfSpaceOperator(ny, nx, 0.1, nu, 0.2)
+    q = np.random.default_rng(1).normal(size=op.shape)
+    np.testing.assert_allclose(op.apply(q).ravel(), op.matrix() @ q.ravel(), rtol=0, atol=1e-13)
+
+
+def test_dense_matrix_symmetric_positive_definite_with_coupling():
+    op = HalfSpaceOperator(6, 7, 0.15, 0.5, 0.2)
+    K = op.matrix()
+    np.testing.assert_allclose(K, K.T, atol=1e-15)
+    assert np.linalg.eigvalsh(K).min() > 0
+    # the x-y coupling vanishes for nu = 0
+    K0 = HalfSpaceOperator(6, 7, 0.15, 0.0, 0.2).matrix()
+    n = K0.shape[0] // 2
+    assert np.abs(K0[:n, n:]).max() == 0.0
+    assert np.abs(K[:n, n:]).max() > 1e-3
+
+
+def test_operator_matches_point_force_far_away():
+    """Far from a loaded element the displacement is Cerruti's point-force solution."""
+    h, nu, s = 0.1, 0.4, 1.0 / np.pi
+    op = HalfSpaceOperator(31, 31, h, nu, s)
+    q = np.zeros(op.shape)
+    q[0, 0, 0] = 1.0  # unit traction on the corner element: force h^2 along x
+    u = op.apply(q)
+    X, Y = 30 * h, 20 * h
+    rho = np.hypot(X, Y)
+    c = nu / (1 - nu)
+    ux = s * h * h * (1 / rho + c * X * X / rho**3)
+    uy = s * h * h * c * X * Y / rho**3
+    np.testing.assert_allclose(u[0, 20, 30], ux, rtol=1e-4)
+    np.testing.assert_allclose(u[1, 20, 30], uy, rtol=1e-4)
+
+
+def test_preconditioner_is_an_approximate_inverse():
+    """On oscillating fields (what CG sees once the force balances remove the mean) the preconditioned
+    operator is close to the identity."""
+    op = HalfSpaceOperator(40, 40, 0.05, 0.5, 0.15)
+    y, x = np.mgrid[-1:1:40j, -1:1:40j]
+    for k in (6, 12):
+        bump = np.exp(-8 * (x**2 + y**2)) * np.cos(k * x)
+        q = np.stack([bump, 0.5 * bump])
+        back = op.precondition(op.apply(q))
+        inner = slice(10, 30)
+        ratio = back[:, inner, inner].ravel() @ q[:, inner, inner].ravel() / (q[:, inner, inner] ** 2).sum()
+        assert 0.8 < ratio < 1.2, (k, ratio)
+
+
+def test_dense_refused_above_cap():
+    with pytest.raises(ValueError, match="dense matrix"):
+        HalfSpaceOperator(100, 100, 0.01).matrix()
+
+
+@pytest.mark.parametrize("kw, match", [({"nu": 0.6}, "nu"), ({"h": 0.0}, "h"), ({"ny": 0}, "ny")])
+def test_bad_inputs(kw, match):
+    args = dict(ny=4, nx=4, h=0.1, nu=0.3)
+    args.update(kw)
+    with pytest.raises(ValueError, match=match):
+        HalfSpaceOperator(**args)
