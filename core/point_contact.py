@@ -124,7 +124,7 @@ def resolve_body(body, ratio=None) -> Ellipsoid:
         if ratio is None:
             raise ValueError("body='ellipsoid' needs ratio = Ry/Rx in [0.05, 20]")
         return Ellipsoid(ratio)
-    raise ValueError(f"body must be 'cylinder', 'sphere', 'ellipsoid' or a core.Ellipsoid, got {body!r:.60}")
+    raise ValueError(f"body must be one of cylinder, ellipsoid, sphere (or a core.Ellipsoid), got {body!r:.60}")
 
 
 def limit_body(body) -> bool:
@@ -137,7 +137,7 @@ def limit_body(body) -> bool:
     """
     if isinstance(body, Ellipsoid) or body in POINT_BODIES:
         return True
-    raise ValueError(f"body must be 'cylinder', 'sphere', 'ellipsoid' or a core.Ellipsoid, got {body!r:.60}")
+    raise ValueError(f"body must be one of cylinder, ellipsoid, sphere (or a core.Ellipsoid), got {body!r:.60}")
 
 
 def _curvature_ratio(m):
