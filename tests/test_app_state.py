@@ -374,7 +374,7 @@ def test_no_tool_takes_the_wheel():
 def test_badge_and_cards_never_mix_an_old_verdict_with_new_inputs():
     ex = Explorer(ExplorerState(periods=10))  # enough periods for a verdict (3 leave it undetermined)
     r = ex.result
-    assert 'data-regime="shakedown"' in ex._badge(0.3, 0.5, r, "")
+    assert f'data-regime="{r.regime}"' in ex._badge(0.3, 0.5, r, "")  # the run's verdict
     # the slider moved, not yet released: no verdict, and no numerical card
     assert 'data-regime="pending"' in ex._badge(0.7, 0.5, r, "") and "RELEASE TO SOLVE" in ex._badge(0.7, 0.5, r, "")
     cards = ex._cards(0.7, 0.5, 0.58, ex.contact, r)
