@@ -161,7 +161,7 @@ def stick_halfwidth_curves(w_values=(0.0, *PAPER_W), points=16, dx=1 / 400, *, p
         solver = []
         for f in ft:
             steps.check()
-            solver.append(shakedown_state(f, w, dx, **model)[3])
+            solver.append(shakedown_state(f, w, dx, **model).stick_halfwidth)
             steps.step()
         curves.append({"w": w, "ft": ft, "solver": np.array(solver), "eq30": shakedown_stick_halfwidth(ft, w)})
     diff = _max_abs(*[(c["solver"], c["eq30"]) for c in curves])
@@ -203,7 +203,8 @@ def traction_profiles(cases, dx=1 / 100, *, progress=None, cancel=None) -> dict:
     curves = []
     for ft, w in cases:
         steps.check()
-        x, q, bound, c = shakedown_state(ft, w, dx, **model)
+        state = shakedown_state(ft, w, dx, **model)
+        x, q, bound, c = state.x, state.traction, state.bound, state.stick_halfwidth
         keep = np.abs(x) < 1.0  # the contact at the centre of the rocking; the rest carries nothing
         x, q, bound = x[keep], q[keep], bound[keep]
         curves.append({"ft": float(ft), "w": float(w), "x": x, "solver": q, "ansatz": shakedown_traction(x, ft, w),
@@ -276,7 +277,7 @@ def shakedown_displacement_curves(w_values=(0.0, *PAPER_W), points=16, dx=1 / 20
 
     def direct(f, w):
         steps.check()
-        _, q, _, _ = shakedown_state(f, w, dx, **model)
+        q = shakedown_state(f, w, dx, **model).traction
         steps.step()
         return _centre_displacement(q, dx, w, model) / u0
 
@@ -398,7 +399,7 @@ def limit_displacement_curve(w_values=tuple(np.round(np.linspace(0.0, 0.95, 20),
     for wi in w:
         steps.check()
         # the shaken-down bound mu p_min (element means), carried in full at the limit
-        _, _, bound, _ = shakedown_state(0.0, wi, dx, **model)
+        bound = shakedown_state(0.0, wi, dx, **model).bound
         solver.append(_centre_displacement(bound, dx, wi, model) / u0)
         steps.step()
     ftl = ft_limit(w)

@@ -90,12 +90,12 @@ def test_a_session_may_queue_only_so_many_solves():
             refused.result(timeout=5)
         # another session is not affected by session a's queue
         other = runs.submit(contact.replace(w=0.46), dict(options, periods=2), owner="session-b")
-        assert other.result(timeout=120).regime in ("shakedown", "ratcheting")
+        assert other.result(timeout=120).regime in ("shakedown", "ratcheting", "undetermined")  # 2 periods may not tell
         # session a's own superseded requests make room for its newest one
         release.set()
         newest = runs.submit(contact.replace(w=0.47), dict(options, periods=2), owner="session-a",
                              cancel=lambda: current[0] != 0)
-        assert newest.result(timeout=120).regime in ("shakedown", "ratcheting")
+        assert newest.result(timeout=120).regime in ("shakedown", "ratcheting", "undetermined")
     finally:
         release.set()
         for f in futures:
