@@ -197,6 +197,12 @@ def _open(url, k, stats, arguments=None) -> Session | None:
         return None
 
 
+def _run_text(s: Session):
+    """The text of the card that describes the run shown, or None while the cards wait for a solve."""
+    card = s.run_card()
+    return None if card is None else card.text
+
+
 def _work(s: Session, k, deadline, fresh, stats):
     """Drag and release sliders on session ``k`` until ``deadline()`` (a time.monotonic() value)."""
     ft, w = s.slider(FT_TITLE), s.slider(W_TITLE)
@@ -210,10 +216,10 @@ def _work(s: Session, k, deadline, fresh, stats):
             s.set(ft, round(0.1 + 0.25 * j + 0.01 * (k % 10), 4), release=False)
             s.pump(lambda: False, 0.05)
         for slider, key in ([(w, "w")] if i % 3 == 2 else []) + [(ft, "ft")]:
-            before = s.run_card().text
+            before = _run_text(s)  # None while the cards wait for a release ('release the slider')
             t0 = time.monotonic()
             s.set(slider, _next(fresh, key), release=True)
-            if s.pump(lambda: s.run_card().text != before, ROUND_TRIP_TIMEOUT_S):
+            if s.pump(lambda: _run_text(s) not in (None, before), ROUND_TRIP_TIMEOUT_S):
                 stats["latencies"].append((time.monotonic() - t0) * 1e3)
             else:
                 stats["errors"].append(f"session {k}: a solve round trip did not finish in {ROUND_TRIP_TIMEOUT_S:.0f} s")
