@@ -539,22 +539,26 @@ def _cmd_run(args) -> int:
     s = result.summary()
     inc = result.increment_per_period
     c_paper = float(shakedown_stick_halfwidth(ft, w))
-    since = f" (from period {s['shakedown_period']})" if s["shakedown_period"] is not None else ""
+    body = s.get("body", "cylinder")
+    line = body == "cylinder"  # the paper's closure and eq 35 are the line contact's; point contacts have their own limit
+    unit_u = "mu P/E*" if line else "mu Fn/(E* a)"
+    since = f" (from period {s['shakedown_period']})" if s.get("shakedown_period") is not None else ""
     rows = [
         ("regime", f"{s['regime']}{since}"),
         ("  why", result.regime_reason),
-        ("increment, last period", _fmt(s["increment_last_period"], "mu P/E*")),
-        ("increment, first period", _fmt(float(inc[0]) if inc.size else None, "mu P/E*")),
+        ("increment, last period", _fmt(s["increment_last_period"], unit_u)),
+        ("increment, first period", _fmt(float(inc[0]) if inc.size else None, unit_u)),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),
-        ("  paper's ansatz (eq 30)", _fmt(c_paper, "a")),
-        ("eq 35 limit at this w", _fmt(float(ft_limit(w)), "= ft_lim")),
-        ("eq 35 limit at this ft", _fmt(float(w_limit(ft)), "= w_lim")),
+        *([("  paper's ansatz (eq 30)", _fmt(c_paper, "a"))] if line else []),
+        (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=body)), "= ft_lim")),
+        (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=body)), "= w_lim")),
         ("elements x steps", f"{s['elements']} x {s['steps']}"),
         ("max active-set iterations", str(s["max_iterations"])),
-        ("max KKT residual", _fmt(s["max_kkt_residual"])),
+        ("max KKT residual", _fmt(s.get("max_kkt_residual", s.get("max_residual")))),
         ("runtime", _fmt(s["runtime_s"], "s")),
     ]
-    head = (f"ft = {ft:.6g}, w = {w:.6g}: {result.kernel} kernel, {s['shape']} rocking, "
+    model = f"{result.kernel} kernel" if line else f"{body}, 3D half-space"
+    head = (f"ft = {ft:.6g}, w = {w:.6g}: {model}, {s['shape']} rocking, "
             f"{s['periods']} periods, dx = {s['dx']:.6g} a")
     if contact is not None:
         unit = contact.displacement_unit

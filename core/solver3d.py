@@ -484,11 +484,29 @@ class PointContactResult(_GridFields):
     def max_residual(self) -> float:
         return max(float(v.max()) for v in self.residuals.values()) if self.xc.size else 0.0
 
+    @property
+    def max_kkt_residual(self) -> float:
+        """Worst KKT residual over all steps (the name the cylinder's result and the sweep tables use)."""
+        return self.max_residual
+
+    @cached_property
+    def shakedown_period(self) -> int | None:
+        """First period from which every increment is below ``shakedown_rtol`` of the largest, if shaken down."""
+        if self.regime != "shakedown":
+            return None
+        inc = np.abs(self.increment_per_period)
+        small = inc <= self.shakedown_rtol * max(float(inc.max()), 1e-300)
+        k = inc.size - 1
+        while k > 0 and small[k - 1]:
+            k -= 1
+        return int(k)
+
     def summary(self) -> dict:
         inc = self.increment_per_period
         return {**self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
                 "regime_reason": self.regime_reason, "stick_halfwidth": self.stick_halfwidth,
                 "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
+                "shakedown_period": self.shakedown_period, "max_kkt_residual": self.max_kkt_residual,
                 "elements": int((self.x_edges.size - 1) * (self.y_edges.size - 1)), "steps": int(self.xc.size),
                 "periodic_from": self.periodic_from, "max_iterations": int(self.iterations.max()),
                 "max_cg_iterations": int(self.cg_iterations.max()), "max_residual": self.max_residual,

@@ -330,3 +330,12 @@ def test_parse_range_start_stop_n_is_linspace(start, stop, n):
     # linspace, rounded to 12 significant digits inside (0.3, not 0.30000000000000004); the ends as written
     np.testing.assert_allclose(values, np.linspace(start, stop, n), rtol=5e-12, atol=1e-300)
     assert values[0] == start and values[-1] == stop
+
+
+def test_run_a_sphere(capsys):
+    """The command line runs the point contacts too (issue 13, item 5), in their own units and limit."""
+    code, out, err = _run(capsys, "run", "--ft", "0.3", "--w", "0.3", "--body", "sphere", "--dx", "0.25",
+                          "--periods", "3")
+    assert code == 0, err
+    assert "sphere, 3D half-space" in out and "mu Fn/(E* a)" in out and "eq 30" not in out
+    assert "0.5635 = ft_lim" in out  # the sphere's exact limit (1 - w)^2 (2 + w) / 2 at w = 0.3

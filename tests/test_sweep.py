@@ -330,3 +330,13 @@ def test_the_readme_maps_snippet_runs_as_a_file():
     called = {ast.unparse(n.func) for n in ast.walk(guard) if isinstance(n, ast.Call)}
     assert {"core.sweep", "core.numerical_limit_curve", "core.load_default_map"} <= called
     compile(code, "maps.py", "exec")
+
+
+def test_the_body_is_an_axis_of_a_sweep():
+    """core.sweep(ft, w, body="sphere") maps the point contact (issue 13, item 5): below the sphere's exact
+    limit (ft_lim(0.3) = 0.5635) it shakes down, above it it ratchets."""
+    import core
+
+    table = core.sweep([0.3, 0.6], [0.3], body="sphere", dx=0.25, periods=8, workers=1)
+    assert list(table["body"]) == ["sphere", "sphere"] and table["error"].isna().all()
+    assert list(table["regime"]) == ["shakedown", "ratcheting"]
