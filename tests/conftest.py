@@ -30,3 +30,33 @@ def _check_invariants(result, tol=1e-9):
 @pytest.fixture
 def check_invariants():
     return _check_invariants
+
+
+def _run_in_fresh_thread(fn, *args, **kwargs):
+    """Run ``fn`` in a thread of its own and return its result (or raise its exception).
+
+    A test module that drives an asyncio loop in the main thread can leave it
+    marked as running for later modules; Playwright's sync API and Bokeh's
+    client then refuse to start there. A new thread has no loop of anyone else's.
+    """
+    import threading
+
+    out = {}
+
+    def target():
+        try:
+            out["value"] = fn(*args, **kwargs)
+        except BaseException as e:  # noqa: BLE001 - re-raised in the caller's thread
+            out["error"] = e
+
+    t = threading.Thread(target=target, name=f"fresh-{getattr(fn, '__name__', 'fn')}")
+    t.start()
+    t.join()
+    if "error" in out:
+        raise out["error"]
+    return out.get("value")
+
+
+@pytest.fixture
+def fresh_thread():
+    return _run_in_fresh_thread

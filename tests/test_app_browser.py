@@ -65,13 +65,13 @@ _MAP_POINT = "() => {" + _FIND + """
 }"""
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")  # not the session: Playwright's loop would stay in this thread for later modules
 def app_url():
     with served_app() as url:
         yield url
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def browser():
     with chromium() as b:
         yield b

@@ -26,9 +26,9 @@ def _loadtest():
     return module
 
 
-def test_a_few_sessions_for_a_few_seconds_without_an_error():
+def test_a_few_sessions_for_a_few_seconds_without_an_error(fresh_thread):
     lt = _loadtest()
-    stats = lt.run_load(sessions=3, open_over=2, seconds=8, burst=2, cpu_sessions=1)
+    stats = fresh_thread(lt.run_load, sessions=3, open_over=2, seconds=8, burst=2, cpu_sessions=1)
     print(lt.report(stats))
     assert stats["errors"] == [], lt.report(stats)
     assert len(stats["loads"]) == 3 and len(stats["loads_burst"]) == 2, "every session opened"

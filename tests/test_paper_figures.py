@@ -209,7 +209,11 @@ def test_recompute_button_redraws_with_fresh_data():
 # the tab, served and drawn by Chromium
 # --------------------------------------------------------------------------
 @pytest.mark.browser
-def test_served_tab_draws_in_chromium_without_console_errors():
+def test_served_tab_draws_in_chromium_without_console_errors(fresh_thread):
+    fresh_thread(_draw_in_chromium)
+
+
+def _draw_in_chromium():
     from app.serving import chromium, served_app, wait_until
 
     with served_app(script="tests/paper_figures_app.py", timeout=120) as url:
