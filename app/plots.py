@@ -300,13 +300,20 @@ def time_axis(result: core.CycleResult) -> np.ndarray:
     return (np.arange(result.xc.size) + 1 - n_load) / m
 
 
+def _state_colorbar(plot, element) -> None:
+    """Name the four states on the colour bar. A hook, so that its ticker is a new Bokeh model in every render:
+    a ticker in the (shared, cached) options would be one model for all sessions, emptied when the first expires."""
+    bar = plot.handles.get("colorbar")
+    if bar is not None:
+        bar.ticker = FixedTicker(ticks=[0, 1, 2, 3])
+        bar.major_label_overrides = {i: name for i, name in enumerate(core.STATE_NAMES)}
+
+
 def _states_specs(units: Units) -> list:
     kx, kt = _dim("x", units.x_label), _dim("t", "time [periods]")
-    labels = {i: name for i, name in enumerate(core.STATE_NAMES)}
     image = Layer(hv.Image, (kx, kt), (hv.Dimension("state", range=(-0.5, 3.5)),), "", dict(
-        cmap=list(STATE_COLORS), clim=(-0.5, 3.5), colorbar=True,
-        colorbar_opts={"ticker": FixedTicker(ticks=[0, 1, 2, 3]), "major_label_overrides": labels,
-                       "title": "element state"}))
+        cmap=list(STATE_COLORS), clim=(-0.5, 3.5), colorbar=True, hooks=[_state_colorbar],
+        colorbar_opts={"title": "element state"}))
 
     def vlines(label, color, dash):
         return Layer(hv.VLines, (kx,), (), label, dict(color=color, line_dash=dash, line_width=LINE))

@@ -337,3 +337,18 @@ def test_map_uses_the_current_strip_options():
     assert opts["nu"] == core.strip_options(ex.contact)["nu"]
     ex.state.L = 1.0  # invalid geometry: the map falls back to plane strain
     assert ex.contact is None and ex._map_options()["kernel"] == "plane"
+
+
+
+def test_two_sessions_share_no_colour_bar_ticker():
+    """The state map's colour bar ticker was one Bokeh model in the cached layer options, shared by every
+    session and emptied when the first expired (issue 11, defect 3): each render now makes its own."""
+    a, b = Explorer(), Explorer()
+    bars = []
+    for ex in (a, b):
+        ex.figures()
+        bars.append([m for m in ex._live["states"].figure.references() if type(m).__name__ == "ColorBar"][0])
+    assert bars[0].ticker is not bars[1].ticker
+    for bar in bars:
+        assert list(bar.ticker.ticks) == [0, 1, 2, 3]
+        assert list(bar.major_label_overrides.values()) == list(core.STATE_NAMES)
