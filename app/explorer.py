@@ -25,6 +25,7 @@ import numpy as np
 import panel as pn
 import param
 from panel.io.state import set_curdoc
+from panel.models.katex import KaTeX as KaTeXModel
 
 import core
 from core.export import to_csv, to_json
@@ -34,23 +35,47 @@ from . import runs
 from .live import LiveFigure
 from .paper_figures import paper_figures_tab
 from .runs import RESULTS, Generation, run_key, solve, submit
-from .state import PRESETS, URL_PARAMETERS, ExplorerState, parse_query
+from .state import PRESET_NOTES, PRESETS, URL_PARAMETERS, ExplorerState, parse_query
 
 __all__ = ["Explorer"]
 
 _ABOUT = Path(__file__).with_name("about.md")
+_ASSETS = Path(__file__).with_name("assets")
 _SOLVER_INPUTS = [p for p in URL_PARAMETERS if p != "units"]
 #: A solve shows the loading indicator only after this long [ms].
 _SPINNER_DELAY_MS = 150
 _CSS = """
-.regime-badge {display: inline-block; padding: 10px 22px; border-radius: 12px; color: white;
+.regime-badge {display: inline-block; padding: 8px 20px; border-radius: 12px; color: white;
                font-size: 26px; font-weight: 700; letter-spacing: 0.04em;}
-.regime-shakedown {background: #2ca02c;} .regime-ratcheting {background: #d62728;}
-.regime-none {background: #7f7f7f;}
-.regime-note {font-size: 15px; color: #444; margin-top: 6px;}
-.cards {display: grid; grid-template-columns: repeat(2, minmax(250px, 1fr)); gap: 4px 28px; font-size: 17px;}
-.cards .k {color: #444;} .cards .v {font-weight: 600; float: right; margin-left: 10px;}
-.cards div {border-bottom: 1px solid #eee; padding: 2px 0;}
+.regime-shakedown {background: #0072B2;} .regime-ratcheting {background: #D55E00;}
+.regime-none, .regime-undetermined {background: #6b6b6b;}
+.regime-note {font-size: 15px; color: #333; margin-top: 6px; line-height: 1.35;}
+.cards {display: grid; grid-template-columns: repeat(auto-fill, minmax(235px, 1fr)); gap: 0 22px;
+        font-size: 15px;}
+.cards div {display: flex; justify-content: space-between; gap: 10px; border-bottom: 1px solid #eee;
+            padding: 2px 0;}
+.cards .k {color: #444;} .cards .v {font-weight: 600; text-align: right;}
+.cards .pending {color: #6b6b6b; font-style: italic; font-weight: 400;}
+.readout {font-size: 15px; color: #222;}
+.caption {font-size: 14px; color: #333; margin: 0 10px 14px 10px;}
+"""
+#: When the model applies (one sentence, under the inputs).
+_APPLIES = ("*When the model applies:* a long cylinder (L ≫ a) rocking without macroscopic sliding "
+            "(Ft < μ Fn) on an elastic half-space, slowly (no inertia), with one constant friction coefficient, "
+            "elastic bodies whose normal and tangential problems are uncoupled (Dundurs β ≈ 0).")
+#: Document-level CSS (outside every shadow root). The math fonts are declared here because Chromium
+#: ignores @font-face inside a shadow root, where Panel renders the equations; presentation mode
+#: (sidebar folded, larger type) is a class on the document.
+_PAGE_CSS = """
+html.presenting {zoom: 1.25;}
+html.presenting #sidebar {display: none !important;}
+@media (max-width: 700px) {
+  #header .title {font-size: 1.05em; white-space: normal; line-height: 1.3em;}
+  #header-items {display: none;}
+  #content {flex-wrap: nowrap; flex-direction: column; overflow-y: auto !important;}
+  #sidebar {max-width: 100% !important; width: 100% !important; height: auto; border-right: 0;}
+  #main {flex: 1 0 auto; overflow: visible; padding: 6px;}
+}
 """
 
 
@@ -66,6 +91,68 @@ def _shipped_map():
     return core.load_default_map()
 
 
+#: KaTeX's layout rules, inside each equation's shadow root (Panel puts them only in the document's head, where
+#: they do not reach the equations); the fonts they name are declared at document level (:class:`MathFonts`).
+_KATEX_CSS = [css for css in getattr(KaTeXModel, "__css__", []) if "katex" in css]
+
+
+class MathFonts:
+    """The KaTeX fonts shipped in ``app/assets/katex`` (MIT licence), served by Panel's component-resource
+    route (``/components/app.explorer/MathFonts/__css__/<file>``: only the files listed here are served)."""
+
+    __css__: ClassVar[list[str]] = sorted(str(p.relative_to(_ASSETS.parent)) for p in (_ASSETS / "katex").iterdir()
+                                          if p.suffix in (".css", ".woff2"))
+    #: The stylesheet, relative to the page.
+    url = "components/app.explorer/MathFonts/__css__/assets/katex/fonts.css"
+
+
+#: Declares the math fonts last in the document, and labels every slider handle and unnamed button with an accessible name (Bokeh gives the handles none), in
+#: every shadow root, now and when tabs and cards render later.
+_A11Y_JS = """
+function label(root) {
+  for (const el of root.querySelectorAll('*')) {
+    if (el.shadowRoot) label(el.shadowRoot);
+  }
+  const title = root.querySelector('.bk-slider-title');
+  for (const h of root.querySelectorAll('.noUi-handle')) {
+    if (!h.getAttribute('aria-label') && title) h.setAttribute('aria-label', title.textContent.split(':')[0].trim());
+  }
+  for (const i of root.querySelectorAll('input')) {  // a checkbox's text is a sibling, not its <label>
+    if (i.getAttribute('aria-label') || (i.labels && i.labels.length)) continue;
+    const text = (i.nextElementSibling || i.parentNode.querySelector('span, label') || {}).textContent;
+    if (text && text.trim()) i.setAttribute('aria-label', text.trim());
+  }
+  for (const b of root.querySelectorAll('button')) {
+    if (b.getAttribute('aria-label') || b.textContent.trim()) continue;
+    const spin = b.classList.contains('bk-spin-btn-up') ? 'Increase' : b.classList.contains('bk-spin-btn-down')
+      ? 'Decrease' : null;
+    const name = b.title || spin;
+    if (name) b.setAttribute('aria-label', name);
+  }
+}
+label(document);
+// a phone: the figures' legends in one column (two do not fit in 390 px), and no toolbar (it does not fit)
+if (window.innerWidth <= 700) {
+  for (const d of Bokeh.documents) for (const m of d.all_models) {
+    if ('ncols' in m && 'items' in m) m.ncols = 1;
+    if ('toolbar_location' in m && 'renderers' in m) m.toolbar_location = null;
+  }
+}
+// the math fonts: Panel's KaTeX stylesheet in the document's head names font files that Panel does not ship
+// (404s, then the system font); it is replaced by one that names the fonts shipped in app/assets/katex
+for (const l of document.querySelectorAll('link[href*="katex.min.css"]')) l.remove();
+if (!document.getElementById('shakedown-math-fonts')) {
+  const link = document.createElement('link');
+  link.id = 'shakedown-math-fonts'; link.rel = 'stylesheet'; link.href = '%s';
+  document.head.appendChild(link);
+}
+// a phone starts with the inputs folded away (the menu button opens them above the results)
+const sidebar = document.getElementById('sidebar');
+if (sidebar && window.innerWidth <= 700 && !window._shakedownA11y) sidebar.classList.remove('show');
+if (!window._shakedownA11y) { window._shakedownA11y = setInterval(() => label(document), 1000); }
+"""
+
+
 class _Prompt:
     """Mixin: the widget's value changes reach the explorer at once. Panel waits 50 ms for more changes
     by default (half the latency budget of a slider move); the figures' updates are cheap enough not to."""
@@ -78,10 +165,6 @@ class FloatSlider(_Prompt, pn.widgets.FloatSlider):
 
 
 class IntSlider(_Prompt, pn.widgets.IntSlider):
-    pass
-
-
-class Player(_Prompt, pn.widgets.Player):
     pass
 
 
@@ -106,7 +189,8 @@ class Explorer(pn.viewable.Viewer):
     frame = param.Integer(default=0, bounds=(0, None), doc="Step of the run shown by the cycle player.")
     ft_live = param.Number(default=0.3, doc="ft while its slider moves (the analytical layers follow it) [-].")
     w_live = param.Number(default=0.5, doc="w while its slider moves (the analytical layers follow it) [-].")
-    solving = param.Boolean(default=False, doc="A solve for the current inputs is running.")
+    solving = param.Boolean(default=False, doc="A solve for the current inputs is running (spinner shown).")
+    pending = param.Boolean(default=False, doc="The run shown is not the current inputs' run (a solve is on its way).")
     error = param.String(default="", doc="Why the current inputs cannot be solved, if they cannot.")
     notices = param.List(default=[], doc="Messages about rejected URL parameters.")
     map_table = param.DataFrame(default=None, allow_None=True,
@@ -158,6 +242,9 @@ class Explorer(pn.viewable.Viewer):
         self.preset = pn.widgets.Select(label="Preset", options=["(custom)", *PRESETS], value="(custom)",
                                         sizing_mode="stretch_width")
         self.preset.param.watch(self._apply_preset, "value")
+        self.preset_note = pn.pane.Markdown("", css_classes=["preset-note"], visible=False, margin=(0, 10),
+                                            styles={"font-size": "14px"})
+        s.param.watch(self._preset_edited, list(URL_PARAMETERS))
         geometry = ["R", "L", "Fn", "E2", "nu2"]
         self.geometry_inputs = [pn.widgets.FloatInput.from_param(s.param[p], sizing_mode="stretch_width")
                                 for p in geometry]
@@ -176,13 +263,25 @@ class Explorer(pn.viewable.Viewer):
         self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, visible=False,
                                                     css_classes=["solve-spinner"])
         self.status = pn.pane.HTML("", css_classes=["solve-status"], margin=(8, 4))
-        # the cycle player: a period, then the steps of that period
-        self.period_slider = IntSlider(label="Period", start=0, end=1, value=0, width=260)
-        self.player = Player(label="Step in the period", start=0, end=1, value=0, interval=150,
-                                        loop_policy="loop", width=430, show_loop_controls=False,
-                                        css_classes=["cycle-player"])
-        self.period_slider.param.watch(self._update_frame, "value")
-        self.player.param.watch(self._update_frame, "value")
+        # the cycle player: a period (0 = the loading, then 1, 2, ...), then the steps of that period
+        grow = dict(width=250, margin=(5, 12))
+        self.period_slider = IntSlider(label="Period (0 = loading)", start=0, end=1, value=1, **grow)
+        self.step_slider = IntSlider(label="Step in the period", start=0, end=1, value=0, css_classes=["step-slider"],
+                                     **grow)
+        self.step_back = pn.widgets.Button(label="◀ Step", width=80, css_classes=["step-back"])
+        self.play = pn.widgets.Toggle(label="▶ Play the period", width=150, css_classes=["play-period"])
+        self.step_forward = pn.widgets.Button(label="Step ▶", width=80, css_classes=["step-forward"])
+        self.speed = pn.widgets.Select(label="Speed", options={"slow (400 ms a step)": 400,
+                                                              "normal (150 ms a step)": 150,
+                                                              "fast (60 ms a step)": 60}, value=150, width=190)
+        self.readout = pn.pane.HTML("", css_classes=["readout"], sizing_mode="stretch_width", stylesheets=[_CSS])
+        self._autoplay = None
+        self.period_slider.param.watch(self._period_changed, "value")
+        self.step_slider.param.watch(self._update_frame, "value")
+        self.step_back.on_click(lambda e: self.step(-1))
+        self.step_forward.on_click(lambda e: self.step(+1))
+        self.play.param.watch(self._toggle_play, "value")
+        self.speed.param.watch(self._toggle_play, "value")
         # downloads
         self.csv_table = pn.widgets.Select(label="CSV table", options={
             "per step (displacement)": "steps", "per period (increments)": "periods",
@@ -193,8 +292,7 @@ class Explorer(pn.viewable.Viewer):
         self.json_download = pn.widgets.FileDownload(callback=self._json, filename="shakedown_run.json",
                                                      label="Download JSON", color="success",
                                                      sizing_mode="stretch_width", css_classes=["json-download"])
-        self.csv_table.param.watch(lambda e: setattr(self.csv_download, "filename", f"shakedown_{e.new}.csv"),
-                                   "value")
+        self.csv_table.param.watch(lambda e: self._name_downloads(), "value")
         # the numerical map
         self.map_points = IntSlider(label="Map grid (points per axis)", start=3,
                                                end=runs.MAP_MAX_POINTS, value=min(12, runs.MAP_MAX_POINTS),
@@ -236,7 +334,20 @@ class Explorer(pn.viewable.Viewer):
 
     def _apply_preset(self, event):
         if event.new in PRESETS:
-            self.state.apply_preset(event.new)
+            self._applying_preset = True
+            try:
+                self.state.apply_preset(event.new)
+            finally:
+                self._applying_preset = False
+        self.preset_note.param.update(object=PRESET_NOTES.get(event.new, ""), visible=event.new in PRESET_NOTES)
+
+    def _preset_edited(self, *events):
+        """An input changed: the preset box says "(custom)" once the inputs are no longer the preset's."""
+        name = self.preset.value
+        if getattr(self, "_applying_preset", False) or name not in PRESETS:
+            return
+        if any(getattr(self.state, k) != v for k, v in PRESETS[name].items()):
+            self.preset.value = "(custom)"
 
     def apply_query(self, query: str) -> None:
         """Apply URL query parameters; rejected ones are listed in :attr:`notices` and not applied."""
@@ -267,7 +378,7 @@ class Explorer(pn.viewable.Viewer):
         """Solve the current inputs (cached, else in the worker pool); drop the answer if the inputs moved on."""
         token = self._generation.next()
         if self.contact is None:
-            self.solving = False
+            self.param.update(solving=False, pending=False)
             return
         contact, options = self.contact, self.state.solver_options()
         cached = RESULTS.get(run_key(contact, options))
@@ -276,6 +387,8 @@ class Explorer(pn.viewable.Viewer):
             # cached, or headless (tests, notebooks without a server): solve here
             self._finish(token, contact, options, cached)
             return
+
+        self.pending = True  # every card and the badge say so at once: no old verdict beside new inputs
 
         def show_spinner():  # only if the solve is not over in a blink (saves two page updates)
             if self._generation.is_current(token) and self.result_token != token:
@@ -288,7 +401,7 @@ class Explorer(pn.viewable.Viewer):
 
         def failed(message):
             if not stale():  # a stale run was cancelled on purpose: say nothing
-                self.param.update(error=f"solver: {message}", solving=False)
+                self.param.update(error=f"solver: {message}", solving=False, pending=False)
 
         def done(future):  # in the solver thread
             try:
@@ -310,16 +423,12 @@ class Explorer(pn.viewable.Viewer):
         if not self._generation.is_current(token):
             return  # a newer request is pending: never overwrite it with this stale run
         self.result_token = token
-        m = max(1, int(np.count_nonzero(result.period == 0)))
         with self._held():
-            self._player_sync = True  # the widgets follow the run; the frame is set once, below
-            try:
-                self.period_slider.param.update(end=max(1, result.periods - 1), value=result.periods - 1)
-                self.player.param.update(end=max(1, m - 1), value=m - 1)
-            finally:
-                self._player_sync = False
+            self.play.value = False
+            self._sync_player(result)  # the widgets follow the run (ranges too); the frame is set once, below
             self.param.update(result=result, frame=result.xc.size - 1, plot_units=self._compute_units(result),
-                              solving=False)
+                              solving=False, pending=False)
+            self._name_downloads()
 
     def solve_now(self) -> core.CycleResult | None:
         """Solve the current inputs synchronously (headless use) and return the result."""
@@ -333,13 +442,90 @@ class Explorer(pn.viewable.Viewer):
         self.spinner.param.update(value=self.solving, visible=self.solving)
         self.status.object = "solving…" if self.solving else ""
 
+    # ------------------------------------------------------------------ the cycle player
+    @staticmethod
+    def _steps_of(r: core.CycleResult, period: int) -> np.ndarray:
+        """Steps of the period numbered ``period`` on the player: 0 the loading, k >= 1 the k-th rocking period
+        (core numbers them from 0; the player, the increment plot and the readout from 1)."""
+        return np.flatnonzero(r.period == period - 1)
+
+    def _sync_player(self, r: core.CycleResult, period: int | None = None, step: int | None = None) -> None:
+        """Set the ranges and values of the player's sliders for run ``r`` (default: its last step)."""
+        period = r.periods if period is None else int(period)
+        n = max(1, self._steps_of(r, period).size)
+        step = n - 1 if step is None else int(np.clip(step, 0, n - 1))
+        self._player_sync = True
+        try:
+            self.period_slider.param.update(start=0 if (r.period < 0).any() else 1, end=max(1, r.periods),
+                                            value=period)
+            self.step_slider.param.update(end=max(1, n - 1), value=step)
+        finally:
+            self._player_sync = False
+
+    def _period_changed(self, event):
+        r = self.result
+        if r is None or self._player_sync:
+            return
+        with self._held():
+            self._sync_player(r, event.new, self.step_slider.value)
+            self._update_frame()
+
     def _update_frame(self, *_):
         r = self.result
         if r is None or self._player_sync:
             return
-        starts = np.flatnonzero(r.period == min(self.period_slider.value, r.periods - 1))
+        steps = self._steps_of(r, self.period_slider.value)
         with self._held():
-            self.frame = int(min(starts[0] + self.player.value, r.xc.size - 1)) if starts.size else r.xc.size - 1
+            self.frame = int(steps[min(self.step_slider.value, steps.size - 1)]) if steps.size else r.xc.size - 1
+
+    def step(self, delta: int) -> None:
+        """Move the player by ``delta`` steps, across period boundaries (the loading included)."""
+        r = self.result
+        if r is None:
+            return
+        k = int(np.clip(self.frame + delta, 0, r.xc.size - 1))
+        period = int(r.period[k]) + 1
+        with self._held():
+            self._sync_player(r, period, int(k - self._steps_of(r, period)[0]))
+            self.frame = k
+
+    def _toggle_play(self, *_):
+        """Autoplay the current period at the chosen speed (a periodic callback of this session)."""
+        if self._autoplay is not None:
+            self._autoplay.stop()
+            self._autoplay = None
+        if not self.play.value or self._doc is None or self._doc.session_context is None:
+            return
+        r = self.result
+        if r is not None and self.step_slider.value >= self._steps_of(r, self.period_slider.value).size - 1:
+            self.step_slider.value = 0  # from the start of the period
+        self._autoplay = pn.state.add_periodic_callback(self._tick, period=int(self.speed.value))
+
+    def _tick(self):
+        r = self.result
+        if r is None or self.step_slider.value >= self._steps_of(r, self.period_slider.value).size - 1:
+            self.play.value = False  # the period is over
+            return
+        self.step_slider.value += 1
+
+    def _readout(self, result, frame, units) -> str:
+        """Where the player is: step, period, time, the centre's position and the rolling direction."""
+        if result is None:
+            return "<div class='readout'>no run yet</div>"
+        k = int(np.clip(frame, 0, result.xc.size - 1))
+        period = int(result.period[k]) + 1
+        xc = float(result.xc[k])
+        dx = xc - float(result.xc[k - 1]) if k > 0 else 0.0
+        where = f"xc = {xc * units.x:.3g} {'mm' if units.system == 'physical' else 'a'}"
+        if dx > 0:
+            moving = "rolling towards +x; trailing edge at xc − a"
+        elif dx < 0:
+            moving = "rolling towards −x; trailing edge at xc + a"
+        else:
+            moving = "at rest (loading)"
+        phase = "loading" if period == 0 else f"period {period} of {result.periods}"
+        return (f"<div class='readout'>Step <b>{k + 1}</b> of {result.xc.size} · {phase} · "
+                f"t = {plots.time_axis(result)[k]:.3f} periods · centre <b>{where}</b> · {moving}</div>")
 
     # ------------------------------------------------------------------ the numerical map
     def _map_options(self) -> dict:
@@ -415,7 +601,25 @@ class Explorer(pn.viewable.Viewer):
     def _csv(self):
         if self.result is None:
             return io.StringIO("# no run yet\n")
-        return io.StringIO(to_csv(self.result, self.csv_table.value, self.contact))
+        text = to_csv(self.result, self.csv_table.value, self.contact)
+        if self.csv_table.value == "final":  # beside the numerical traction, the paper's closure (eqs 22-30)
+            r = self.result
+            ft, w = float(r.params.get("ft", 0.0)), float(r.params.get("w", 0.0))
+            closure = core.shakedown_traction(r.x, ft, w)
+            lines = text.splitlines()
+            k = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+            lines[k] += ",closure_traction_mu_p0"
+            lines[k + 1:] = [f"{line},{c:.10g}" for line, c in zip(lines[k + 1:], closure)]
+            text = "\n".join(lines) + "\n"
+        return io.StringIO(text)
+
+    def _name_downloads(self) -> None:
+        """Download names that carry the run's parameters (a folder of downloads stays readable)."""
+        r = self.result
+        tag = "" if r is None else "_ft{:.2f}_w{:.2f}_mu{:.2f}_{}p".format(
+            float(r.params.get("ft", 0)), float(r.params.get("w", 0)), self.state.mu, r.periods)
+        self.csv_download.filename = f"shakedown_{self.csv_table.value}{tag}.csv"
+        self.json_download.filename = f"shakedown_run{tag}.json"
 
     def _json(self):
         if self.result is None:
@@ -464,48 +668,71 @@ class Explorer(pn.viewable.Viewer):
         return self._panes
 
     # ------------------------------------------------------------------ cards
-    def _badge(self, ft, w, result, error):
+    @staticmethod
+    def _shows(result, ft, w) -> bool:
+        """Whether ``result`` is the run of the inputs ``ft``, ``w`` the sliders show."""
+        return (result is not None and abs(float(result.params.get("ft", math.nan)) - ft) < 1e-9
+                and abs(float(result.params.get("w", math.nan)) - w) < 1e-9)
+
+    def _badge(self, ft, w, result, error, pending=False):
         predicted = core.classify_regime(ft, w)
         if error:
             return ('<span class="regime-badge regime-none" data-regime="invalid">INVALID INPUT</span>'
                     f'<div class="regime-note">{html.escape(error)}</div>')
-        if result is None:
-            return ('<span class="regime-badge regime-none" data-regime="pending">SOLVING…</span>'
-                    f'<div class="regime-note">eq 35 predicts {predicted}</div>')
-        regime = result.regime
+        if pending or not self._shows(result, ft, w):
+            what = "SOLVING…" if pending or result is None else "RELEASE TO SOLVE"
+            return (f'<span class="regime-badge regime-none" data-regime="pending">{what}</span>'
+                    f'<div class="regime-note">eq 35 predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}</div>')
+        regime = str(result.regime)
         note = f"solver, {result.periods} periods"
         if result.shakedown_period is not None:
             note += f"; shaken down after period {result.shakedown_period}"
-        if regime == "undetermined":  # the periods run cannot tell: say why (regime-none: the neutral colour)
-            note += f": {result.regime_reason}"
-        note += f" · eq 35 predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}"
-        css = "regime-none regime-undetermined" if regime == "undetermined" else f"regime-{regime}"
-        return (f'<span class="regime-badge {css}" data-regime="{regime}">{regime.upper()}</span>'
-                f'<div class="regime-note">{html.escape(note)}</div>')
+        if regime == "undetermined":  # the periods run cannot tell: say why
+            note += f": {html.escape(str(result.regime_reason))}"
+        note += f"<br>eq 35 predicts {html.escape(str(predicted))} for ft = {ft:.2f}, w = {w:.2f}"
+        css = re.sub(r"[^a-z]", "", regime.lower()) or "none"
+        return (f'<span class="regime-badge regime-{css}" data-regime="{html.escape(regime)}">'
+                f'{html.escape(regime.upper())}</span><div class="regime-note">{note}</div>')
 
-    def _cards(self, ft, w, mu, contact, result):
+    def _cards(self, ft, w, mu, contact, result, pending=False, units="normalised", cycles=10**6):
+        """The summary cards: inputs in physical units, the closure's and the solver's numbers, the margins.
+        Numerical values are shown only when the run shown is the current inputs' run (else 'solving…')."""
         rows = []
+        physical = units == "physical"
         c = None if contact is None else contact.replace(mu=mu, ft=ft, w=w)
+        fresh = not pending and self._shows(result, ft, w)
+        wait = None if fresh else ("solving…" if pending or result is None else "release the slider")
         if c is not None:
-            rows += [("a (half-width)", _fmt(c.a * 1e3, "mm")), ("p0 (peak pressure)", _fmt(c.p0 / 1e6, "MPa")),
+            rows += [("Ft (tangential force)", _fmt(ft * mu * c.Fn, "N")), ("W (rocking amplitude)", _fmt(w * c.a * 1e6, "µm")),
+                     ("a (half-width)", _fmt(c.a * 1e3, "mm")), ("p0 (peak pressure)", _fmt(c.p0 / 1e6, "MPa")),
                      ("d (indentation, eq 6)", _fmt(c.d * 1e3, "mm")), ("Dundurs β", _fmt(c.beta, "", 3))]
         u0 = None if result is None else result.u0
-        if u0 is not None and c is not None:
-            rows.append(("U0 (strip, ft = 1)", f"{_fmt(u0 * c.displacement_unit * 1e6, 'µm')} = {u0:.3g} μP/E*"))
+        if u0 is not None and c is not None and fresh:
+            rows.append(("U0 (ft = 1, strip)", _fmt(u0 * c.displacement_unit * 1e6, "µm")))
         csd = float(core.shakedown_stick_halfwidth(ft, w))
-        rows += [("c_sd/a closure (eq 30)", _fmt(csd, "", 3) if math.isfinite(csd) else "none (ft > ft_lim)"),
-                 ("c_sd/a numerical", "–" if result is None else _fmt(result.stick_halfwidth, "", 3)),
+        scale, unit = (c.a * 1e3, "mm") if (physical and c is not None) else (1.0, "a")
+        rows += [("c_sd closure (eq 30)", _fmt(csd * scale, unit, 3) if math.isfinite(csd) else "none (ft > ft_lim)"),
+                 ("c_sd numerical", wait or _fmt(result.stick_halfwidth * scale, unit, 3)),
                  ("ft_lim(w) (eq 35)", _fmt(float(core.ft_limit(w)), "", 4)),
-                 ("w_lim(ft) (eq 35)", _fmt(float(core.w_limit(ft)), "", 4))]
-        if result is not None:
-            inc = result.increment_per_period
-            unit = "U0" if result.u0 else "μP/E*"
-            last = inc[-1] / result.u0 if result.u0 else inc[-1]
-            rows.append(("Δu last period", f"{last:.3g} {unit}"))
+                 ("w_lim(ft) (eq 35)", _fmt(float(core.w_limit(ft)), "", 4)),
+                 ("margin ft / ft_lim", _fmt(ft / float(core.ft_limit(w)), "", 3) if core.ft_limit(w) > 0 else "–"),
+                 ("margin w / w_lim", _fmt(w / float(core.w_limit(ft)), "", 3) if core.w_limit(ft) > 0 else "–")]
+        if wait:
+            rows += [("Δu last period", wait), ("solve", wait)]
+        else:
+            inc = float(result.increment_per_period[-1])
+            if physical and c is not None:
+                um = inc * c.displacement_unit * 1e6
+                rows.append(("creep per period (last)", _fmt(um, "µm", 3)))
+                rows.append(("creep after 10⁶ periods", _fmt(um * cycles / 1e3, "mm", 3)))
+            else:
+                unit_u = "U0" if result.u0 else "μP/E*"
+                rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
             rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., "
                                   f"{result.xc.size} steps"))
-        body = "".join(f"<div><span class='k'>{html.escape(k)}</span><span class='v'>{html.escape(v)}</span></div>"
-                       for k, v in rows)
+        body = "".join(
+            f"<div><span class='k'>{html.escape(k)}</span><span class='v{' pending' if v == wait else ''}'>"
+            f"{html.escape(v)}</span></div>" for k, v in rows)
         return f"<div class='cards'>{body}</div>"
 
     def _warnings(self, ft, w, contact, result):
@@ -530,11 +757,14 @@ class Explorer(pn.viewable.Viewer):
     def main_area(self) -> pn.viewable.Viewable:
         """The badge, cards, player and figures, without the sidebar (for notebooks)."""
         live = dict(ft=self.param.ft_live, w=self.param.w_live)
-        badge = pn.pane.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error),
-                             css_classes=["regime"], margin=(6, 10), min_width=300, height=120, stylesheets=[_CSS])
+        badge = pn.pane.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error,
+                                     pending=self.param.pending),
+                             css_classes=["regime"], margin=(6, 10), sizing_mode="stretch_width", stylesheets=[_CSS])
         cards = pn.pane.HTML(pn.bind(self._cards, **live, mu=self.mu_slider.param.value,
-                                     contact=self.param.contact, result=self.param.result),
-                             css_classes=["summary-cards"], margin=(0, 10), height=180, stylesheets=[_CSS])
+                                     contact=self.param.contact, result=self.param.result,
+                                     pending=self.param.pending, units=self.state.param.units),
+                             css_classes=["summary-cards"], margin=(0, 10), sizing_mode="stretch_width",
+                             stylesheets=[_CSS])
         model_warnings = pn.bind(self._warnings, **live, contact=self.param.contact, result=self.param.result)
         warnings = pn.pane.Alert(pn.bind(lambda m: "\n".join(f"- {html.escape(x)}" for x in m), model_warnings),
                                  visible=pn.bind(bool, model_warnings), alert_type="warning",
@@ -546,41 +776,65 @@ class Explorer(pn.viewable.Viewer):
                                         + "\n".join(f"- {html.escape(m)}" for m in n), self.param.notices),
                                 alert_type="warning", visible=self.param.notices.rx.bool(),
                                 sizing_mode="stretch_width", css_classes=["url-notice"])
-        figs = self.figures()
-        player = pn.Row(pn.pane.Markdown("**Cycle player**", margin=(18, 10, 0, 10)), self.period_slider,
-                        self.player, sizing_mode="stretch_width")
-        explorer = pn.Column(
-            player,
-            pn.Row(figs["pressure"], figs["traction"], sizing_mode="stretch_width"),
-            pn.Row(figs["states"], figs["displacement"], sizing_mode="stretch_width"),
-            pn.Row(pn.Column(figs["map"], self.map_controls(), sizing_mode="stretch_width"),
-                   figs["increments"], sizing_mode="stretch_width"),
-            sizing_mode="stretch_width", name="Explorer",
-        )
-        tabs = pn.Tabs(explorer, ("Paper's figures", paper_figures_tab()), ("About the model", self.about()),
+        top = pn.FlexBox(
+            pn.Column(badge, pn.Row(self.spinner, self.status), sizing_mode="stretch_width",
+                      styles={"flex": "0 1 300px", "min-width": "260px"}),
+            pn.Column(cards, errors, notices, warnings, sizing_mode="stretch_width",
+                      styles={"flex": "1 1 500px", "min-width": "260px"}),
+            flex_wrap="wrap", sizing_mode="stretch_width")
+        tabs = pn.Tabs(("Explorer", self.explorer_tab()), ("Paper's figures", paper_figures_tab()),
+                       ("About the model", self.about()),
                        sizing_mode="stretch_width", dynamic=True)  # a tab's models are sent only when shown
-        top = pn.Row(pn.Column(badge, pn.Row(self.spinner, self.status), width=360, sizing_mode=None),
-                     pn.Column(cards, errors, notices, warnings, sizing_mode="stretch_width"),
-                     sizing_mode="stretch_width")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
+
+    def player_controls(self) -> pn.FlexBox:
+        """The cycle player: period, step, step back / play / step forward, speed, and where the cylinder is."""
+        readout = pn.bind(self._readout, self.param.result, self.param.frame, self.param.plot_units)
+        self.readout.object = readout
+        return pn.FlexBox(
+            pn.pane.Markdown("**Cycle player**", margin=(18, 10, 0, 10), width=130, sizing_mode=None),
+            self.period_slider, self.step_slider,
+            pn.Row(self.step_back, self.play, self.step_forward, sizing_mode=None, margin=(14, 0, 0, 0)),
+            self.speed, self.readout,
+            flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width", css_classes=["cycle-player"])
+
+    def explorer_tab(self) -> pn.Column:
+        """The player and the figures, each with a one-line caption; the figures wrap to one column when narrow."""
+        figs = self.figures()
+
+        def cell(name, *extra):
+            caption = pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}</div>",
+                                   stylesheets=[_CSS], sizing_mode="stretch_width", margin=0)
+            return pn.Column(figs[name], caption, *extra, sizing_mode="stretch_width",
+                             styles={"flex": "1 1 560px", "min-width": "min(300px, 100%)"})
+
+        grid = pn.FlexBox(cell("pressure"), cell("traction"), cell("states"), cell("displacement"),
+                          cell("map", self.map_controls()), cell("increments"),
+                          flex_wrap="wrap", sizing_mode="stretch_width")
+        return pn.Column(self.player_controls(), grid, sizing_mode="stretch_width", name="Explorer")
 
     def map_controls(self) -> pn.Column:
         """The 'compute the numerical map' action, its progress and its outcome."""
         status = pn.pane.Markdown(pn.bind(lambda s, l: f"Map shown: **{l}**. {s}", self.param.map_status,
-                                          self.param.map_label), css_classes=["map-status"])
-        return pn.Column(pn.Row(self.map_points, self.map_button, self.map_cancel_button), self.map_bar, status,
-                         sizing_mode="stretch_width")
+                                          self.param.map_label), css_classes=["map-status"],
+                                  sizing_mode="stretch_width")
+        self.map_points.param.update(sizing_mode="stretch_width", min_width=200)
+        self.map_button.param.update(sizing_mode=None, width=250)
+        return pn.Column(pn.FlexBox(self.map_points, self.map_button, self.map_cancel_button, flex_wrap="wrap",
+                                    align_items="flex-end", sizing_mode="stretch_width"),
+                         self.map_bar, status, sizing_mode="stretch_width")
 
     def sidebar(self) -> list:
         """The input widgets."""
         return [
-            self.preset,
+            self.preset, self.preset_note,
             pn.pane.Markdown("### Loads"), self.ft_slider, self.w_slider, self.mu_slider,
             pn.pane.Markdown("### Units"), self.units_toggle,
             pn.Card(*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs,
                     title="Geometry and materials", collapsed=False, sizing_mode="stretch_width"),
             pn.Card(*self.solver_inputs, title="Solver", collapsed=True, sizing_mode="stretch_width"),
             pn.pane.Markdown("### Download the run"), self.csv_table, self.csv_download, self.json_download,
+            pn.pane.Markdown(_APPLIES, styles={"font-size": "14px"}, css_classes=["model-applies"]),
         ]
 
     @staticmethod
@@ -591,15 +845,29 @@ class Explorer(pn.viewable.Viewer):
         for i, part in enumerate(parts):
             if i % 2:
                 objs.append(pn.pane.LaTeX(f"$${part.strip()}$$", renderer="katex", styles={"font-size": "20px"},
-                                          margin=(0, 30)))
+                                          margin=(0, 30), stylesheets=_KATEX_CSS, sizing_mode="stretch_width"))
             elif part.strip():
                 objs.append(pn.pane.Markdown(part, styles={"font-size": "17px"}, sizing_mode="stretch_width"))
         return pn.Column(*objs, name="About the model", max_width=1100, sizing_mode="stretch_width")
 
     def template(self) -> pn.template.BaseTemplate:
-        """The served page."""
-        return pn.template.BootstrapTemplate(
+        """The served page: sidebar, header with the presentation-mode switch, the main area."""
+        present = pn.widgets.Toggle(label="Presentation mode", width=170, css_classes=["presentation-toggle"],
+                                    button_type="light", margin=(8, 10))
+        present.jscallback(value="""
+            const on = cb_obj.active;
+            document.documentElement.classList.toggle('presenting', on);
+            window.dispatchEvent(new Event('resize'));
+        """)
+        template = pn.template.BootstrapTemplate(
             title="Shakedown Explorer: a rocking cylinder with Coulomb friction",
-            sidebar=self.sidebar(), main=[self.main_area()], sidebar_width=340,
+            sidebar=self.sidebar(), main=[self.main_area()], header=[present], sidebar_width=340,
             header_background="#1f5f99",
         )
+        template.config.raw_css.append(_PAGE_CSS)
+        doc = self._doc
+        if doc is not None:
+            from bokeh.models import CustomJS
+
+            doc.js_on_event("document_ready", CustomJS(code=_A11Y_JS % MathFonts.url))
+        return template

@@ -41,6 +41,19 @@ def _columns(spec: Layer, data) -> dict | None:
     return None
 
 
+def _is_empty(data) -> bool:
+    """Whether layer data draws nothing (its legend entry is then hidden)."""
+    if isinstance(data, Styled):
+        data = data.data
+    if data is None:
+        return False
+    if isinstance(data, tuple) and len(data) == 2 and not isinstance(data[1], tuple) and np.ndim(data[0]) == 2:
+        return False  # an image (array, bounds)
+    if isinstance(data, tuple):
+        return all(np.size(c) == 0 for c in data)
+    return np.size(data) == 0
+
+
 class Styled(NamedTuple):
     """Layer data with glyph properties that change with it (e.g. a colour that encodes a regime)."""
 
@@ -116,10 +129,31 @@ class LiveFigure:
         if len(self._subplots) != len(specs):  # pragma: no cover - a HoloViews change
             raise RuntimeError(f"{len(specs)} layers but {len(self._subplots)} subplots")
         self.plot, self.figure = plot, plot.state
+        self._legend = self._legend_items()
+        for i, d in enumerate(self._data):
+            self._show_in_legend(i, d)
         if self.padding is not None:
             px, py = self.padding
             self.figure.x_range = DataRange1d(range_padding=px)
             self.figure.y_range = DataRange1d(range_padding=py)
+
+    def _legend_items(self) -> dict:
+        """Legend item of each layer (by index) that has one."""
+        items = [item for legend in self.figure.legend for item in legend.items]
+        out = {}
+        for i, sub in enumerate(self._subplots):
+            renderer = sub.handles.get("glyph_renderer")
+            for item in items:
+                if renderer is not None and renderer in item.renderers:
+                    out[i] = item
+        return out
+
+    def _show_in_legend(self, i, data) -> None:
+        item = self._legend.get(i)
+        if item is not None:
+            visible = not _is_empty(data)
+            if item.visible != visible:
+                item.visible = visible
 
     def update(self, specs, data) -> bool:
         """Show ``data``: replace the data of the layers that changed.
@@ -139,6 +173,7 @@ class LiveFigure:
             if new is self._data[i]:
                 continue
             self._write(i, specs[i], new)
+            self._show_in_legend(i, new)
             self._data[i] = new
         return False
 

@@ -36,8 +36,10 @@ def _sync_url(explorer: Explorer) -> None:
         return
 
     def rejected(values):  # values that Panel's own sync could not apply (kept out of the state)
-        names = ", ".join(sorted(map(str, values)))
-        explorer.notices = [*explorer.notices, f"not applied from the URL: {names}"][:20]
+        reported = {n.split()[0] for n in explorer.notices if n}  # named already by parse_query's notice
+        names = ", ".join(sorted(v for v in map(str, values) if v not in reported))
+        if names:
+            explorer.notices = [*explorer.notices, f"not applied from the URL: {names}"][:20]
 
     location.sync(explorer.state, {p: p for p in URL_PARAMETERS}, on_error=rejected)
 

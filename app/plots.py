@@ -27,7 +27,6 @@ from typing import NamedTuple
 import holoviews as hv
 import holoviews.plotting.bokeh  # noqa: F401 - registers the Bokeh backend and its options
 import numpy as np
-from bokeh.models import FixedTicker
 
 import core
 from core import approximations as approx
@@ -38,7 +37,7 @@ __all__ = ["Units", "make_units", "Inputs", "FIGURES", "figure", "layers", "spec
            "pressure_curves", "pressure_step", "traction_zones", "traction_run", "traction_bounds",
            "traction_closure", "state_image", "state_marks", "frame_marks", "time_axis", "displacement_curves",
            "displacement_step", "increment_layers", "map_base", "map_numerical", "map_point", "grid_boundary",
-           "ZONE_COLORS", "STATE_COLORS", "REGIME_COLORS", "FONT"]
+           "ZONE_COLORS", "STATE_COLORS", "REGIME_COLORS", "REGIME_MARKERS", "OKABE_ITO", "FONT"]
 
 hv.Store.set_current_backend("bokeh")
 # Plain canvas: these figures are small, and WebGL without a GPU (projector laptops, headless
@@ -49,19 +48,30 @@ hv.plotting.bokeh.BokehRenderer.webgl = False
 FONT = {"title": 17, "labels": 16, "xticks": 14, "yticks": 14, "legend": 14, "cticks": 13}
 LINE = 3
 HEIGHT = 480
-#: Colours of the element states released / stick / slip forward / slip backward.
-STATE_COLORS = ("#e6e6e6", "#2ca02c", "#d62728", "#1f77b4")
-#: Shading of the zones stick / slip / zero traction.
-ZONE_COLORS = {"stick": "#2ca02c", "slip": "#ff7f0e", "zero traction": "#9e9e9e"}
+#: Okabe and Ito's colour-blind-safe palette (distinct under deuteranopia, protanopia and tritanopia).
+OKABE_ITO = {"orange": "#E69F00", "sky": "#56B4E9", "green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
+             "vermillion": "#D55E00", "purple": "#CC79A7", "black": "#000000", "grey": "#999999"}
+_C = OKABE_ITO
+#: Colours of the element states released / stick / slip forward / slip backward (the colour bar names them).
+STATE_COLORS = ("#eeeeee", _C["blue"], _C["orange"], _C["purple"])
+#: Shading of the zones stick / slip / zero traction; slip is also hatched (a cue that needs no colour).
+ZONE_COLORS = {"stick": _C["blue"], "slip": _C["orange"], "zero traction": _C["grey"]}
+ZONE_HATCH = {"stick": " ", "slip": "/", "zero traction": " "}
 _ZONE_CODES = {"stick": 1, "slip": 2, "zero traction": 3}
-#: Colour of the current point on the map, by numerical regime (None: not solved yet).
-REGIME_COLORS = {"shakedown": "#2ca02c", "ratcheting": "#d62728", None: "#7f7f7f"}
+#: Colour and marker of a point on the map, by numerical regime (None: not solved yet): shape is the second cue.
+REGIME_COLORS = {"shakedown": _C["blue"], "ratcheting": _C["vermillion"], "undetermined": _C["grey"],
+                 None: _C["grey"]}
+REGIME_MARKERS = {"shakedown": "circle", "ratcheting": "triangle", "undetermined": "diamond", None: "square"}
 _NX = 401
 _EMPTY = (np.zeros(0), np.zeros(0))
 
 _BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True,
              toolbar="above", default_tools=["pan", "wheel_zoom", "box_zoom", "reset", "save"],
-             backend_opts={"plot.toolbar.autohide": True})
+             # no tool active: the wheel scrolls the page and a finger scrolls a phone's page; zoom and pan are
+             # one click away in the toolbar
+             active_tools=[],
+             backend_opts={"plot.toolbar.autohide": False, "plot.toolbar.active_scroll": None,
+                           "plot.toolbar.active_drag": None})
 
 
 def _memo(fn):
@@ -146,10 +156,10 @@ def _pressure_specs(units: Units) -> list:
     kd, vd = _dim("x", units.x_label), _dim("p", units.p_label)
     return [
         _line("centre, xc = 0", "#7f7f7f", kd, vd, dash="dashed", width=2),
-        _line("reversal xc = +W", "#1f77b4", kd, vd),
-        _line("reversal xc = −W", "#ff7f0e", kd, vd),
+        _line("reversal xc = +W", _C["blue"], kd, vd),
+        _line("reversal xc = −W", _C["orange"], kd, vd),
         _line("μ p_min (over the cycle)", "black", kd, vd, width=LINE + 1),
-        _line("current step", "#d62728", kd, vd, dash="dotdash"),
+        _line("current step", _C["vermillion"], kd, vd, dash="dotdash"),
     ]
 
 
@@ -215,18 +225,26 @@ def traction_zones(result: core.CycleResult, frame: int) -> np.ndarray:
     return np.where(s == 1, 1, np.where(s >= 2, 2, np.where(ever, 3, 0)))
 
 
+def _hatch(pattern: str, color: str):
+    """A render hook that hatches a layer's glyph (HoloViews has no hatch options for rectangles)."""
+    def hook(plot, element):
+        plot.handles["glyph"].update(hatch_pattern=pattern, hatch_color=color, hatch_alpha=0.45)
+    return hook
+
+
 def _traction_specs(units: Units) -> list:
     kd, vd = _dim("x", units.x_label), _dim("q", units.q_label)
     zones = [Layer(hv.Rectangles, (kd, vd, "x1", "y1"), (), f"zone: {name}",
-                   dict(color=ZONE_COLORS[name], alpha=0.16, line_alpha=0)) for name in _ZONE_CODES]
+                   dict(color=ZONE_COLORS[name], alpha=0.18, line_alpha=0, hooks=[_hatch(ZONE_HATCH[name], ZONE_COLORS[name])]))
+             for name in _ZONE_CODES]
     return [
         *zones,
         _line("±μ p (this step)", "#555555", kd, vd, dash="dashed", width=2),
         _line("", "#555555", kd, vd, dash="dashed", width=2),
         _line("±μ p_min", "black", kd, vd, dash="dotted", width=2),
         _line("", "black", kd, vd, dash="dotted", width=2),
-        _line("closure (paper, eqs 22–30)", "#9467bd", kd, vd, dash="dashed", width=LINE + 1),
-        _line("numerical", "#d62728", kd, vd),
+        _line("closure (paper, eqs 22–30)", _C["blue"], kd, vd, dash="dashed", width=LINE + 1),
+        _line("numerical", _C["vermillion"], kd, vd),
     ]
 
 
@@ -303,6 +321,8 @@ def time_axis(result: core.CycleResult) -> np.ndarray:
 def _state_colorbar(plot, element) -> None:
     """Name the four states on the colour bar. A hook, so that its ticker is a new Bokeh model in every render:
     a ticker in the (shared, cached) options would be one model for all sessions, emptied when the first expires."""
+    from bokeh.models import FixedTicker
+
     bar = plot.handles.get("colorbar")
     if bar is not None:
         bar.ticker = FixedTicker(ticks=[0, 1, 2, 3])
@@ -311,9 +331,9 @@ def _state_colorbar(plot, element) -> None:
 
 def _states_specs(units: Units) -> list:
     kx, kt = _dim("x", units.x_label), _dim("t", "time [periods]")
-    image = Layer(hv.Image, (kx, kt), (hv.Dimension("state", range=(-0.5, 3.5)),), "", dict(
-        cmap=list(STATE_COLORS), clim=(-0.5, 3.5), colorbar=True, hooks=[_state_colorbar],
-        colorbar_opts={"title": "element state"}))
+    image = Layer(hv.Image, (kx, kt), (hv.Dimension("state", label="element state", range=(-0.5, 3.5)),), "",
+                  dict(cmap=list(STATE_COLORS), clim=(-0.5, 3.5), colorbar=True, hooks=[_state_colorbar],
+                       colorbar_opts={"title": "element state"}))
 
     def vlines(label, color, dash):
         return Layer(hv.VLines, (kx,), (), label, dict(color=color, line_dash=dash, line_width=LINE))
@@ -321,10 +341,10 @@ def _states_specs(units: Units) -> list:
         image,
         Layer(hv.Curve, (kx,), (kt,), "contact edges xc ± a", dict(color="black", line_width=2)),
         Layer(hv.Curve, (kx,), (kt,), "", dict(color="black", line_width=2)),
-        vlines("±b = ±(a − W)", "#8c564b", "dashed"),
-        vlines("±c_sd numerical", "#b000b0", "solid"),
+        vlines("±b = ±(a − W)", _C["green"], "dashed"),
+        vlines("±c_sd numerical", _C["purple"], "solid"),
         vlines("±c_sd closure", "#4b0082", "dotted"),
-        Layer(hv.HLines, (kt,), (), "player step", dict(color="#ffbf00", line_width=LINE + 1)),
+        Layer(hv.HLines, (kt,), (), "player step", dict(color=_C["yellow"], line_width=LINE + 1)),
     ]
 
 
@@ -378,10 +398,10 @@ def _states_layers(i: Inputs) -> tuple:
 def _displacement_specs(units: Units) -> list:
     kd, vd = _dim("t", "time [periods]"), _dim("u", units.u_label)
     return [
-        Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color="#d62728", line_width=LINE)),
-        Layer(hv.HLines, (vd,), (), "u_sd, eq 34 (paper's regression)",
-              dict(color="#9467bd", line_dash="dashed", line_width=2)),
-        Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color="#ffbf00", size=12, line_color="black")),
+        Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=LINE)),
+        Layer(hv.HLines, (vd,), (), "u_sd (eq 34, regression)",
+              dict(color=_C["blue"], line_dash="dashed", line_width=2)),
+        Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color=_C["yellow"], size=12, line_color="black")),
     ]
 
 
@@ -418,10 +438,10 @@ def _increments_specs(units: Units) -> list:
     vd = _dim("du", f"|ΔU| per period [{units.u_label.split('[')[-1].rstrip(']')}]"
               if "[" in units.u_label else "|Δu| per period [U0]")
     return [
-        Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color="#d62728", line_width=2)),
-        Layer(hv.Scatter, (kd,), (vd,), "", dict(color="#d62728", size=9)),
-        Layer(hv.HLines, (vd,), (), "eq 38 (paper's regression)",
-              dict(color="#9467bd", line_dash="dashed", line_width=2)),
+        Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=2)),
+        Layer(hv.Scatter, (kd,), (vd,), "", dict(color=_C["vermillion"], size=9)),
+        Layer(hv.HLines, (vd,), (), "eq 38 (regression)",
+              dict(color=_C["blue"], line_dash="dashed", line_width=2)),
     ]
 
 
@@ -463,19 +483,19 @@ def map_base() -> hv.Overlay:
     g = (np.arange(n) + 0.5) / n
     FT, W = np.meshgrid(g, g)
     csd = core.shakedown_stick_halfwidth(FT * 0.999, W * 0.999)
-    img = hv.Image((g, g, csd), kdims=kd, vdims=["c_sd"])
+    img = hv.Image((g, g, csd), kdims=kd, vdims=[hv.Dimension("c_sd", label="c_sd / a (closure)")])
     contours = hv.operation.contours(img, levels=_CSD_LEVELS, filled=False).opts(
         cmap="viridis", line_width=2, colorbar=True, show_legend=False,
         colorbar_opts={"title": "c_sd / a (closure)"})
     return hv.Overlay([
         contours,
-        hv.Curve((ft, core.w_limit(ft)), kdims=kd[:1], vdims=kd[1:], label="eq 35 exact limit").opts(
+        hv.Curve((ft, core.w_limit(ft)), kdims=kd[:1], vdims=kd[1:], label="eq 35 (exact)").opts(
             color="black", line_width=LINE + 1),
         hv.Curve((ft, approx.w_limit_regression(ft)), kdims=kd[:1], vdims=kd[1:],
-                 label="eq 36 regression (approx.)").opts(color="#ff7f0e", line_dash="dashed",
+                 label="eq 36 regression").opts(color=_C["orange"], line_dash="dashed",
                                                                        line_width=LINE),
-        hv.Text(0.2, 0.25, "shakedown", fontsize=16).opts(color="#2ca02c"),
-        hv.Text(0.8, 0.5, "ratcheting", fontsize=16).opts(color="#d62728"),
+        hv.Text(0.2, 0.25, "shakedown", fontsize=16).opts(color=_C["blue"]),
+        hv.Text(0.8, 0.5, "ratcheting", fontsize=16).opts(color=_C["vermillion"]),
     ])
 
 
@@ -496,14 +516,18 @@ def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
     return np.array(fts), np.array(ws)
 
 
+_MAP_REGIMES = ("shakedown", "ratcheting", "undetermined")
+
+
 def _map_specs(label: str = "solver") -> list:
     kd = _MAP_DIMS
     return [
-        *[Layer(hv.Points, kd, (), f"{regime} ({label})",
-                dict(color=REGIME_COLORS[regime], marker="square", size=5, alpha=0.35, line_alpha=0))
-          for regime in ("shakedown", "ratcheting")],
-        Layer(hv.Curve, kd[:1], kd[1:], f"numerical limit ({label})",
-              dict(color="#1f77b4", line_width=LINE, line_dash="dotdash")),
+        *[Layer(hv.Points, kd, (), f"{regime}, {label}",
+                dict(color=REGIME_COLORS[regime], marker=REGIME_MARKERS[regime], size=8, alpha=0.7, line_alpha=0))
+          for regime in _MAP_REGIMES],
+        # the grid resolves the limit to half a grid step: markers, not a line that would look like a staircase
+        Layer(hv.Points, kd, (), "numerical limit ±½ step",
+              dict(color="black", fill_color="white", marker="diamond", size=11, line_width=2)),
         *map_base(),
         Layer(hv.Points, kd, (), "current point", dict(size=18, marker="circle", line_color="black", line_width=2)),
     ]
@@ -518,9 +542,11 @@ def map_numerical(table) -> tuple:
     table_seen, layers = _NUMERICAL_MEMO
     if table_seen is table and layers is not None:
         return layers
-    runs = [_EMPTY if table is None else tuple(table.loc[table["regime"] == regime, c].to_numpy(float)
-                                              for c in ("ft", "w"))
-            for regime in ("shakedown", "ratcheting")]
+    n = 1 if table is None else max(1.0, np.sqrt(len(table)))
+    size = float(np.clip(260.0 / n, 6.0, 24.0))  # a small map's markers fill their grid cells
+    runs = [Styled(_EMPTY if table is None else tuple(table.loc[table["regime"] == regime, c].to_numpy(float)
+                                                     for c in ("ft", "w")), {"size": size})
+            for regime in _MAP_REGIMES]
     layers = (*runs, grid_boundary(table))
     _NUMERICAL_MEMO[:] = [table, layers]
     return layers
@@ -528,8 +554,9 @@ def map_numerical(table) -> tuple:
 
 @_memo
 def map_point(ft: float, w: float, regime: str | None = None) -> Styled:
-    """The current (ft, w), coloured by the numerical regime when known."""
-    return Styled(([ft], [w]), {"fill_color": REGIME_COLORS.get(regime, REGIME_COLORS[None])})
+    """The current (ft, w), coloured and shaped by the numerical regime when known."""
+    return Styled(([ft], [w]), {"fill_color": REGIME_COLORS.get(regime, REGIME_COLORS[None]),
+                                "marker": REGIME_MARKERS.get(regime, REGIME_MARKERS[None])})
 
 
 def _map_layers(i: Inputs) -> tuple:
@@ -540,20 +567,26 @@ def _map_layers(i: Inputs) -> tuple:
 # --------------------------------------------------------------------------
 # the figures
 # --------------------------------------------------------------------------
-#: Each figure: its title and options, its layers' looks (a function of the units), its layers' data (a function
+#: Each figure: its title and options, a one-line "what you see" caption, its layers' looks (a function of the units), its layers' data (a function
 #: of :class:`Inputs`), and the inputs these depend on.
 FIGURES = {
-    "pressure": dict(opts=dict(title="Pressure (Hertz, uncoupled)"), specs=_pressure_specs,
+    "pressure": dict(opts=dict(title="Pressure (Hertz, uncoupled)"),
+                caption="What you see: the Hertz pressure moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
-    "traction": dict(opts=dict(title="Traction: numerical vs closure"), specs=_traction_specs,
+    "traction": dict(opts=dict(title="Traction: numerical vs closure"),
+                caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: stick, slip (hatched), no contact.", specs=_traction_specs,
                      layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame")),
-    "states": dict(opts=dict(title="Element states over the run"), specs=_states_specs,
+    "states": dict(opts=dict(title="Element states over the run"),
+                caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,
                    layers=_states_layers, inputs=("units", "result", "frame")),
-    "displacement": dict(opts=dict(title="Displacement of the cylinder"), specs=_displacement_specs,
+    "displacement": dict(opts=dict(title="Displacement of the cylinder"),
+                caption="What you see: the cylinder's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame")),
-    "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True), specs=_increments_specs,
+    "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),
+                caption="What you see: how far the cylinder walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result")),
     "map": dict(opts=dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
+                caption="What you see: below the black curve (eq 35) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
                 specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table")),
 }
 

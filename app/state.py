@@ -22,7 +22,7 @@ import core
 
 from .limits import MAX_PERIODS, MAX_RESOLUTION
 
-__all__ = ["ExplorerState", "PRESETS", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
+__all__ = ["ExplorerState", "PRESETS", "PRESET_NOTES", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
 
 #: Longest query-string value that is even looked at (longer ones are rejected).
 MAX_QUERY_VALUE_LENGTH = 64
@@ -83,6 +83,15 @@ class ExplorerState(param.Parameterized):
     units = param.Selector(default="normalised", objects=["normalised", "physical"], label="Units",
                            doc="Plot units: 'normalised' (x/a, p/p0, q/(μ p0), u in μP/E* or U/U0) "
                                "or 'physical' (mm, MPa, µm).")
+
+    # ---- slider values without float noise ----------------------------------
+    @param.depends("ft", "w", "mu", watch=True, on_init=True)
+    def _round(self):
+        """Round the sliders' values to 1e-6 (a browser's slider steps give 0.44000000000000006, which the URL
+        would show)."""
+        noisy = {k: round(v, 6) for k in ("ft", "w", "mu") if (v := getattr(self, k)) != round(v, 6)}
+        if noisy:
+            self.param.update(**noisy)
 
     # ---- derived ------------------------------------------------------------
     def contact(self) -> core.Contact:
@@ -147,6 +156,13 @@ PRESETS: dict[str, dict] = {
     "Paper experiment (Table 1)": dict(_contact_inputs(core.PAPER_EXPERIMENT), **_SOLVER_PAPER),
     **{f"Fig 6: ft = 0.08, w = {w}": dict(_SIMULATION, ft=0.08, w=w, **_SOLVER_PAPER) for w in (0.26, 0.52, 0.77)},
     **{f"Fig 7: ft = 0.58, w = {w}": dict(_SIMULATION, ft=0.58, w=w, **_SOLVER_PAPER) for w in (0.26, 0.52, 0.77)},
+}
+
+#: What to know beside a preset.
+PRESET_NOTES: dict[str, str] = {
+    "Fig 7: ft = 0.58, w = 0.26": (
+        "**Note:** the paper's Fig. 7 caption lists this case among the ratcheting ones, but eq 35 gives "
+        "ft_lim(0.26) = 0.673 > 0.58, and the solver agrees: it shakes down. The badge's SHAKEDOWN is not a bug."),
 }
 
 #: Parameters synced with the URL, each under its own name.

@@ -48,7 +48,7 @@ _ROUND_TRIP = """
 async ([title, figTitle, value, release]) => {
   const models = () => { const out = []; for (const d of Bokeh.documents) for (const m of d.all_models) out.push(m); return out; };
   const all = models();
-  const slider = title === 'player' ? all.find((m) => 'loop_policy' in m && 'interval' in m)
+  const slider = title === 'player' ? all.find((m) => m.title === 'Step in the period' && 'value_throttled' in m)
     : all.find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
   const fig = all.find((m) => m.title != null && m.title.text === figTitle);
   const sources = () => fig.renderers.map((r) => r.data_source).filter((s) => s != null);
@@ -69,7 +69,7 @@ async ([title, figTitle, value, release]) => {
 def _load(browser, url) -> float:
     page = browser.new_page(viewport={"width": 1600, "height": 1000})
     t0 = time.perf_counter()
-    page.goto(url)
+    page.goto(url, timeout=180_000)
     page.locator(BADGE).first.wait_for(timeout=120_000)
     page.locator(".bk-Canvas, canvas").nth(5).wait_for(timeout=60_000)
     elapsed = time.perf_counter() - t0
@@ -94,7 +94,7 @@ def main(argv=None) -> int:
         cold = _load(browser, url)
         warm = [_load(browser, url) for _ in range(3)]
         page = browser.new_page(viewport={"width": 1600, "height": 1000})
-        page.goto(url + "?ft=0.3&w=0.5")
+        page.goto(url + "?ft=0.3&w=0.5", timeout=180_000)
         page.locator(BADGE).first.wait_for(timeout=60_000)
         page.locator(".bk-Canvas, canvas").nth(5).wait_for(timeout=60_000)
         analytical = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction: numerical vs closure",
@@ -103,6 +103,7 @@ def main(argv=None) -> int:
         resolve = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Displacement of the cylinder", ft, True]) for ft in fts]
         steps = [page.evaluate(_ROUND_TRIP, [PLAYER, "Traction: numerical vs closure", i % 40, False])
                  for i in range(1, n + 1)]
+        models = page.evaluate("() => Bokeh.documents[0].all_models.size")
         page.close()
     state = ExplorerState()
     c = state.contact()
@@ -117,6 +118,7 @@ def main(argv=None) -> int:
     print(f"  of which the solver alone (same runs)   : {_stats(solver)}")
     print(f"  default run: {state.resolution} elements per a, {state.periods} periods, kernel {state.kernel}")
     print(f"player step -> traction data              : {_stats(steps)}   (the player steps every 150 ms)")
+    print(f"Bokeh models in one session's document    : {models}")
     return 0
 
 

@@ -2,9 +2,9 @@
 
 Usage: python scripts/screenshot.py [--url-query "?ft=0.3&w=0.5"] [--out docs/screenshot.png]
 
-Serves ``app/main.py`` on a free loopback port, opens it in headless Chromium
-1600 CSS pixels wide and tall enough for every figure (1950), waits until the solver's verdict and
-the figures are drawn, and saves a PNG (palette-quantised to stay small).
+Serves ``app/main.py`` on a free loopback port, opens it in headless Chromium at a projector's
+1280x720 CSS pixels, waits until the solver's verdict and the figures are drawn, scrolls the main
+area to ``--scroll`` pixels, and saves a PNG (palette-quantised to stay small).
 """
 
 from __future__ import annotations
@@ -25,15 +25,17 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--query", default="?ft=0.3&w=0.5", help="URL query of the view to capture")
     ap.add_argument("--out", default=str(ROOT / "docs" / "screenshot.png"), help="output PNG")
-    ap.add_argument("--width", type=int, default=1600)
-    ap.add_argument("--height", type=int, default=1950)
+    ap.add_argument("--width", type=int, default=1280)
+    ap.add_argument("--height", type=int, default=720)
+    ap.add_argument("--scroll", type=int, default=0, help="scroll the main area by this many CSS pixels")
     ap.add_argument("--full-page", action="store_true", help="capture the whole page, not the viewport")
     args = ap.parse_args(argv)
     with served_app() as url, chromium() as browser:
         page = browser.new_page(viewport={"width": args.width, "height": args.height})
-        page.goto(url + args.query)
+        page.goto(url + args.query, timeout=180_000)
         page.locator(BADGE).first.wait_for(timeout=60_000)
         wait_until(lambda: page.locator(".bk-Canvas, canvas").count() >= 6, 30, message="the figures")
+        page.evaluate("(y) => { const m = document.getElementById('main'); if (m) m.scrollTop = y; }", args.scroll)
         page.wait_for_timeout(1500)  # let the last figures paint (one-off script, not a test)
         png = page.screenshot(full_page=args.full_page)
     out = Path(args.out)

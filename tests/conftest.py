@@ -60,3 +60,21 @@ def _run_in_fresh_thread(fn, *args, **kwargs):
 @pytest.fixture
 def fresh_thread():
     return _run_in_fresh_thread
+
+# ---- the served app and Chromium, shared by the tests of one module (Playwright's sync API allows one
+# instance per process at a time, and while it lives it runs an asyncio loop in this thread: a session-wide
+# browser broke later modules that run an event loop of their own, e.g. the load test's Bokeh clients) ----
+@pytest.fixture(scope="module")
+def app_url():
+    from app.serving import served_app
+
+    with served_app() as url:
+        yield url
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from app.serving import chromium
+
+    with chromium() as b:
+        yield b

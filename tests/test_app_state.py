@@ -166,10 +166,17 @@ def test_player_moves_the_frame_within_a_period():
     ex = Explorer(ExplorerState(periods=3))
     r = ex.result
     assert ex.frame == r.xc.size - 1
-    ex.period_slider.value = 1
-    ex.player.value = 0
-    first_of_period_1 = int(np.flatnonzero(r.period == 1)[0])
-    assert ex.frame == first_of_period_1
+    assert (ex.period_slider.value, ex.period_slider.end) == (3, 3)  # periods numbered from 1, as on the plots
+    ex.period_slider.value = 2
+    ex.step_slider.value = 0
+    first_of_period_2 = int(np.flatnonzero(r.period == 1)[0])  # core numbers periods from 0
+    assert ex.frame == first_of_period_2
+    ex.step(-1)  # back across the period boundary
+    assert ex.frame == first_of_period_2 - 1 and ex.period_slider.value == 1
+    assert ex.step_slider.value == ex.step_slider.end
+    ex.period_slider.value = 0  # the loading phase is reachable
+    assert r.period[ex.frame] == -1
+    assert "loading" in ex._readout(r, ex.frame, ex.plot_units)
 
 
 def test_csv_download_has_the_run_and_its_parameters():
@@ -179,8 +186,12 @@ def test_csv_download_has_the_run_and_its_parameters():
     df = pd.read_csv(io.StringIO(text), comment="#")
     assert {"step", "period", "displacement_muP_Estar", "u_U_over_U0", "displacement_m"} <= set(df.columns)
     ex.csv_table.value = "final"
-    assert ex.csv_download.filename == "shakedown_final.csv"
-    assert "traction_mu_p0" in pd.read_csv(ex._csv(), comment="#").columns
+    assert ex.csv_download.filename == "shakedown_final_ft0.30_w0.50_mu0.58_3p.csv"  # names carry the inputs
+    assert ex.json_download.filename == "shakedown_run_ft0.30_w0.50_mu0.58_3p.json"
+    final = pd.read_csv(ex._csv(), comment="#")
+    assert "traction_mu_p0" in final.columns
+    np.testing.assert_allclose(final["closure_traction_mu_p0"], core.shakedown_traction(final["x_a"].to_numpy(), 0.3, 0.5),
+                               rtol=1e-8, atol=1e-12, err_msg="the closure column is the paper's eqs 22-30")
 
 
 # ---- figures ----------------------------------------------------------------
@@ -352,3 +363,54 @@ def test_two_sessions_share_no_colour_bar_ticker():
     for bar in bars:
         assert list(bar.ticker.ticks) == [0, 1, 2, 3]
         assert list(bar.major_label_overrides.values()) == list(core.STATE_NAMES)
+
+# ---- issue 11: sessions share no model; one consistent state ----------------------------------------------
+def test_two_sessions_share_no_bokeh_model():
+    """Every model of a session's figures is its own: a model built once (e.g. a colour bar's ticker in cached
+    options) is shared by all sessions and emptied when the first one is cleaned up."""
+    a, b = Explorer(), Explorer()
+    a.figures(), b.figures()
+    ids = [{m.id for live in ex._live.values() for m in live.figure.references()} for ex in (a, b)]
+    assert ids[0] and not ids[0] & ids[1]
+    bar = [m for m in a._live["states"].figure.references() if type(m).__name__ == "ColorBar"][0]
+    assert list(bar.ticker.ticks) == [0, 1, 2, 3]
+    assert list(bar.major_label_overrides.values()) == list(core.STATE_NAMES)
+
+
+def test_no_tool_takes_the_wheel():
+    ex = Explorer()
+    ex.figures()
+    for name, live in ex._live.items():
+        assert live.figure.toolbar.active_scroll is None, name
+        assert any(type(t).__name__ == "WheelZoomTool" for t in live.figure.toolbar.tools), name
+
+
+def test_badge_and_cards_never_mix_an_old_verdict_with_new_inputs():
+    ex = Explorer(ExplorerState(periods=10))  # enough periods for a verdict (3 leave it undetermined)
+    r = ex.result
+    assert f'data-regime="{r.regime}"' in ex._badge(0.3, 0.5, r, "")  # the run's verdict
+    # the slider moved, not yet released: no verdict, and no numerical card
+    assert 'data-regime="pending"' in ex._badge(0.7, 0.5, r, "") and "RELEASE TO SOLVE" in ex._badge(0.7, 0.5, r, "")
+    cards = ex._cards(0.7, 0.5, 0.58, ex.contact, r)
+    assert "release the slider" in cards and "0.225" not in cards
+    # a solve is on its way
+    assert "SOLVING" in ex._badge(0.3, 0.5, r, "", pending=True)
+    assert "solving…" in ex._cards(0.3, 0.5, 0.58, ex.contact, r, pending=True)
+    # physical units: Ft in N, W in µm, c_sd in mm, creep in µm
+    cards = ex._cards(0.3, 0.5, 0.58, ex.contact, r, units="physical")
+    assert " N<" in cards and "µm" in cards and "creep per period" in cards and " mm" in cards
+
+
+def test_preset_box_follows_edits_and_notes_the_fig7_case():
+    ex = Explorer()
+    ex.preset.value = "Fig 7: ft = 0.58, w = 0.26"
+    assert ex.state.ft == 0.58 and ex.preset.value == "Fig 7: ft = 0.58, w = 0.26"
+    assert ex.preset_note.visible and "0.673" in ex.preset_note.object
+    ex.state.ft = 0.3
+    assert ex.preset.value == "(custom)" and not ex.preset_note.visible
+
+
+def test_slider_noise_is_rounded_away():
+    s = ExplorerState()
+    s.ft = 0.44000000000000006
+    assert s.ft == 0.44 and repr(s.ft) == "0.44"
