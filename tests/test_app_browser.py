@@ -56,7 +56,8 @@ _AXIS_LABEL = "(label) => {" + _FIND + """
 }"""
 _MAP_POINT = "() => {" + _FIND + """
   const fig = find((m) => m.title != null && m.title.text === 'Shakedown map in the (ft, w) plane');
-  for (const r of fig.renderers) {
+  // the current point is the map's last layer (a run layer of the shipped map may hold one point too)
+  for (const r of [...fig.renderers].reverse()) {
     const d = r.data_source == null ? null : r.data_source.data;
     if (d != null && d.ft != null && d.ft.length === 1) return Number(d.ft[0]);
   }
