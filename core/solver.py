@@ -30,7 +30,8 @@ from .bodies import MAX_ELEMENTS, Cylinder, get_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, below_bound, central_halfwidth, read_only
 from .engine import make_operator, run, select_solver
-from .schedule import Schedule, rocking_schedule
+from . import histories
+from .schedule import Schedule
 
 __all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
            "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_STORED_VALUES",
@@ -280,7 +281,7 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane", shape="triangle",
                     load_steps=1, L_over_a=None, nu=0.5, tol=KKT_TOL, detect_periodic=True,
                     shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, solver="auto",
-                    body="cylinder", ratio=None, angle=0.0):
+                    body="cylinder", ratio=None, angle=0.0, history="rocking", amplitude=None, phase=0.0):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -327,6 +328,18 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
         is the element side, ``nu`` the substrate's; ``kernel``, ``L_over_a``
         and ``tol`` are the cylinder's) and return a
         :class:`core.solver3d.PointContactResult`.
+    history : {"rocking", "normal", "tangential"}, Schedule or mapping
+        The loading history (:func:`core.histories.for_run`): ``"rocking"`` (the
+        paper's, the default); ``"normal"``, the same rocking under the normal force
+        ``P = 1 + amplitude sin(2 pi t + phase)``; ``"tangential"``, the centre fixed and
+        the tangential force ``ft + amplitude f(t)`` oscillating with ``shape``; a
+        :class:`~core.schedule.Schedule` (run as it is) or a mapping of per-step arrays
+        ``xc``, ``P``, ``Q``, ``period`` (:func:`core.histories.from_arrays`). The cylinder only.
+    amplitude : float, optional
+        Amplitude of the oscillating load of ``"normal"`` (relative, in [0, 1), default 0.2)
+        or ``"tangential"`` ([mu P], ``|ft| + amplitude < 1``, default ``(1 - |ft|)/2``).
+    phase : float
+        Phase of the normal force of ``"normal"`` [rad].
 
     Returns
     -------
@@ -344,6 +357,9 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
     True
     """
     if not (isinstance(body, str) and body == "cylinder"):  # point contacts: core/solver3d.py
+        if not (isinstance(history, str) and history == "rocking"):
+            raise ValueError(f"history must be 'rocking' for a point contact (body={body!r:.40}), "
+                             f"got {history!r:.60}")
         from .solver3d import simulate_point_contact
         return simulate_point_contact(ft, w, periods, dx, dW, body=body, ratio=ratio, angle=angle, nu=nu, shape=shape,
                                       load_steps=load_steps, detect_periodic=detect_periodic,
@@ -352,9 +368,17 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
     dx = check_scalar("dx", dx, 1e-4, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     options = _kernel_options(kernel, L_over_a, nu)
-    schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
+    schedule = histories.for_run(history, ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps,
+                                 amplitude=amplitude, phase=phase)
     params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, kernel=kernel, shape=shape,
                   load_steps=int(load_steps))
+    params["history"] = history if isinstance(history, str) else "arrays"
+    if params["history"] == "arrays":  # the schedule's own periods; the rocking options played no part
+        params["periods"] = int(schedule.periods)
+        for name in ("ft", "w", "dW", "shape", "load_steps"):
+            del params[name]
+    if params["history"] in ("normal", "tangential"):
+        params.update(amplitude=float(histories.default_amplitude(history, ft, amplitude)), phase=float(phase))
     if kernel == "strip":
         params.update(L_over_a=options["L_over_a"], nu=float(nu))
     return solve_schedule(schedule, dx, kernel, kernel_options=options, tol=tol,
