@@ -5,8 +5,9 @@ The state a step leaves for the next one lives in one structure,
 guess of every element, the inverse of the influence matrix on the stick set
 (kept current by rank-one updates), the inverses of a Toeplitz matrix on the
 contact interval (one per contact width, see :func:`_toeplitz_stick`), the
-tractions and the running sums. No LAPACK call: a multithreaded BLAS costs
-more than it gains on these systems when the two cores are shared.
+tractions and the running sums. LAPACK only for large rebuilds: a
+multithreaded BLAS costs more than it gains on small systems when the two
+cores are shared.
 
 The loops run over slices with ``range()`` indices: numba then knows the
 indices are non-negative and LLVM vectorises them (4-5x faster than indexing
@@ -42,6 +43,8 @@ NSLOT = 3
 CHAIN_MAX = 256
 # length differences bridged by bordering or downdating a held inverse (beyond: a fresh one)
 CHAIN_STEP = 24
+# stick sets above which a rebuild of their inverse calls LAPACK rather than bordering
+REBUILD_LAPACK = 300
 # free-set differences above which the stick-set inverse is rebuilt rather than updated
 SYNC_MAX = 16
 
@@ -80,7 +83,7 @@ def hmax(L):
     The Toeplitz solve costs about ``h^3 / 3 + 4 L h`` per iteration, the
     classical one a few passes over an ``m x m`` inverse (``m = L - h``).
     """
-    return max(24, int(1.5 * L ** (2.0 / 3.0)))
+    return max(24, int(2.0 * L ** (2.0 / 3.0)))
 
 
 def new_state(n: int, column=None, Lcap: int = 0) -> PdasState:
@@ -189,20 +192,37 @@ def _inverse_remove(B, fidx, pos, m, i):
 
 @jit
 def _inverse_rebuild(K, st):
-    """Recompute ``B = K[F, F]^-1`` from scratch for the free set ``F``, bordering one element at a time; its size.
+    """Recompute ``B = K[F, F]^-1`` from scratch for the free set ``F``; return its size.
 
-    Plain loops rather than LAPACK: a multithreaded BLAS is several times
-    slower than one thread on these small systems when the cores are shared.
+    Up to :data:`REBUILD_LAPACK` elements by bordering one element at a time
+    (plain loops: a multithreaded BLAS is several times slower than one thread
+    on these small systems when the cores are shared), above by LAPACK.
     """
     kind, B, fidx, pos = st.kind, st.B, st.fidx, st.pos
-    for i in range(kind.size):
-        pos[i] = -1
     m = 0
     for i in range(kind.size):
+        pos[i] = -1
         if kind[i] == FREE:
-            grown = _inverse_add(K, B, fidx, pos, m, i, st.work)
-            if grown > 0:  # an element that would break definiteness stays out (the KKT check catches it)
-                m = grown
+            m += 1
+    if m > REBUILD_LAPACK:
+        m = 0
+        for i in range(kind.size):
+            if kind[i] == FREE:
+                fidx[m] = i
+                pos[i] = m
+                m += 1
+        sub = np.empty((m, m))
+        for r in range(m):
+            for c in range(m):
+                sub[r, c] = K[fidx[r], fidx[c]]
+        B[:m, :m] = np.linalg.inv(sub)
+    else:
+        m = 0
+        for i in range(kind.size):
+            if kind[i] == FREE:
+                grown = _inverse_add(K, B, fidx, pos, m, i, st.work)
+                if grown > 0:  # an element that would break definiteness stays out (the KKT check catches it)
+                    m = grown
     st.counters[M] = m
     st.counters[UPDATES] = 0
     return m
@@ -329,26 +349,93 @@ def _slot_vectors(st, slot, L):
 
 
 @jit
+def _toeplitz_inverse(t, L, A):
+    """Inverse of the symmetric positive definite Toeplitz matrix of first column ``t[:L]`` into ``A[:L, :L]``.
+
+    Trench's algorithm (Golub and Van Loan, *Matrix Computations*, algorithm
+    4.7.3): Durbin's recursion for the Yule-Walker equations, then the
+    entries from their neighbours, ``O(L^2)``. False if a Schur complement is
+    not positive.
+    """
+    t0 = t[0]
+    if L == 1:
+        A[0, 0] = 1.0 / t0
+        return True
+    m = L - 1
+    r = t[1:L] / t0
+    # Durbin: T_m y = -r
+    y = np.empty(m)
+    z = np.empty(m)
+    y[0] = -r[0]
+    beta = 1.0
+    alpha = -r[0]
+    for k in range(1, m):
+        beta = (1.0 - alpha * alpha) * beta
+        if not beta > 0.0:
+            return False
+        s = r[k]
+        for j in range(k):
+            s += r[k - 1 - j] * y[j]
+        alpha = -s / beta
+        for j in range(k):
+            z[j] = y[j] + alpha * y[k - 1 - j]
+        for j in range(k):
+            y[j] = z[j]
+        y[k] = alpha
+    s = 1.0
+    for j in range(m):
+        s += r[j] * y[j]
+    gamma = 1.0 / s
+    if not gamma > 0.0:
+        return False
+    v = np.empty(m)
+    for j in range(m):
+        v[j] = gamma * y[m - 1 - j]
+    # 0-based: B[0,0] = gamma, B[0, j] = v[m - j] for j = 1..m  (v(n-1:-1:1))
+    A[0, 0] = gamma
+    for j in range(1, L):
+        A[0, j] = v[m - j]
+    for i in range(1, (L - 1) // 2 + 1):
+        for j in range(i, L - i):
+            A[i, j] = A[i - 1, j - 1] + (v[m - j] * v[m - i] - v[i - 1] * v[j - 1]) / gamma
+    # symmetry and persymmetry fill
+    for i in range(L):
+        for j in range(i, L):
+            # (i,j) in the wedge if i <= j <= L-1-i
+            if j > L - 1 - i:
+                A[i, j] = A[L - 1 - j, L - 1 - i]
+    for i in range(L):
+        for j in range(i):
+            A[i, j] = A[j, i]
+    inv = 1.0 / t0
+    for i in range(L):
+        for j in range(L):
+            A[i, j] *= inv
+    return True
+
+
+@jit
 def _slot_fresh(st, slot, L):
-    """Compute ``A_L`` from K by bordering ``A_1 = 1 / K_00`` one element at a time (``2 L^3 / 3`` flops)."""
+    """Compute ``A_L`` from the Toeplitz column (Trench's algorithm, ``O(L^2)``; bordering if it fails)."""
     n = st.kind.size
     kf = st.kfull
     A = st.slots[slot]
-    Av = st.tw[2]
-    kv = st.tw[3]
-    A[0, 0] = 1.0 / kf[n]
-    for m in range(1, L):
-        for j in range(m):
-            kv[j] = kf[n + m - j]
-        for r in range(m):
-            Av[r] = _dot(A[r, :m], kv[:m])
-        inv = 1.0 / (kf[n] - _dot(kv[:m], Av[:m]))
-        for r in range(m):
-            wr = Av[r] * inv
-            _axpy(wr, Av[:m], A[r, :m])
-            A[r, m] = -wr
-            A[m, r] = -wr
-        A[m, m] = inv
+    if not _toeplitz_inverse(kf[n:n + L], L, A):
+        Av = st.tw[2]
+        kv = st.tw[3]
+        A[0, 0] = 1.0 / kf[n]
+        for m in range(1, L):
+            for j in range(m):
+                kv[j] = kf[n + m - j]
+            for r in range(m):
+                Av[r] = _dot(A[r, :m], kv[:m])
+            inv = 1.0 / (kf[n] - _dot(kv[:m], Av[:m]))
+            for r in range(m):
+                wr = Av[r] * inv
+                _axpy(wr, Av[:m], A[r, :m])
+                A[r, m] = -wr
+                A[m, r] = -wr
+            A[m, m] = inv
     st.slot_info[slot, 0] = L
     st.slot_info[slot, 2] = 0
     _slot_vectors(st, slot, L)
