@@ -45,6 +45,8 @@ CHAIN_MAX = 256
 CHAIN_STEP = 24
 # stick sets above which a rebuild of their inverse calls LAPACK rather than bordering
 REBUILD_LAPACK = 300
+# an FFT product K dq replaces row products above FFT_WORK N log2 N multiply-adds
+FFT_WORK = 8.0
 # free-set differences above which the stick-set inverse is rebuilt rather than updated
 SYNC_MAX = 16
 
@@ -73,6 +75,10 @@ PdasState = namedtuple("PdasState", [
     "hidx",        # (Lcap,) int64: offsets of the non-stick elements of the interval
     "chol",        # (Hcap, Hcap): Cholesky factor of A_L on those elements
     "tw",          # (4, max(Lcap, Hcap)): scratch
+    # ---- a Toeplitz K: products K dq by FFT (empty spec otherwise)
+    "spec",        # (N // 2 + 1,): real FFT of the circulant of size N >= 2 n that embeds K
+    "fftn",        # (1,) int64: N
+    "ku",          # (n,): K dq on the window of the last product
 ])
 
 
@@ -86,11 +92,13 @@ def hmax(L):
     return max(24, int(2.0 * L ** (2.0 / 3.0)))
 
 
-def new_state(n: int, column=None, Lcap: int = 0) -> PdasState:
+def new_state(n: int, column=None, Lcap: int = 0, spectrum=None, N: int = 0) -> PdasState:
     """A cold state for ``n`` elements (nothing in contact, empty inverse).
 
     ``column`` (the first column of a Toeplitz K) enables the interval
-    inverses, for contacts of up to ``Lcap`` elements.
+    inverses, for contacts of up to ``Lcap`` elements; ``spectrum`` (of its
+    circulant embedding of size ``N >= 2 n``, :meth:`core.operators.DenseOperator.spectrum`)
+    the products ``K dq`` by FFT where they are cheaper than by rows.
     """
     if column is None:
         kfull = np.zeros(0)
@@ -107,7 +115,9 @@ def new_state(n: int, column=None, Lcap: int = 0) -> PdasState:
                      counters=np.array([0, 0, 0, CLASSICAL, 0], np.int64), total=np.zeros(1), residuals=np.zeros(5),
                      kfull=kfull, slots=np.zeros((NSLOT, Lcap, Lcap)), slot_vec=np.zeros((NSLOT, 3, Lcap)),
                      slot_info=np.array([[-1, -1, 0]] * NSLOT, np.int64), hidx=np.zeros(Lcap, np.int64),
-                     chol=np.zeros((Hcap, Hcap)), tw=np.zeros((4, max(Lcap, Hcap))))
+                     chol=np.zeros((Hcap, Hcap)), tw=np.zeros((4, max(Lcap, Hcap))),
+                     spec=np.zeros(0) if spectrum is None or not kfull.size else np.ascontiguousarray(spectrum, float),
+                     fftn=np.array([N], np.int64), ku=np.zeros(n))
 
 
 def with_capacity(st: PdasState, Lcap: int) -> PdasState:
@@ -618,6 +628,23 @@ def _toeplitz_stick(st, slot, s0, L, D, lo, hi):
 
 
 @jit
+def _k_product(st, dq, a, b):
+    """``st.ku[a:b] = (K dq)[a:b]`` by FFT of the circulant embedding (``dq`` is zero outside ``[a, b)``)."""
+    N = st.fftn[0]
+    v = np.fft.irfft(np.fft.rfft(dq[a:b], N) * st.spec, N)
+    st.ku[a:b] = v[:b - a]
+
+
+@jit
+def _fft_cheaper(st, rows, width):
+    """Whether one FFT product costs less than ``rows`` row products of ``width`` entries."""
+    if st.spec.size == 0:
+        return False
+    N = st.fftn[0]
+    return rows * width > FFT_WORK * N * math.log2(N)
+
+
+@jit
 def contact_span(g):
     """First element with a positive bound and the number of elements up to the last one (0 if none)."""
     n = g.size
@@ -824,6 +851,15 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
         n_viol = 0
         worst_free, i_free = 0.0, -1
         worst_fix, i_fix = 0.0, -1
+        # K dq where needed: row by row, or by one FFT product over the window when that is cheaper
+        nfix = 0
+        for i in range(n):
+            if kind[i] == UPPER or kind[i] == LOWER:
+                nfix += 1
+        wa, wb = (min(lo, s0), max(hi, s0 + L)) if L > 0 else (lo, hi)
+        by_fft = hi > lo and _fft_cheaper(st, nfix, hi - lo)
+        if by_fft:
+            _k_product(st, dq, wa, wb)
         for i in range(n):
             q[i] = q_prev[i] + dq[i]
             if kind[i] == FREE:
@@ -834,7 +870,7 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
                     if excess > worst_free:
                         worst_free, i_free = excess, i
             elif kind[i] == UPPER or kind[i] == LOWER:
-                s = lam - _kdot(K, kf, i, dq, lo, hi)
+                s = lam - (st.ku[i] if by_fft else _kdot(K, kf, i, dq, lo, hi))
                 slip[i] = s
                 wrong = -s if kind[i] == UPPER else s
                 if wrong > tol:
@@ -864,10 +900,13 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
         # ---- converged sets: the named KKT residuals with the true K (not the updated inverse)
         stick_res, bound_res, dir_res, out_res = 0.0, 0.0, 0.0, 0.0
         s_total = 0.0
+        if not by_fft and hi > lo and _fft_cheaper(st, n - nfix, hi - lo):
+            _k_product(st, dq, wa, wb)
+            by_fft = True
         for i in range(n):
             s_total += q[i]
             if kind[i] == FREE:
-                stick_res = max(stick_res, abs(lam - _kdot(K, kf, i, dq, lo, hi)))
+                stick_res = max(stick_res, abs(lam - (st.ku[i] if by_fft else _kdot(K, kf, i, dq, lo, hi))))
                 bound_res = max(bound_res, abs(q[i]) - g[i])
             elif kind[i] == OUT:
                 out_res = max(out_res, abs(q[i]))

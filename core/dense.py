@@ -52,7 +52,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _pdas
+from . import _pcg, _pdas
+from .operators import fft_size
 from .result import read_only
 
 __all__ = ["DenseSolver", "StepReport", "Trajectory", "RESIDUALS"]
@@ -153,7 +154,11 @@ class DenseSolver:
             if column.shape != (self.n,) or not (np.array_equal(self.K[0], column)
                                                   and np.array_equal(self.K[:, 0], column)):
                 column = None
-        self.state = _pdas.new_state(self.n, column)
+        spectrum, N = None, 0
+        if column is not None and hasattr(operator, "spectrum") and _pcg.HAVE_FFT:
+            N = fft_size(self.n)
+            spectrum = operator.spectrum(N)
+        self.state = _pdas.new_state(self.n, column, spectrum=spectrum, N=N)
 
     def _reserve(self, bounds, rows):
         """Room in the state for the widest contact of the first ``rows`` rows of ``bounds``."""
