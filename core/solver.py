@@ -26,15 +26,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validate import check_int, check_scalar
-from .bodies import MAX_ELEMENTS, Cylinder, get_body
+from .bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS, Cylinder, get_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, below_bound, central_halfwidth, read_only
-from .engine import make_operator, run, select_solver
+from .engine import SOLVER_CHOICES, make_operator, run, select_solver
 from . import histories
 from .schedule import Schedule
 
 __all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
-           "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_STORED_VALUES",
+           "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_FFT_ELEMENTS", "MAX_STORED_VALUES",
            "KKT_TOL"]
 
 #: Default element width [a]: 80 elements across the contact. The increment per
@@ -137,7 +137,10 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     tol = check_scalar("tol", tol, 1e-14, 1e-4)
     shakedown_rtol = check_scalar("shakedown_rtol", shakedown_rtol, 0.0, 1.0)
     kernel_options = dict(kernel_options or {})
-    body = get_body(body).for_history(schedule, dx)
+    if solver not in SOLVER_CHOICES:
+        raise ValueError(f"solver must be one of {SOLVER_CHOICES}, got {solver!r:.60}")
+    # the dense solver's grid cap, or the matrix-free one's where that solver may run
+    body = get_body(body).for_history(schedule, dx, MAX_ELEMENTS if solver == "dense" else MAX_FFT_ELEMENTS)
     n = body.size
     maxiter = check_int("maxiter", 50 + 2 * n if maxiter is None else maxiter, 1, 10**7)
     chunk = check_int("chunk", chunk, 1, 10**7)

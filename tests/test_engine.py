@@ -147,3 +147,16 @@ def test_dense_interval_inverses_equal_the_stick_set_inverse(history):
     assert_allclose(fast.displacement, out.displacement, rtol=1e-9, atol=1e-12)
     assert_allclose(fast.traction, out.traction, rtol=0, atol=1e-9)
     assert fast.max_kkt_residual <= 1e-10
+
+
+def test_grid_caps_by_solver():
+    """The dense solver's grid cap (MAX_ELEMENTS, its n x n matrices) is lifted for the matrix-free one up to
+    MAX_FFT_ELEMENTS; both refusals name dx and the smallest it may be."""
+    from core.bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS
+
+    dx = 2.0 / (MAX_ELEMENTS + 100)
+    assert Cylinder.for_reach(1.0, dx, MAX_FFT_ELEMENTS).size > MAX_ELEMENTS
+    with pytest.raises(ValueError, match=r"dx = .* needs \d+ elements \(> 4000\): dx must be >= .*solver='fft'"):
+        core.simulate_cycles(0.2, 0.0, periods=1, dx=dx, solver="dense")
+    with pytest.raises(ValueError, match=rf"dx = .* \(> {MAX_FFT_ELEMENTS}\): dx must be >= "):
+        core.simulate_cycles(0.2, 0.5, periods=1, dx=1e-4)
