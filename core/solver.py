@@ -46,15 +46,16 @@ MAX_STORED_VALUES = 2.5e8
 KKT_TOL = 1e-10
 
 
-def make_grid(reach, dx):
-    """The element edges of :meth:`core.bodies.Cylinder.for_reach` (``reach`` and ``dx`` in a).
+def make_grid(reach, dx, max_elements=MAX_ELEMENTS):
+    """The element edges of :meth:`core.bodies.Cylinder.for_reach` (``reach`` and ``dx`` in a; ``max_elements``
+    the grid cap, the dense solver's by default).
 
     Returns
     -------
     ndarray, shape (n + 1,)
         Uniform edges symmetric about 0 with one spare element each side; ``n`` is even.
     """
-    return Cylinder.for_reach(reach, dx).edges
+    return Cylinder.for_reach(reach, dx, max_elements).edges
 
 
 def _kernel_options(kernel, L_over_a, nu):
