@@ -16,7 +16,7 @@ import importlib.util
 import numpy as np
 
 from ._jit import jit
-from ._pdas import FREE, LOWER, OUT, PDAS_FULL_STEPS, RELEASED, SLIP_BACKWARD, SLIP_FORWARD, STICK, UPPER
+from ._pdas import FREE, LOWER, OUT, UPPER, block_repeats, move_violators, record_step, state_codes, zero_increment
 
 #: Whether numba can compile ``np.fft`` (the ``rocket-fft`` extension registers itself with numba when present).
 HAVE_FFT = importlib.util.find_spec("rocket_fft") is not None
@@ -155,40 +155,10 @@ def solve_step(spec, pre, N, g, q_prev, target, dx, kind, tol, maxiter, maxcg, g
     ``res`` and ``counters``; updates ``kind``. Returns ``(lam, ok)``."""
     n = g.size
     counters[:] = 0
-    for i in range(n):
-        if g[i] <= 0.0:
-            kind[i] = OUT
-        elif kind[i] == OUT:
-            kind[i] = FREE
-    total_prev = q_prev.sum()
     # ---- the zero increment, if feasible, is the unique solution
-    feasible = abs(total_prev - target) * dx <= tol
-    for i in range(n):
-        if not feasible:
-            break
-        if kind[i] == OUT:
-            feasible = q_prev[i] == 0.0
-        else:
-            feasible = abs(q_prev[i]) <= g[i] + tol
-    if feasible:
-        for i in range(n):
-            q[i] = q_prev[i]
-            dq[i] = 0.0
-            slip[i] = 0.0
-            if kind[i] == OUT:
-                codes[i] = RELEASED
-            else:
-                codes[i] = STICK
-                if kind[i] != FREE and abs(q_prev[i]) < g[i] - tol:
-                    kind[i] = FREE
-        bound = 0.0
-        for i in range(n):
-            if g[i] > 0.0:
-                bound = max(bound, abs(q_prev[i]) - g[i])
-        res[:] = 0.0
-        res[1] = max(bound, 0.0)
-        res[4] = abs(total_prev - target) * dx
+    if zero_increment(g, q_prev, target, dx, tol, kind, q, dq, slip, codes, res):
         return 0.0, True
+    total_prev = q_prev.sum()
     # ---- the window: elements in contact now or loaded before
     lo, hi = n, 0
     for i in range(n):
@@ -258,17 +228,7 @@ def solve_step(spec, pre, N, g, q_prev, target, dx, kind, tol, maxiter, maxcg, g
                 if abs(s[i]) > worst_fix:
                     worst_fix, i_fix = abs(s[i]), i
         if n_bad > 0:
-            if it <= PDAS_FULL_STEPS:
-                for i in range(m):
-                    if kw[i] == FREE:
-                        if abs(qw[i]) - gw[i] > tol:
-                            kw[i] = UPPER if qw[i] > 0 else LOWER
-                    elif (kw[i] == UPPER and s[i] < -tol) or (kw[i] == LOWER and s[i] > tol):
-                        kw[i] = FREE
-            elif i_free >= 0:
-                kw[i_free] = UPPER if qw[i_free] > 0 else LOWER
-            else:
-                kw[i_fix] = FREE
+            move_violators(kw, qw, gw, s, tol, it, i_free, i_fix)
             continue
         stick = np.empty(m)
         for i in range(m):
@@ -294,15 +254,7 @@ def solve_step(spec, pre, N, g, q_prev, target, dx, kind, tol, maxiter, maxcg, g
         q[lo:hi] = qw
         dq[lo:hi] = d
         slip[lo:hi] = s
-    for i in range(n):
-        if kind[i] == OUT:
-            codes[i] = RELEASED
-        elif kind[i] == UPPER and slip[i] > tol:
-            codes[i] = SLIP_FORWARD
-        elif kind[i] == LOWER and slip[i] < -tol:
-            codes[i] = SLIP_BACKWARD
-        else:
-            codes[i] = STICK
+    state_codes(kind, slip, tol, codes)
     return lam, ok
 
 
@@ -314,7 +266,6 @@ def march(spec, pre, N, bounds, Q, period, load_scale, dx, tol, maxiter, maxcg, 
 
     Returns ``(steps done, periodic_from, failed step)``.
     """
-    n = q_prev.size
     steps = Q.size
     for k in range(k0, k1):
         lam, ok = solve_step(spec, pre, N, bounds[k - k0], q_prev, Q[k] * load_scale, dx, kind, tol, maxiter,
@@ -322,31 +273,13 @@ def march(spec, pre, N, bounds, Q, period, load_scale, dx, tol, maxiter, maxcg, 
         if not ok:
             return k, -1, k
         total[0] += lam
-        e = 0.0
-        for i in range(n):
-            traction[k, i] = q[i]
-            state[k, i] = codes[i]
-            e += q[i] * slip[i]
-            q_prev[i] = q[i]
+        record_step(k, q, codes, slip, res, total[0], dx, q_prev, traction, state, disp, diss, resid, worst)
         if warm and counters[ITERATIONS] > 0:
             dq_prev[:] = dq
-        disp[k] = total[0]
-        diss[k] = e * dx
         iters[k] = counters[ITERATIONS]
         cgs[k] = counters[CG]
-        r = 0.0
-        for j in range(5):
-            r = max(r, res[j])
-            worst[j] = max(worst[j], res[j])
-        resid[k] = r
         if k + 1 < steps and period[k + 1] != period[k]:
-            if detect_periodic and period[k] >= 0:
-                same = True
-                for i in range(n):
-                    if abs(q[i] - q_block_end[i]) > tol:
-                        same = False
-                        break
-                if same:
-                    return k + 1, period[k], -1
-            q_block_end[:] = q
+            # end of a block: a period that ends where the previous one ended repeats for ever
+            if block_repeats(q, q_block_end, tol) and detect_periodic and period[k] >= 0:
+                return k + 1, period[k], -1
     return k1, -1, -1

@@ -359,6 +359,30 @@ def _slot_vectors(st, slot, L):
 
 
 @jit
+def _border(st, A, m):
+    """Grow the inverse of the Toeplitz K on ``m`` elements in ``A[:m, :m]`` to ``m + 1`` in place; False if not PD."""
+    n = st.kind.size
+    kf = st.kfull
+    Av = st.tw[2]
+    kv = st.tw[3]
+    for j in range(m):
+        kv[j] = kf[n + m - j]
+    for r in range(m):
+        Av[r] = _dot(A[r, :m], kv[:m])
+    schur = kf[n] - _dot(kv[:m], Av[:m])
+    if not schur > 0.0:
+        return False
+    inv = 1.0 / schur
+    for r in range(m):
+        wr = Av[r] * inv
+        _axpy(wr, Av[:m], A[r, :m])
+        A[r, m] = -wr
+        A[m, r] = -wr
+    A[m, m] = inv
+    return True
+
+
+@jit
 def _toeplitz_inverse(t, L, A):
     """Inverse of the symmetric positive definite Toeplitz matrix of first column ``t[:L]`` into ``A[:L, :L]``.
 
@@ -431,21 +455,9 @@ def _slot_fresh(st, slot, L):
     kf = st.kfull
     A = st.slots[slot]
     if not _toeplitz_inverse(kf[n:n + L], L, A):
-        Av = st.tw[2]
-        kv = st.tw[3]
         A[0, 0] = 1.0 / kf[n]
         for m in range(1, L):
-            for j in range(m):
-                kv[j] = kf[n + m - j]
-            for r in range(m):
-                Av[r] = _dot(A[r, :m], kv[:m])
-            inv = 1.0 / (kf[n] - _dot(kv[:m], Av[:m]))
-            for r in range(m):
-                wr = Av[r] * inv
-                _axpy(wr, Av[:m], A[r, :m])
-                A[r, m] = -wr
-                A[m, r] = -wr
-            A[m, m] = inv
+            _border(st, A, m)
     st.slot_info[slot, 0] = L
     st.slot_info[slot, 2] = 0
     _slot_vectors(st, slot, L)
@@ -458,15 +470,11 @@ def _slot_from(st, dst, src, L):
     Copies it, then borders it with one element at a time (growing) or
     downdates the last one (shrinking): ``O(L^2)`` per element of difference.
     """
-    n = st.kind.size
-    kf = st.kfull
     As = st.slots[src]
     A = st.slots[dst]
     m = st.slot_info[src, 0]
     for r in range(m):
         A[r, :m] = As[r, :m]
-    Av = st.tw[2]
-    kv = st.tw[3]
     while m > L:  # drop the last element
         last = m - 1
         d = A[last, last]
@@ -477,20 +485,8 @@ def _slot_from(st, dst, src, L):
             _axpy(-A[r, last] / d, lrow, A[r, :last])
         m = last
     while m < L:  # border with the next element
-        for j in range(m):
-            kv[j] = kf[n + m - j]
-        for r in range(m):
-            Av[r] = _dot(A[r, :m], kv[:m])
-        schur = kf[n] - _dot(kv[:m], Av[:m])
-        if not schur > 0.0:
+        if not _border(st, A, m):
             return False
-        inv = 1.0 / schur
-        for r in range(m):
-            wr = Av[r] * inv
-            _axpy(wr, Av[:m], A[r, :m])
-            A[r, m] = -wr
-            A[m, r] = -wr
-        A[m, m] = inv
         m += 1
     st.slot_info[dst, 0] = L
     st.slot_info[dst, 2] = st.slot_info[src, 2] + abs(st.slot_info[src, 0] - L)
@@ -736,41 +732,13 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
     ok : bool
         False if no active set satisfied the KKT conditions to ``tol``.
     """
-    kind, q_prev, q, dq, slip, codes, work, res = st.kind, st.q_prev, st.q, st.dq, st.slip, st.codes, st.work, st.residuals
+    kind, q_prev, q, dq, slip, codes, res = st.kind, st.q_prev, st.q, st.dq, st.slip, st.codes, st.residuals
     kf = st.kfull
     n = g.size
     for j in range(5):
         res[j] = 0.0
     st.counters[ITERATIONS] = 0
-    # ---- contact: released elements carry nothing, new ones start sticking
-    for i in range(n):
-        if g[i] <= 0.0:
-            kind[i] = OUT
-        elif kind[i] == OUT:
-            kind[i] = FREE
-    # ---- the zero increment, if feasible, is the unique solution
-    total = 0.0
-    out_res = 0.0
-    bound_res = 0.0
-    for i in range(n):
-        total += q_prev[i]
-        if kind[i] == OUT:
-            out_res = max(out_res, abs(q_prev[i]))
-        else:
-            bound_res = max(bound_res, abs(q_prev[i]) - g[i])
-    if out_res == 0.0 and bound_res <= tol and abs(total - target) * dx <= tol:
-        for i in range(n):
-            q[i] = q_prev[i]
-            dq[i] = 0.0
-            slip[i] = 0.0
-            if kind[i] == OUT:
-                codes[i] = RELEASED
-            else:
-                codes[i] = STICK
-                if kind[i] != FREE and abs(q_prev[i]) < g[i] - tol:
-                    kind[i] = FREE
-        res[1] = max(bound_res, 0.0)
-        res[4] = abs(total - target) * dx
+    if zero_increment(g, q_prev, target, dx, tol, kind, q, dq, slip, codes, res):
         return 0.0, True
 
     m = st.counters[M]
@@ -880,22 +848,7 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
             else:
                 slip[i] = 0.0
         if n_viol > 0:
-            if it <= PDAS_FULL_STEPS:
-                # primal-dual active set: move every violator
-                for i in range(n):
-                    if kind[i] == FREE:
-                        if abs(q[i]) - g[i] > tol:
-                            kind[i] = UPPER if q[i] > 0 else LOWER
-                    elif kind[i] == UPPER:
-                        if slip[i] < -tol:
-                            kind[i] = FREE
-                    elif kind[i] == LOWER:
-                        if slip[i] > tol:
-                            kind[i] = FREE
-            elif i_free >= 0:
-                kind[i_free] = UPPER if q[i_free] > 0 else LOWER
-            else:
-                kind[i_fix] = FREE
+            move_violators(kind, q, g, slip, tol, it, i_free, i_fix)
             continue
         # ---- converged sets: the named KKT residuals with the true K (not the updated inverse)
         stick_res, bound_res, dir_res, out_res = 0.0, 0.0, 0.0, 0.0
@@ -939,8 +892,94 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
             for j in range(5):
                 res[j] = np.inf
         return lam, False
-    # ---- element states: at a bound with no slip counts as stick
+    state_codes(kind, slip, tol, codes)
+    return lam, True
+
+
+@jit
+def zero_increment(g, q_prev, target, dx, tol, kind, q, dq, slip, codes, res):
+    """Set the contact (released elements carry nothing, new ones start sticking), then try the zero increment.
+
+    Whenever it is feasible (the previous tractions within the new bounds and
+    carrying the load) it is the unique solution: writes the step's outputs
+    and residuals and returns True. Otherwise returns False and writes nothing.
+    """
+    n = g.size
     for i in range(n):
+        if g[i] <= 0.0:
+            kind[i] = OUT
+        elif kind[i] == OUT:
+            kind[i] = FREE
+    total = 0.0
+    out_res = 0.0
+    bound_res = 0.0
+    for i in range(n):
+        total += q_prev[i]
+        if kind[i] == OUT:
+            out_res = max(out_res, abs(q_prev[i]))
+        else:
+            bound_res = max(bound_res, abs(q_prev[i]) - g[i])
+    if not (out_res == 0.0 and bound_res <= tol and abs(total - target) * dx <= tol):
+        return False
+    for i in range(n):
+        q[i] = q_prev[i]
+        dq[i] = 0.0
+        slip[i] = 0.0
+        if kind[i] == OUT:
+            codes[i] = RELEASED
+        else:
+            codes[i] = STICK
+            if kind[i] != FREE and abs(q_prev[i]) < g[i] - tol:
+                kind[i] = FREE
+    for j in range(5):
+        res[j] = 0.0
+    res[1] = max(bound_res, 0.0)
+    res[4] = abs(total - target) * dx
+    return True
+
+
+@jit
+def move_violators(kind, q, g, slip, tol, it, i_free, i_fix):
+    """The active-set update: for the first :data:`PDAS_FULL_STEPS` iterations every violator moves (a
+    sticking element past its bound to the bound, a bound element slipping against its traction back to
+    stick: the primal-dual active set); after them only the worst, ``i_free`` or else ``i_fix``."""
+    if it <= PDAS_FULL_STEPS:
+        for i in range(kind.size):
+            if kind[i] == FREE:
+                if abs(q[i]) - g[i] > tol:
+                    kind[i] = UPPER if q[i] > 0 else LOWER
+            elif (kind[i] == UPPER and slip[i] < -tol) or (kind[i] == LOWER and slip[i] > tol):
+                kind[i] = FREE
+    elif i_free >= 0:
+        kind[i_free] = UPPER if q[i_free] > 0 else LOWER
+    else:
+        kind[i_fix] = FREE
+
+
+@jit
+def record_step(k, q, codes, slip, res, total, dx, q_prev, traction, state, disp, diss, resid, worst):
+    """Write step ``k``'s outputs (tractions, states, displacement, dissipation ``sum q s dx``, worst residual)
+    and advance ``q_prev`` to ``q``."""
+    d = 0.0
+    for i in range(q.size):
+        traction[k, i] = q[i]
+        state[k, i] = codes[i]
+        d += q[i] * slip[i]
+        q_prev[i] = q[i]
+    disp[k] = total
+    diss[k] = d * dx
+    r = 0.0
+    for j in range(res.size):
+        r = max(r, res[j])
+        worst[j] = max(worst[j], res[j])
+    resid[k] = r
+
+
+@jit
+def state_codes(kind, slip, tol, codes):
+    """Element states (:class:`core.states.State`) from the active set and the slips: at a bound with no
+    slip (within ``tol``) counts as stick."""
+    for i in range(kind.size):
         if kind[i] == OUT:
             codes[i] = RELEASED
         elif kind[i] == UPPER and slip[i] > tol:
@@ -949,7 +988,19 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
             codes[i] = SLIP_BACKWARD
         else:
             codes[i] = STICK
-    return lam, True
+
+
+@jit
+def block_repeats(q, q_block_end, tol):
+    """At the end of a block: whether it ended where the previous one did (then it repeats for ever); and
+    remember where it ended."""
+    same = True
+    for i in range(q.size):
+        if abs(q[i] - q_block_end[i]) > tol:
+            same = False
+            break
+    q_block_end[:] = q
+    return same
 
 
 # --------------------------------------------------------------------------
@@ -969,7 +1020,6 @@ def march(K, bounds, Q, period, load_scale, dx, tol, maxiter, detect_periodic, k
     ``failed >= 0`` names a step that could not be solved (its residuals are in
     ``st.residuals``).
     """
-    n = K.shape[0]
     steps = Q.size
     q_prev, q, slip, codes, res = st.q_prev, st.q, st.slip, st.codes, st.residuals
     for k in range(k0, k1):
@@ -979,30 +1029,10 @@ def march(K, bounds, Q, period, load_scale, dx, tol, maxiter, detect_periodic, k
         if not ok:
             return k, -1, k
         st.total[0] += lam
-        d = 0.0
-        for i in range(n):
-            traction[k, i] = q[i]
-            state[k, i] = codes[i]
-            d += q[i] * slip[i]
-            q_prev[i] = q[i]
-        disp[k] = st.total[0]
-        diss[k] = d * dx
+        record_step(k, q, codes, slip, res, st.total[0], dx, q_prev, traction, state, disp, diss, resid, worst)
         iters[k] = st.counters[ITERATIONS]
-        r = 0.0
-        for j in range(5):
-            r = max(r, res[j])
-            worst[j] = max(worst[j], res[j])
-        resid[k] = r
         if k + 1 < steps and period[k + 1] != period[k]:
             # end of a block: a period that ends where the previous one ended repeats for ever
-            if detect_periodic and period[k] >= 0:
-                same = True
-                for i in range(n):
-                    if abs(q[i] - st.q_block_end[i]) > tol:
-                        same = False
-                        break
-                if same:
-                    return k + 1, period[k], -1
-            for i in range(n):
-                st.q_block_end[i] = q[i]
+            if block_repeats(q, st.q_block_end, tol) and detect_periodic and period[k] >= 0:
+                return k + 1, period[k], -1
     return k1, -1, -1
