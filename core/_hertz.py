@@ -15,11 +15,16 @@ from ._jit import jit
 
 __all__ = ["element_means"]
 
+_QUARTER_PI = 0.5 * math.asin(1.0)
+
 
 @jit
 def _primitive(t):
     """Antiderivative of ``sqrt(1 - t^2)`` on [-1, 1], constant outside."""
-    t = min(max(t, -1.0), 1.0)
+    if t >= 1.0:
+        return _QUARTER_PI  # the same number as the formula at t = 1, without its asin
+    if t <= -1.0:
+        return -_QUARTER_PI
     return 0.5 * (t * math.sqrt(1.0 - t * t) + math.asin(t))
 
 

@@ -26,10 +26,12 @@ import numpy as np
 from . import analytical
 from ._hertz import element_means
 
-__all__ = ["Cylinder", "BODIES", "get_body", "MAX_ELEMENTS"]
+__all__ = ["Cylinder", "BODIES", "get_body", "MAX_ELEMENTS", "MAX_FFT_ELEMENTS"]
 
-#: Largest grid a run accepts (the dense kernel needs 8 n^2 bytes).
+#: Largest grid of the dense solver (its matrix and interval inverses need 8 n^2 bytes each).
 MAX_ELEMENTS = 4000
+#: Largest grid of any run: the matrix-free solver (``solver="fft"``) stores no matrix.
+MAX_FFT_ELEMENTS = 16384
 
 
 class Cylinder:
@@ -60,8 +62,8 @@ class Cylinder:
         edges = np.array(edges, dtype=float)
         if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
             raise ValueError("edges must be a strictly increasing 1-D array of at least 2 values")
-        if edges.size - 1 > MAX_ELEMENTS:
-            raise ValueError(f"the grid has {edges.size - 1} elements (> {MAX_ELEMENTS}): use a larger dx")
+        if edges.size - 1 > MAX_FFT_ELEMENTS:
+            raise ValueError(f"the grid has {edges.size - 1} elements (> {MAX_FFT_ELEMENTS}): use a larger dx")
         edges.setflags(write=False)
         self.edges = edges
         self.dx = float(edges[1] - edges[0])
@@ -77,7 +79,7 @@ class Cylinder:
 
     # ---- grid ----------------------------------------------------------------
     @classmethod
-    def for_reach(cls, reach, dx):
+    def for_reach(cls, reach, dx, max_elements=MAX_ELEMENTS):
         """The uniform grid symmetric about 0 that covers ``[-reach, reach]`` with one spare element each side.
 
         Parameters
@@ -86,22 +88,28 @@ class Cylinder:
             Largest distance from 0 that the contact reaches [a].
         dx : float
             Element width [a].
+        max_elements : int
+            Largest grid allowed: :data:`MAX_ELEMENTS` (the dense solver's, the default)
+            or up to :data:`MAX_FFT_ELEMENTS` (the matrix-free solver's).
 
         Raises
         ------
         ValueError
-            If the grid would exceed :data:`MAX_ELEMENTS` elements (names ``dx``).
+            If the grid would exceed ``max_elements`` elements (names ``dx`` and the smallest it may be).
         """
+        max_elements = min(int(max_elements), MAX_FFT_ELEMENTS)
         half = math.ceil(reach / dx - 1e-9) + 1
         n = 2 * half
-        if n > MAX_ELEMENTS:
-            raise ValueError(f"dx = {dx:g} needs {n} elements (> {MAX_ELEMENTS}): use a larger dx")
+        if n > max_elements:
+            hint = " or solver='fft'" if max_elements < MAX_FFT_ELEMENTS else ""
+            raise ValueError(f"dx = {dx:g} needs {n} elements (> {max_elements}): dx must be >= "
+                             f"{reach / (max_elements // 2 - 1):.4g} here; use a larger dx{hint}")
         return cls(dx * (np.arange(n + 1) - half))
 
     @classmethod
-    def for_history(cls, history, dx):
+    def for_history(cls, history, dx, max_elements=MAX_ELEMENTS):
         """The grid covering every contact of a loading history (:class:`~core.schedule.Schedule`)."""
-        return cls.for_reach(cls.reach(history.xc, history.P), dx)
+        return cls.for_reach(cls.reach(history.xc, history.P), dx, max_elements)
 
     # ---- Hertz scales (eq 5) -------------------------------------------------
     @staticmethod

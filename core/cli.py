@@ -285,8 +285,9 @@ def _add_solver_options(parser, kernel_default="plane"):
     add("--body", type=_arg(lambda text: _text("body", text)), action=_Once, metavar="NAME",
         help=f"the rocking body, a name core.simulate_cycles accepts (default {_PASS_THROUGH['body']})")
     add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
-        help="the loading history, a name core.simulate_cycles accepts "
-             f"(default {_PASS_THROUGH['history']}: constant Ft, the centre rocked between -W and +W)")
+        help="the loading history, a name core.simulate_cycles accepts: rocking (the default: constant Ft, "
+             "the centre rocked between -W and +W), normal (the same under a normal force 1 + 0.2 sin(2 pi t)) "
+             "or tangential (fixed centre, Ft oscillating by (1 - |ft|)/2 about its mean)")
     add("--periods", type=_integer("periods", 1, 10_000), action=_Once, metavar="N",
         help="rocking periods to simulate, in [1, 10000] (default 10)")
     add("--dx", type=_number("dx", _DX_MIN, 0.5), action=_Once, metavar="DX",
@@ -558,7 +559,11 @@ def _cmd_run(args) -> int:
         ("runtime", _fmt(s["runtime_s"], "s")),
     ]
     model = f"{result.kernel} kernel" if line else f"{body}, 3D half-space"
-    head = (f"ft = {ft:.6g}, w = {w:.6g}: {model}, {s['shape']} rocking, "
+    history = result.params.get("history", "rocking") if line else "rocking"
+    loading = {"normal": f"{s['shape']} rocking under an oscillating normal force",
+               "tangential": f"{s['shape']} oscillating tangential force at a fixed centre"}.get(
+        history, f"{s['shape']} rocking")
+    head = (f"ft = {ft:.6g}, w = {w:.6g}: {model}, {loading}, "
             f"{s['periods']} periods, dx = {s['dx']:.6g} a")
     if contact is not None:
         unit = contact.displacement_unit

@@ -22,8 +22,20 @@ reports failure. Most steps of a shaken-down period are settled by the zero
 increment, which is checked first (it is the unique solution whenever it is
 feasible).
 
-Its cost grows as ``n^2`` per rank-one update and needs the dense ``n x n``
-matrix: the solver of choice for line contacts up to a few thousand elements.
+On a Toeplitz ``K`` (a uniform grid and a translation-invariant kernel:
+the operators of :mod:`core.operators`) the block of ``K`` on the contact
+interval is the same matrix wherever the contact lies, so its inverse
+``A_L`` is computed once per contact width ``L``; with ``H`` the ``h``
+elements of the interval that are not sticking, the stick solve is
+``K_FF^-1 = A_FF - A_FH (A_HH)^-1 A_HF`` (block elimination), ``O(L h + h^3)``
+per iteration instead of ``O(m^2)`` updates of the stick-set inverse. The
+rank-one updated inverse takes over while ``h`` is large (wide slip zones,
+:func:`core._pdas.hmax`) and for any other operator. Both solve the same
+equations: the iterations are the same and the increments equal to round-off
+(``tests/test_engine.py``).
+
+It needs the dense ``n x n`` matrix: the solver of choice for line contacts
+up to a few thousand elements.
 
 References
 ----------
@@ -40,7 +52,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _pdas
+from . import _pcg, _pdas
+from .operators import fft_size
 from .result import read_only
 
 __all__ = ["DenseSolver", "StepReport", "Trajectory", "RESIDUALS"]
@@ -133,7 +146,24 @@ class DenseSolver:
         self.element_size = float(element_size)
         self.tol = float(tol)
         self.maxiter = int(maxiter)
-        self.state = _pdas.new_state(self.n)
+        # a Toeplitz operator (uniform grid, translation-invariant kernel) gives its column: then the stick
+        # solves use inverses of K on the contact interval (see core._pdas), which do not change as it rolls
+        column = getattr(operator, "column", None)
+        if column is not None:
+            column = np.asarray(column, dtype=float)
+            if column.shape != (self.n,) or not (np.array_equal(self.K[0], column)
+                                                  and np.array_equal(self.K[:, 0], column)):
+                column = None
+        spectrum, N = None, 0
+        if column is not None and hasattr(operator, "spectrum") and _pcg.HAVE_FFT:
+            N = fft_size(self.n)
+            spectrum = operator.spectrum(N)
+        self.state = _pdas.new_state(self.n, column, spectrum=spectrum, N=N)
+
+    def _reserve(self, bounds, rows):
+        """Room in the state for the widest contact of the first ``rows`` rows of ``bounds``."""
+        if self.state.kfull.size:
+            self.state = _pdas.with_capacity(self.state, _pdas.max_span(bounds, rows))
 
     @property
     def traction(self) -> np.ndarray:
@@ -155,8 +185,10 @@ class DenseSolver:
         target : float
             Required ``sum q_i`` [mu p0] (the load over the element size).
         """
+        bound = np.ascontiguousarray(bound, dtype=float)
+        self._reserve(bound[None, :], 1)
         st = self.state
-        lam, ok = _pdas.solve_step(self.K, np.ascontiguousarray(bound, dtype=float), float(target),
+        lam, ok = _pdas.solve_step(self.K, bound, float(target),
                                    self.element_size, self.tol, self.maxiter, st)
         report = StepReport(traction=read_only(st.q.copy()), state=read_only(st.codes.copy()),
                             displacement=float(lam), iterations=int(st.counters[_pdas.ITERATIONS]),
@@ -176,6 +208,7 @@ class DenseSolver:
             repeats for ever (stop marching); ``failed >= 0``: the step that
             could not be solved (:attr:`residuals` holds its residuals).
         """
+        self._reserve(bounds, int(k1) - int(k0))
         return _pdas.march(self.K, bounds, Q, period, float(load_scale), self.element_size, self.tol,
                            self.maxiter, bool(detect_periodic), int(k0), int(k1), self.state,
                            out.traction, out.state, out.displacement, out.dissipation, out.iterations,

@@ -18,6 +18,7 @@ import time
 
 import numpy as np
 
+from .bodies import MAX_ELEMENTS
 from .dense import DenseSolver, Trajectory
 from .matrix_free import FFTSolver
 from .operators import elastic_operator
@@ -33,11 +34,11 @@ STEP_SOLVERS = {"dense": DenseSolver, "fft": FFTSolver}
 #: The values of the ``solver`` keyword.
 SOLVER_CHOICES = ("auto", "dense", "fft")
 #: Elements above which ``solver="auto"`` picks "fft", measured by ``benchmarks/solver.py`` (the README's
-#: "Benchmarks"; 2 cores shared with other jobs, so only the ratios mean anything): the dense stick-set
-#: inverse is faster for the whole heaviest case at dx = a/400 (1418 elements), the matrix-free solver
-#: per rocking step from about 1550 elements on, and increasingly so above (its cost per step grows
-#: slowly with n, the dense one faster than n^2 once its inverse leaves the caches).
-AUTO_CROSSOVER = 1500
+#: "Benchmarks"): the dense solver (interval inverses of the Toeplitz matrix, FFT residuals) is faster per
+#: rocking step at every size up to its grid cap (about 5x at 3800 elements: 1.1 ms against 5.6 ms a step,
+#: 2 cores shared), so "auto" runs it up to :data:`core.bodies.MAX_ELEMENTS` and the matrix-free one above,
+#: up to :data:`core.bodies.MAX_FFT_ELEMENTS`.
+AUTO_CROSSOVER = MAX_ELEMENTS
 
 
 def select_solver(solver, n):

@@ -20,12 +20,15 @@ run takes as it is (:func:`core.solve_schedule`):
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
+
 import numpy as np
 
 from ._validate import check_int, check_scalar
 from .schedule import MAX_STEPS, SHAPES, Schedule, rocking_schedule
 
-__all__ = ["rocking", "tangential", "from_arrays", "history", "HISTORIES"]
+__all__ = ["rocking", "tangential", "from_arrays", "history", "HISTORIES", "NAMED", "for_run"]
 
 
 def _phases(schedule: Schedule) -> np.ndarray:
@@ -166,3 +169,86 @@ def history(name, **params):
     if name not in HISTORIES:
         raise ValueError(f"history must be one of {sorted(HISTORIES)}, got {name!r:.60}")
     return HISTORIES[name](**params)
+
+
+#: The histories :func:`core.simulate_cycles` takes by name (its ``history`` keyword).
+NAMED = ("rocking", "normal", "tangential")
+
+
+def default_amplitude(history, ft, amplitude=None):
+    """``amplitude`` of a named history, or its default: 0.2 (``"normal"``), ``(1 - |ft|)/2`` (``"tangential"``)."""
+    if amplitude is not None or history not in ("normal", "tangential"):
+        return amplitude
+    return 0.2 if history == "normal" else 0.5 * (1.0 - abs(float(ft)))
+
+
+def for_run(history, ft, w, *, periods=10, dW=0.025, shape="triangle", load_steps=1, amplitude=None, phase=0.0):
+    """The :class:`Schedule` of :func:`core.simulate_cycles`'s ``history`` keyword.
+
+    Parameters
+    ----------
+    history : str, Schedule or mapping
+        A name of :data:`NAMED`:
+
+        * ``"rocking"``: the paper's (Wetter 2015, section 3): ``Ft`` applied at
+          ``xc = 0``, then the centre rocked ``0 -> W -> -W -> 0`` (``shape``:
+          triangle or sine) under constant loads; ``amplitude`` must be None or 0;
+        * ``"normal"``: the same rocking under the normal force
+          ``P = 1 + amplitude sin(2 pi t + phase)`` (``amplitude`` in [0, 1), default 0.2;
+          ``phase`` [rad]; see :func:`rocking`);
+        * ``"tangential"``: the centre fixed at 0 (``w`` unused) and the tangential force
+          ``ft + amplitude f(t)`` with ``f`` of ``shape`` (``amplitude`` default
+          ``(1 - |ft|) / 2``), ``4 ceil(1 / (4 dW))`` steps a period (see :func:`tangential`);
+
+        or a :class:`Schedule` (run as it is: ``ft``, ``w`` and the other options are
+        unused), or a mapping of per-step arrays ``xc`` and optionally ``P``, ``Q``,
+        ``period`` (:func:`from_arrays`).
+    ft, w, periods, dW, shape, load_steps :
+        As in :func:`core.simulate_cycles`.
+    amplitude : float, optional
+        Amplitude of the oscillating load (see above).
+    phase : float
+        Phase of the normal force [rad] (``"normal"``), finite.
+
+    Returns
+    -------
+    Schedule
+
+    Raises
+    ------
+    ValueError
+        Naming ``history`` if it is none of these, or the parameter that is out of range.
+
+    Examples
+    --------
+    >>> from core.histories import for_run
+    >>> s = for_run("tangential", 0.2, 0.0, periods=2, dW=0.05, amplitude=0.3)
+    >>> len(s), float(s.Q.max()), float(s.xc.max())
+    (41, 0.5, 0.0)
+    """
+    if isinstance(history, Schedule):
+        return history
+    if isinstance(history, Mapping):
+        unknown = sorted(set(map(str, history)) - {"xc", "P", "Q", "period"})
+        if unknown or "xc" not in history:
+            raise ValueError("history as arrays must be a mapping with 'xc' and optionally 'P', 'Q', 'period', "
+                             f"got keys {sorted(map(str, history))!r:.80}")
+        return from_arrays(**history)
+    if not isinstance(history, str) or history not in NAMED:
+        raise ValueError(f"history must be one of {NAMED}, a core.Schedule or a mapping of arrays, "
+                         f"got {history!r:.60}")
+    phase = check_scalar("phase", phase)
+    amplitude = default_amplitude(history, ft, amplitude)
+    if history == "rocking":
+        if amplitude not in (None, 0, 0.0):
+            raise ValueError(f"amplitude must be None or 0 with history='rocking' (use history='normal' or "
+                             f"'tangential' for an oscillating load), got {amplitude!r:.60}")
+        return rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
+    if history == "normal":
+        amplitude = check_scalar("amplitude", amplitude, 0.0, 1.0, hi_closed=False)
+        return rocking(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps,
+                       normal_amplitude=amplitude, normal_phase=phase)
+    dW = check_scalar("dW", dW, 1e-4, 1.0)
+    return tangential(ft, amplitude, periods=periods,
+                      steps_per_period=4 * math.ceil(1.0 / (4.0 * dW) - 1e-9), shape=shape, load_steps=load_steps)
+

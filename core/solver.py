@@ -26,14 +26,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validate import check_int, check_scalar
-from .bodies import MAX_ELEMENTS, Cylinder, get_body
+from .bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS, Cylinder, get_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, below_bound, central_halfwidth, read_only
-from .engine import make_operator, run, select_solver
-from .schedule import Schedule, rocking_schedule
+from .engine import SOLVER_CHOICES, make_operator, run, select_solver
+from . import histories
+from .schedule import Schedule
 
 __all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
-           "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_STORED_VALUES",
+           "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_FFT_ELEMENTS", "MAX_STORED_VALUES",
            "KKT_TOL"]
 
 #: Default element width [a]: 80 elements across the contact. The increment per
@@ -45,15 +46,16 @@ MAX_STORED_VALUES = 2.5e8
 KKT_TOL = 1e-10
 
 
-def make_grid(reach, dx):
-    """The element edges of :meth:`core.bodies.Cylinder.for_reach` (``reach`` and ``dx`` in a).
+def make_grid(reach, dx, max_elements=MAX_ELEMENTS):
+    """The element edges of :meth:`core.bodies.Cylinder.for_reach` (``reach`` and ``dx`` in a; ``max_elements``
+    the grid cap, the dense solver's by default).
 
     Returns
     -------
     ndarray, shape (n + 1,)
         Uniform edges symmetric about 0 with one spare element each side; ``n`` is even.
     """
-    return Cylinder.for_reach(reach, dx).edges
+    return Cylinder.for_reach(reach, dx, max_elements).edges
 
 
 def _kernel_options(kernel, L_over_a, nu):
@@ -136,7 +138,10 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     tol = check_scalar("tol", tol, 1e-14, 1e-4)
     shakedown_rtol = check_scalar("shakedown_rtol", shakedown_rtol, 0.0, 1.0)
     kernel_options = dict(kernel_options or {})
-    body = get_body(body).for_history(schedule, dx)
+    if solver not in SOLVER_CHOICES:
+        raise ValueError(f"solver must be one of {SOLVER_CHOICES}, got {solver!r:.60}")
+    # the dense solver's grid cap, or the matrix-free one's where that solver may run
+    body = get_body(body).for_history(schedule, dx, MAX_ELEMENTS if solver == "dense" else MAX_FFT_ELEMENTS)
     n = body.size
     maxiter = check_int("maxiter", 50 + 2 * n if maxiter is None else maxiter, 1, 10**7)
     chunk = check_int("chunk", chunk, 1, 10**7)
@@ -280,7 +285,7 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane", shape="triangle",
                     load_steps=1, L_over_a=None, nu=0.5, tol=KKT_TOL, detect_periodic=True,
                     shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, solver="auto",
-                    body="cylinder", ratio=None, angle=0.0):
+                    body="cylinder", ratio=None, angle=0.0, history="rocking", amplitude=None, phase=0.0):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -327,6 +332,18 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
         is the element side, ``nu`` the substrate's; ``kernel``, ``L_over_a``
         and ``tol`` are the cylinder's) and return a
         :class:`core.solver3d.PointContactResult`.
+    history : {"rocking", "normal", "tangential"}, Schedule or mapping
+        The loading history (:func:`core.histories.for_run`): ``"rocking"`` (the
+        paper's, the default); ``"normal"``, the same rocking under the normal force
+        ``P = 1 + amplitude sin(2 pi t + phase)``; ``"tangential"``, the centre fixed and
+        the tangential force ``ft + amplitude f(t)`` oscillating with ``shape``; a
+        :class:`~core.schedule.Schedule` (run as it is) or a mapping of per-step arrays
+        ``xc``, ``P``, ``Q``, ``period`` (:func:`core.histories.from_arrays`). The cylinder only.
+    amplitude : float, optional
+        Amplitude of the oscillating load of ``"normal"`` (relative, in [0, 1), default 0.2)
+        or ``"tangential"`` ([mu P], ``|ft| + amplitude < 1``, default ``(1 - |ft|)/2``).
+    phase : float
+        Phase of the normal force of ``"normal"`` [rad].
 
     Returns
     -------
@@ -344,6 +361,9 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
     True
     """
     if not (isinstance(body, str) and body == "cylinder"):  # point contacts: core/solver3d.py
+        if not (isinstance(history, str) and history == "rocking"):
+            raise ValueError(f"history must be 'rocking' for a point contact (body={body!r:.40}), "
+                             f"got {history!r:.60}")
         from .solver3d import simulate_point_contact
         return simulate_point_contact(ft, w, periods, dx, dW, body=body, ratio=ratio, angle=angle, nu=nu, shape=shape,
                                       load_steps=load_steps, detect_periodic=detect_periodic,
@@ -352,9 +372,17 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
     dx = check_scalar("dx", dx, 1e-4, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     options = _kernel_options(kernel, L_over_a, nu)
-    schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
+    schedule = histories.for_run(history, ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps,
+                                 amplitude=amplitude, phase=phase)
     params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, kernel=kernel, shape=shape,
                   load_steps=int(load_steps))
+    params["history"] = history if isinstance(history, str) else "arrays"
+    if params["history"] == "arrays":  # the schedule's own periods; the rocking options played no part
+        params["periods"] = int(schedule.periods)
+        for name in ("ft", "w", "dW", "shape", "load_steps"):
+            del params[name]
+    if params["history"] in ("normal", "tangential"):
+        params.update(amplitude=float(histories.default_amplitude(history, ft, amplitude)), phase=float(phase))
     if kernel == "strip":
         params.update(L_over_a=options["L_over_a"], nu=float(nu))
     return solve_schedule(schedule, dx, kernel, kernel_options=options, tol=tol,

@@ -249,6 +249,16 @@ def test_body_and_history_pass_through(capsys):
     assert "undetermined" in out and "one increment cannot show" in out
 
 
+
+@pytest.mark.parametrize("name, says", [("normal", "oscillating normal force"),
+                                        ("tangential", "oscillating tangential force at a fixed centre")])
+def test_history_names_reach_the_solver(capsys, name, says):
+    code, out, err = _run(capsys, "run", "--ft", "0.2", "--w", "0.3", "--periods", "2", "--dx", "0.05",
+                          "--history", name)
+    assert code == 0, err
+    assert says in out.splitlines()[0]
+
+
 def test_help_and_version_import_nothing_heavy():
     code = ("import sys, contextlib, io\n"
             "from core.cli import main\n"

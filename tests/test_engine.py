@@ -12,7 +12,7 @@ from numpy.testing import assert_allclose
 
 import core
 from core.bodies import Cylinder
-from core.dense import RESIDUALS, DenseSolver
+from core.dense import RESIDUALS, DenseSolver, Trajectory
 from core.engine import AUTO_CROSSOVER, run, select_solver
 from core.matrix_free import FFTSolver
 from core.operators import DenseOperator, FFTOperator
@@ -109,3 +109,54 @@ def test_import_on_a_read_only_install_without_a_numba_cache(tmp_path):
     assert out.returncode == 0, out.stderr[-2000:]
     here = core.hertz_pressure_element_mean([-1.0, -0.3, 0.2, 1.0], 0.1).sum()
     assert out.stdout.split() == [str(root / "core" / "__init__.py"), "False", repr(float(here))]
+
+
+class _MatrixOnly:
+    """A dense operator that does not say it is Toeplitz: the dense solver keeps the classical stick-set inverse."""
+
+    def __init__(self, op):
+        self._op = op
+        self.shape, self.size = op.shape, op.size
+
+    def matrix(self):
+        return self._op.matrix()
+
+
+@pytest.mark.parametrize("history", [
+    core.histories.rocking(0.58, 0.52, periods=3, dW=1 / 40),                # ratcheting: large slip zones
+    core.histories.rocking(0.3, 0.5, periods=3, dW=1 / 60, normal_amplitude=0.3, normal_phase=0.7),
+    core.histories.rocking(0.08, 0.77, periods=2, dW=1 / 50, shape="sine"),
+])
+def test_dense_interval_inverses_equal_the_stick_set_inverse(history):
+    """The Toeplitz path (inverses of K on the contact interval, core._pdas) and the classical rank-one
+    updates solve the same KKT conditions: same iterations, increments equal to round-off, also when the
+    contact width changes every step (oscillating normal force) and when it switches between the two."""
+    dx = 1 / 60
+    body = Cylinder.for_history(history, dx)
+    op = DenseOperator(body.size, body.dx)
+    fast = run(body, op, history, solver="dense", tol=1e-10, detect_periodic=False)
+    slow_solver = DenseSolver(_MatrixOnly(op), element_size=dx, tol=1e-10, maxiter=500)
+    assert DenseSolver(op, element_size=dx, tol=1e-10, maxiter=10).state.kfull.size > 0
+    assert slow_solver.state.kfull.size == 0
+    out = Trajectory(len(history), body.size)
+    bounds = body.bounds(history.xc, history.P)
+    done, _, failed = slow_solver.march(bounds, history.Q, history.period, float(body.load_target(1.0)), 0,
+                                        len(history), False, out)
+    assert failed < 0 and done == len(history)
+    assert_allclose(fast.iterations, out.iterations, atol=0)
+    assert_allclose(fast.displacement, out.displacement, rtol=1e-9, atol=1e-12)
+    assert_allclose(fast.traction, out.traction, rtol=0, atol=1e-9)
+    assert fast.max_kkt_residual <= 1e-10
+
+
+def test_grid_caps_by_solver():
+    """The dense solver's grid cap (MAX_ELEMENTS, its n x n matrices) is lifted for the matrix-free one up to
+    MAX_FFT_ELEMENTS; both refusals name dx and the smallest it may be."""
+    from core.bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS
+
+    dx = 2.0 / (MAX_ELEMENTS + 100)
+    assert Cylinder.for_reach(1.0, dx, MAX_FFT_ELEMENTS).size > MAX_ELEMENTS
+    with pytest.raises(ValueError, match=r"dx = .* needs \d+ elements \(> 4000\): dx must be >= .*solver='fft'"):
+        core.simulate_cycles(0.2, 0.0, periods=1, dx=dx, solver="dense")
+    with pytest.raises(ValueError, match=rf"dx = .* \(> {MAX_FFT_ELEMENTS}\): dx must be >= "):
+        core.simulate_cycles(0.2, 0.5, periods=1, dx=1e-4)

@@ -83,3 +83,41 @@ def test_tangential_oscillation_follows_masing_and_does_not_ratchet():
     assert_allclose(r.increment_per_period[1:], 0.0, atol=1e-9)
     per_period = np.add.reduceat(r.dissipation[1:], [0, 40, 80])
     assert per_period.min() > 0 and per_period[1] == pytest.approx(per_period[2], rel=1e-9)
+
+
+def test_simulate_cycles_takes_the_named_histories_and_arrays():
+    """core.simulate_cycles(history=...): each name runs its recipe of core.histories, a Schedule or a
+    mapping of arrays runs as given, and the result records which."""
+    kw = dict(periods=2, dx=1 / 30, dW=1 / 30)
+    normal = core.simulate_cycles(0.3, 0.4, history="normal", amplitude=0.25, phase=1.0, **kw)
+    same = solve_schedule(rocking(0.3, 0.4, periods=2, dW=1 / 30, normal_amplitude=0.25, normal_phase=1.0),
+                          dx=1 / 30)
+    assert_allclose(normal.displacement, same.displacement, rtol=0, atol=0)
+    assert normal.params["history"] == "normal" and normal.params["amplitude"] == 0.25
+    sine = core.simulate_cycles(0.3, 0.4, history="rocking", shape="sine", **kw)
+    assert_allclose(sine.xc, rocking(0.3, 0.4, periods=2, dW=1 / 30, shape="sine").xc, atol=0)
+    fretting = core.simulate_cycles(0.2, 0.0, history="tangential", amplitude=0.5, **kw)
+    assert np.all(fretting.xc == 0) and fretting.Q.max() == pytest.approx(0.7)
+    assert fretting.xc.size == 1 + 2 * 4 * math.ceil(30 / 4)  # 4 ceil(1 / (4 dW)) steps a period
+    default = core.simulate_cycles(0.2, 0.0, history="tangential", **kw)
+    assert default.params["amplitude"] == pytest.approx(0.4)  # (1 - |ft|) / 2
+    s = tangential(0.1, 0.3, periods=2, steps_per_period=16)
+    given = core.simulate_cycles(0.0, 0.0, dx=1 / 30, history=s)
+    arrays = core.simulate_cycles(0.0, 0.0, dx=1 / 30, history={"xc": s.xc, "Q": s.Q, "period": s.period})
+    assert_allclose(given.displacement, arrays.displacement, atol=0)
+    assert given.params["history"] == "arrays" and given.params["periods"] == 2 and "w" not in given.params
+
+
+@pytest.mark.parametrize("options, name", [
+    (dict(history="earthquake"), "history"),
+    (dict(history=3), "history"),
+    (dict(history={"x": [0.0]}), "history"),
+    (dict(history="normal", amplitude=1.0), "amplitude"),
+    (dict(history="rocking", amplitude=0.1), "amplitude"),
+    (dict(history="tangential", amplitude=0.8), "amplitude"),
+    (dict(history="normal", phase=np.inf), "phase"),
+    (dict(history="normal", body="sphere"), "history"),
+])
+def test_simulate_cycles_history_errors_name_the_parameter(options, name):
+    with pytest.raises(ValueError, match=name):
+        core.simulate_cycles(0.3, 0.4, periods=1, **options)
