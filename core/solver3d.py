@@ -44,7 +44,7 @@ import numpy as np
 from ._validate import check_int, check_scalar
 from .halfspace import HalfSpaceOperator
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
-from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth
+from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth, classify_increments
 from .schedule import Schedule, rocking_schedule
 
 __all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
@@ -447,29 +447,18 @@ class PointContactResult(_GridFields):
 
     @cached_property
     def _verdict(self):
-        inc = np.abs(self.increment_per_period)
-        if inc.size == 0:
-            return "undetermined", "no rocking period was run"
-        scale = float(inc.max())
-        floor = 10.0 * self.tol
-        if scale <= floor or inc[-1] <= self.shakedown_rtol * scale:
-            return "shakedown", f"the last increment is {inc[-1]:.3g} (largest {scale:.3g})"
-        if self.periodic_from is not None:
-            return "ratcheting", f"the state repeats from period {self.periodic_from} with increment {inc[-1]:.4g}"
-        if inc.size >= 3 and abs(inc[-1] - inc[-2]) <= 0.01 * inc[-1] and abs(inc[-2] - inc[-3]) <= 0.02 * inc[-1]:
-            return "ratcheting", f"the increment settled at {inc[-1]:.4g} per period"
-        ratio = inc[-1] / inc[-2] if inc.size >= 2 and inc[-2] > 0 else float("nan")
-        return "undetermined", (f"after {inc.size} periods the increment is {inc[-1]:.3g} ({inc[-1] / scale:.2g} of "
-                                f"the largest), changing by a factor {ratio:.3g} per period: run more periods")
+        """``(shakedown_period, regime, reason)`` by the rule of every body (:func:`core.result.classify_increments`)."""
+        return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
+                                   floor=10.0 * self.tol, unit="mu Fn/(E* a)")
 
     @property
     def regime(self) -> str:
         """``"shakedown"``, ``"ratcheting"`` or ``"undetermined"`` (see :attr:`regime_reason`)."""
-        return self._verdict[0]
+        return self._verdict[1]
 
     @property
     def regime_reason(self) -> str:
-        return self._verdict[1]
+        return self._verdict[2]
 
     # ---- the final state ---------------------------------------------------
     @cached_property
@@ -489,17 +478,10 @@ class PointContactResult(_GridFields):
         """Worst KKT residual over all steps (the name the cylinder's result and the sweep tables use)."""
         return self.max_residual
 
-    @cached_property
+    @property
     def shakedown_period(self) -> int | None:
         """First period from which every increment is below ``shakedown_rtol`` of the largest, if shaken down."""
-        if self.regime != "shakedown":
-            return None
-        inc = np.abs(self.increment_per_period)
-        small = inc <= self.shakedown_rtol * max(float(inc.max()), 1e-300)
-        k = inc.size - 1
-        while k > 0 and small[k - 1]:
-            k -= 1
-        return int(k)
+        return self._verdict[0]
 
     def summary(self) -> dict:
         inc = self.increment_per_period
@@ -682,7 +664,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
 
 
 def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
-                           shape="triangle", load_steps=1, tol=TOL_3D, detect_periodic=True, periodic_tol=PERIODIC_TOL,
+                           shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=PERIODIC_TOL,
                            shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None):
     """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
 
@@ -708,7 +690,9 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
         Substrate's Poisson ratio under a rigid body, in [0, 0.5] (default 0.5: beta = 0).
     shape, load_steps :
         As in :func:`core.schedule.rocking_schedule`.
-    tol, detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress :
+    tol : float, optional
+        KKT tolerance of every step; default :data:`TOL_3D`.
+    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress :
         As in :func:`solve_point_schedule`.
 
     Returns
@@ -724,6 +708,7 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
     'shakedown'
     """
     body = resolve_body(body, ratio)
+    tol = TOL_3D if tol is None else tol
     dx = check_scalar("dx", dx, 0.005, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
