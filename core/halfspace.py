@@ -169,7 +169,8 @@ class HalfSpaceOperator:
             big[:ny, -(nx - 1):] = kern[ny - 1:, :nx - 1]
         if ny > 1 and nx > 1:
             big[-(ny - 1):, -(nx - 1):] = kern[:ny - 1, :nx - 1]
-        return sfft.rfft2(big)
+        # the kernels are even (xx, yy) or odd (xy) in both offsets: their spectra are real
+        return np.ascontiguousarray(sfft.rfft2(big).real)
 
     def _convolve(self, q, hats, grid):
         q = np.asarray(q, dtype=float)
@@ -178,9 +179,11 @@ class HalfSpaceOperator:
         f = sfft.rfft2(q, s=grid, axes=(1, 2))
         hxx, hyy, hxy = hats
         out = np.empty_like(f)
-        out[0] = hxx * f[0] + hxy * f[1]
-        out[1] = hxy * f[0] + hyy * f[1]
-        return sfft.irfft2(out, s=grid, axes=(1, 2))[:, :self.ny, :self.nx]
+        np.multiply(hxx, f[0], out=out[0])
+        out[0] += hxy * f[1]
+        np.multiply(hyy, f[1], out=out[1])
+        out[1] += hxy * f[0]
+        return sfft.irfft2(out, s=grid, axes=(1, 2), overwrite_x=True)[:, :self.ny, :self.nx]
 
     def apply(self, q):
         """Displacements ``(u_x, u_y)`` at the element centres [mu Fn/(E* a)] from tractions ``q`` of shape :attr:`shape`."""
