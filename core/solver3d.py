@@ -70,6 +70,8 @@ _FULL_MOVES = 6
 _NEWTON_CURV = 1.0
 # step of the widths of the column windows (see _ColumnWindow)
 _WINDOW_QUANTUM = 4
+# inexact Newton: each linear solve reduces its residual to this fraction of the last KKT violation
+_CG_FORCING = 1e-2
 
 
 @dataclass
@@ -236,7 +238,7 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         # ---- the linear problem of this active set (warm start projected on its space)
         x0 = proj(x) + proj.particular(D)
         Kdq0 = op.apply(base - q_prev + x0)
-        cg_tol = max(0.1 * tol, 1e-3 * measure)
+        cg_tol = max(0.1 * tol, _CG_FORCING * measure)
         x, Kdq, its, cg_res = _pcg(op, proj, Kdq0, curv, x0, cg_tol, cg_maxiter, stick, 1.0 / (curv + k_self))
         cg_total += its
         lam = proj.multiplier(Kdq + curv * x)
