@@ -38,8 +38,10 @@ References
 from __future__ import annotations
 
 import numpy as np
+import rocket_fft  # noqa: F401  (numpy.fft inside numba-compiled code)
 import scipy.fft as sfft
 
+from ._jit import jit
 from ._validate import check_int, check_scalar
 
 __all__ = ["HalfSpaceOperator", "rectangle_integrals", "MAX_DENSE_SIZE"]
@@ -90,6 +92,24 @@ def rectangle_integrals(x, y, h):
 
     return (_corner_sum(F1, x, y, h), _corner_sum(Fxx, x, y, h), _corner_sum(Fyy, x, y, h),
             _corner_sum(Fxy, x, y, h))
+
+
+@jit
+def convolve(q, hxx, hyy, hxy, py, px):
+    """``u_i = K_ij * q_j`` on a zero-padded ``(py, px)`` grid from the real spectra ``hxx, hyy, hxy``.
+
+    ``q`` has shape ``(2, ny, nx)``; the spectra shape ``(py, px // 2 + 1)``
+    (:meth:`HalfSpaceOperator.spectra`); compiled, so that the solvers' inner
+    loops call it without Python in between.
+    """
+    ny, nx = q.shape[1], q.shape[2]
+    buf = np.zeros((2, py, px))
+    buf[:, :ny, :nx] = q
+    f = np.fft.rfft2(buf)
+    g = np.empty_like(f)
+    g[0] = hxx * f[0] + hxy * f[1]
+    g[1] = hxy * f[0] + hyy * f[1]
+    return np.ascontiguousarray(np.fft.irfft2(g, s=(py, px))[:, :ny, :nx])
 
 
 class HalfSpaceOperator:
@@ -151,7 +171,8 @@ class HalfSpaceOperator:
         k2[0, 0] = min(kx[0, 1] ** 2 if kx.size > 1 else 1.0, ky[1, 0] ** 2 if ky.size > 1 else 1.0)
         k = np.sqrt(k2)
         f = (1.0 - self.nu) * k / (2.0 * np.pi * self.scale)
-        self._pre = (f * (1.0 + c * kx * kx / k2), f * (1.0 + c * ky * ky / k2), f * c * kx * ky / k2)
+        self._pre = tuple(np.ascontiguousarray(a) for a in (f * (1.0 + c * kx * kx / k2), f * (1.0 + c * ky * ky / k2),
+                                                             f * c * kx * ky / k2))
 
     @property
     def self_influence(self) -> float:
@@ -176,14 +197,12 @@ class HalfSpaceOperator:
         q = np.asarray(q, dtype=float)
         if q.shape != self.shape:
             raise ValueError(f"q must have shape {self.shape}, got {q.shape}")
-        f = sfft.rfft2(q, s=grid, axes=(1, 2))
-        hxx, hyy, hxy = hats
-        out = np.empty_like(f)
-        np.multiply(hxx, f[0], out=out[0])
-        out[0] += hxy * f[1]
-        np.multiply(hyy, f[1], out=out[1])
-        out[1] += hxy * f[0]
-        return sfft.irfft2(out, s=grid, axes=(1, 2), overwrite_x=True)[:, :self.ny, :self.nx]
+        return convolve(np.ascontiguousarray(q), *hats, *grid)
+
+    def spectra(self):
+        """``(hxx, hyy, hxy, py, px, pxx, pyy, pxy, qy, qx)``: the real spectra and padded grids of
+        :meth:`apply` and :meth:`precondition`, the arguments of :func:`convolve`."""
+        return (*self._hat, *self._pad, *self._pre, *self._pre_grid)
 
     def apply(self, q):
         """Displacements ``(u_x, u_y)`` at the element centres [mu Fn/(E* a)] from tractions ``q`` of shape :attr:`shape`."""

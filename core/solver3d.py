@@ -42,7 +42,8 @@ from functools import cached_property
 import numpy as np
 
 from ._validate import check_int, check_scalar
-from .halfspace import HalfSpaceOperator
+from ._jit import jit
+from .halfspace import HalfSpaceOperator, convolve
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
 from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth, classify_increments
 from .schedule import Schedule, rocking_schedule
@@ -127,38 +128,100 @@ class _Projector:
         return self._constant(self.Minv @ D)
 
 
+@jit
+def _project(pxx, pyy, pxy, minv, v, out):
+    """``out = P v`` (:class:`_Projector` with its arrays and ``M^-1``), compiled."""
+    ny, nx = pxx.shape
+    s0 = 0.0
+    s1 = 0.0
+    for i in range(ny):
+        for j in range(nx):
+            a, b = v[0, i, j], v[1, i, j]
+            y0 = pxx[i, j] * a + pxy[i, j] * b
+            y1 = pxy[i, j] * a + pyy[i, j] * b
+            out[0, i, j] = y0
+            out[1, i, j] = y1
+            s0 += y0
+            s1 += y1
+    m0 = minv[0, 0] * s0 + minv[0, 1] * s1
+    m1 = minv[1, 0] * s0 + minv[1, 1] * s1
+    for i in range(ny):
+        for j in range(nx):
+            out[0, i, j] -= pxx[i, j] * m0 + pxy[i, j] * m1
+            out[1, i, j] -= pxy[i, j] * m0 + pyy[i, j] * m1
+
+
+@jit
+def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z):
+    """``z = P M r``: the inverse continuous symbol on the stick set, ``r/(curv + K_ii)`` on slip corrections."""
+    ny, nx = stick.shape
+    w = np.zeros((2, ny, nx))
+    for c in range(2):
+        for i in range(ny):
+            for j in range(nx):
+                if stick[i, j]:
+                    w[c, i, j] = r[c, i, j]
+    zs = convolve(w, spec[5], spec[6], spec[7], spec[8], spec[9])
+    for c in range(2):
+        for i in range(ny):
+            for j in range(nx):
+                if not stick[i, j]:
+                    zs[c, i, j] = r[c, i, j] * slip_diag[i, j]
+    _project(pxx, pyy, pxy, minv, zs, z)
+
+
+@jit
+def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, maxiter):
+    """Projected preconditioned CG, compiled (see :func:`_pcg`); updates ``x`` and ``Kdq`` in place."""
+    ny, nx = stick.shape
+    r = np.empty((2, ny, nx))
+    z = np.empty((2, ny, nx))
+    Ap = np.empty((2, ny, nx))
+    tmp = np.empty((2, ny, nx))
+    for c in range(2):
+        tmp[c] = -Kdq[c] - curv * x[c]
+    _project(pxx, pyy, pxy, minv, tmp, r)
+    _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z)
+    p = z.copy()
+    rz = np.sum(r * z)
+    rmax = np.abs(r).max()
+    its = 0
+    while its < maxiter and rmax > tol:
+        its += 1
+        Kp = convolve(p, spec[0], spec[1], spec[2], spec[3], spec[4])
+        for c in range(2):
+            tmp[c] = Kp[c] + curv * p[c]
+        _project(pxx, pyy, pxy, minv, tmp, Ap)
+        pAp = np.sum(p * Ap)
+        if not pAp > 0.0:
+            break
+        alpha = rz / pAp
+        x += alpha * p
+        Kdq += alpha * Kp
+        r -= alpha * Ap
+        rmax = np.abs(r).max()
+        _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z)
+        rz_new = np.sum(r * z)
+        p = z + (rz_new / rz) * p
+        rz = rz_new
+    return its, rmax
+
+
 def _pcg(op, proj, Kdq, curv, x, tol, maxiter, stick, slip_diag):
     """Projected preconditioned CG for ``P (K dq + curv x) = 0``, ``dq = dq_fixed + x``, ``x`` in V.
 
     ``Kdq`` is ``K dq`` of the starting ``x``; returns (x, K dq, its, residual).
 
     Preconditioner: the inverse continuous symbol on the stick set, the inverse
-    diagonal ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
+    diagonal ``1/(curv + K_ii)`` on the tangential corrections of slipping
+    elements. The loop is compiled (:func:`_pcg_kernel`): FFT products and
+    projections without Python in between.
     """
-    def pre(r):
-        return proj(np.where(stick, op.precondition(np.where(stick, r, 0.0)), r * slip_diag))
-
-    r = proj(-Kdq - curv * x)
-    z = pre(r)
-    p = z
-    rz = float(np.vdot(r, z))
-    its = 0
-    while its < maxiter and np.abs(r).max() > tol:
-        its += 1
-        Kp = op.apply(p)
-        Ap = proj(Kp + curv * p)
-        pAp = float(np.vdot(p, Ap))
-        if not pAp > 0.0:
-            break
-        alpha = rz / pAp
-        x = x + alpha * p
-        Kdq = Kdq + alpha * Kp
-        r = r - alpha * Ap
-        z = pre(r)
-        rz_new = float(np.vdot(r, z))
-        p = z + (rz_new / rz) * p
-        rz = rz_new
-    return x, Kdq, its, float(np.abs(r).max())
+    x = np.array(x, dtype=float)
+    Kdq = np.array(Kdq, dtype=float)
+    its, res = _pcg_kernel(op.spectra(), proj.pxx, proj.pyy, proj.pxy, proj.Minv, stick, np.ascontiguousarray(curv, float),
+                           np.ascontiguousarray(slip_diag, float), x, Kdq, float(tol), int(maxiter))
+    return x, Kdq, int(its), float(res)
 
 
 def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
