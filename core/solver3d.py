@@ -89,48 +89,15 @@ class _WarmStart:
         return cls(np.zeros(shape, np.int8), np.zeros((2,) + shape), np.zeros(shape), np.zeros((2,) + shape))
 
 
-class _Projector:
-    """Orthogonal projection on {x in V, sum x = 0}: V holds both components on stick, ``d_perp`` on slip."""
-
-    def __init__(self, stick, slip, dperp):
-        self.pxx = stick + slip * dperp[0] ** 2
-        self.pyy = stick + slip * dperp[1] ** 2
-        self.pxy = slip * dperp[0] * dperp[1]
-        m = np.array([[self.pxx.sum(), self.pxy.sum()], [self.pxy.sum(), self.pyy.sum()]])
-        det = m[0, 0] * m[1, 1] - m[0, 1] ** 2  # > 0: at least one stick element
-        self.Minv = np.array([[m[1, 1], -m[0, 1]], [-m[0, 1], m[0, 0]]]) / det
-
-    def local(self, v):
-        out = np.empty_like(v)
-        np.multiply(self.pxx, v[0], out=out[0])
-        out[0] += self.pxy * v[1]
-        np.multiply(self.pyy, v[1], out=out[1])
-        out[1] += self.pxy * v[0]
-        return out
-
-    def _constant(self, mu):
-        """``P`` applied to the constant field ``mu``."""
-        return np.stack([self.pxx * mu[0] + self.pxy * mu[1], self.pxy * mu[0] + self.pyy * mu[1]])
-
-    def multiplier(self, v):
-        """``M^-1 sum P v``: the constant field whose projection matches ``P v`` in the mean."""
-        return self.Minv @ self.local(v).sum(axis=(1, 2))
-
-    def __call__(self, v):
-        y = self.local(v)
-        mu = self.Minv @ y.sum(axis=(1, 2))
-        y[0] -= self.pxx * mu[0] + self.pxy * mu[1]
-        y[1] -= self.pxy * mu[0] + self.pyy * mu[1]
-        return y
-
-    def particular(self, D):
-        """A field in V with ``sum = D`` (least norm)."""
-        return self._constant(self.Minv @ D)
-
-
 @jit
 def _project(pxx, pyy, pxy, minv, v, out):
-    """``out = P v`` (:class:`_Projector` with its arrays and ``M^-1``), compiled."""
+    """``out = P v``: the orthogonal projection on {x in V, sum x = 0}, compiled.
+
+    V holds both components on stick elements and ``d_perp`` on slipping ones:
+    ``P_i = [[pxx, pxy], [pxy, pyy]]`` per element (the identity, ``d_perp
+    d_perp^T`` or 0), ``minv`` the inverse of their sum ``M``; the constant
+    ``M^-1 sum P_i v_i`` is removed so that ``sum P v = 0``.
+    """
     ny, nx = pxx.shape
     s0 = 0.0
     s1 = 0.0
@@ -172,7 +139,15 @@ def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z):
 
 @jit
 def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, maxiter):
-    """Projected preconditioned CG, compiled (see :func:`_pcg`); updates ``x`` and ``Kdq`` in place."""
+    """Projected preconditioned CG for ``P (K dq + curv x) = 0``, ``dq = dq_fixed + x``, ``x`` in V.
+
+    ``Kdq`` is ``K dq`` of the starting ``x``; both are updated in place.
+    ``spec`` holds the spectra of the operator and of its preconditioner
+    (:meth:`core.halfspace.HalfSpaceOperator.spectra`). Preconditioner: the
+    inverse continuous symbol on the stick set, the inverse diagonal
+    ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
+    Returns the iterations and the largest residual component.
+    """
     ny, nx = stick.shape
     r = np.empty((2, ny, nx))
     z = np.empty((2, ny, nx))
@@ -207,21 +182,179 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     return its, rmax
 
 
-def _pcg(op, proj, Kdq, curv, x, tol, maxiter, stick, slip_diag):
-    """Projected preconditioned CG for ``P (K dq + curv x) = 0``, ``dq = dq_fixed + x``, ``x`` in V.
+@jit
+def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, tol, maxiter, cg_maxiter, measure):
+    """The active-set / semismooth Newton loop of :func:`solve_increment`, compiled.
 
-    ``Kdq`` is ``K dq`` of the starting ``x``; returns (x, K dq, its, residual).
-
-    Preconditioner: the inverse continuous symbol on the stick set, the inverse
-    diagonal ``1/(curv + K_ii)`` on the tangential corrections of slipping
-    elements. The loop is compiled (:func:`_pcg_kernel`): FFT products and
-    projections without Python in between.
+    Updates ``kind``, ``d`` and ``wcurv`` in place; returns the final traction
+    (slipping elements on the disk), the slips (0 where sticking), ``lam``,
+    ``K dq``, the stick part of the last correction, the stick mask, the
+    iterations, the CG iterations, whether it converged and the last violation.
     """
-    x = np.array(x, dtype=float)
-    Kdq = np.array(Kdq, dtype=float)
-    its, res = _pcg_kernel(op.spectra(), proj.pxx, proj.pyy, proj.pxy, proj.Minv, stick, np.ascontiguousarray(curv, float),
-                           np.ascontiguousarray(slip_diag, float), x, Kdq, float(tol), int(maxiter))
-    return x, Kdq, int(its), float(res)
+    ny, nx = g.shape
+    contact = g > 0.0
+    for i in range(ny):
+        for j in range(nx):
+            if not contact[i, j]:
+                kind[i, j] = _OUT
+            elif kind[i, j] == _OUT:
+                kind[i, j] = _STICK
+            mag = math.hypot(q_prev[0, i, j], q_prev[1, i, j])
+            # predicted active set: what is above its new bound slips back along its traction
+            if contact[i, j] and kind[i, j] == _STICK and mag > g[i, j]:
+                kind[i, j] = _SLIP
+                d[0, i, j] = q_prev[0, i, j] / mag
+                d[1, i, j] = q_prev[1, i, j] / mag
+                wcurv[i, j] = 0.0
+    pxx = np.empty((ny, nx))
+    pyy = np.empty((ny, nx))
+    pxy = np.empty((ny, nx))
+    base = np.empty((2, ny, nx))
+    curv = np.empty((ny, nx))
+    slip_diag = np.empty((ny, nx))
+    x0 = np.empty((2, ny, nx))
+    s = np.zeros((2, ny, nx))
+    q = np.empty((2, ny, nx))
+    Kdq = np.empty((2, ny, nx))
+    stick = np.zeros((ny, nx), np.bool_)
+    slip = np.zeros((ny, nx), np.bool_)
+    minv = np.empty((2, 2))
+    lam = np.zeros(2)
+    cg_total = 0
+    worst = np.inf
+    converged = False
+    it = 0
+    while it < maxiter:
+        it += 1
+        nstick = 0
+        for i in range(ny):
+            for j in range(nx):
+                if kind[i, j] == _STICK:
+                    nstick += 1
+        if nstick == 0:  # the force balances need at least one free element
+            bi, bj, bg = 0, 0, -1.0
+            for i in range(ny):
+                for j in range(nx):
+                    if contact[i, j] and g[i, j] > bg:
+                        bi, bj, bg = i, j, g[i, j]
+            kind[bi, bj] = _STICK
+        # ---- the projector of this active set and the fixed part of the traction
+        m00 = m01 = m11 = 0.0
+        b0 = b1 = 0.0
+        for i in range(ny):
+            for j in range(nx):
+                st = kind[i, j] == _STICK
+                sl = kind[i, j] == _SLIP
+                stick[i, j], slip[i, j] = st, sl
+                if sl:
+                    e0, e1 = -d[1, i, j], d[0, i, j]  # d_perp
+                    pxx[i, j], pyy[i, j], pxy[i, j] = e0 * e0, e1 * e1, e0 * e1
+                    base[0, i, j], base[1, i, j] = g[i, j] * d[0, i, j], g[i, j] * d[1, i, j]
+                    curv[i, j] = wcurv[i, j]
+                else:
+                    f = 1.0 if st else 0.0
+                    pxx[i, j], pyy[i, j], pxy[i, j] = f, f, 0.0
+                    base[0, i, j], base[1, i, j] = f * q_prev[0, i, j], f * q_prev[1, i, j]
+                    curv[i, j] = 0.0
+                slip_diag[i, j] = 1.0 / (curv[i, j] + k_self)
+                m00 += pxx[i, j]
+                m11 += pyy[i, j]
+                m01 += pxy[i, j]
+                b0 += base[0, i, j]
+                b1 += base[1, i, j]
+        det = m00 * m11 - m01 * m01  # > 0: at least one stick element
+        minv[0, 0], minv[0, 1], minv[1, 0], minv[1, 1] = m11 / det, -m01 / det, -m01 / det, m00 / det
+        D0, D1 = target[0] / dA - b0, target[1] / dA - b1
+        c0 = minv[0, 0] * D0 + minv[0, 1] * D1
+        c1 = minv[1, 0] * D0 + minv[1, 1] * D1
+        # ---- the linear problem of this active set (warm start projected on its space, plus the particular part)
+        _project(pxx, pyy, pxy, minv, x, x0)
+        for i in range(ny):
+            for j in range(nx):
+                x0[0, i, j] += pxx[i, j] * c0 + pxy[i, j] * c1
+                x0[1, i, j] += pxy[i, j] * c0 + pyy[i, j] * c1
+        Kdq = convolve(base - q_prev + x0, spec[0], spec[1], spec[2], spec[3], spec[4])
+        cg_tol = max(0.1 * tol, _CG_FORCING * measure)
+        its, cg_res = _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x0, Kdq, cg_tol, cg_maxiter)
+        x = x0.copy()
+        cg_total += its
+        # ---- the multipliers, the traction and the slips
+        y0 = y1 = 0.0
+        for i in range(ny):
+            for j in range(nx):
+                v0 = Kdq[0, i, j] + curv[i, j] * x[0, i, j]
+                v1 = Kdq[1, i, j] + curv[i, j] * x[1, i, j]
+                y0 += pxx[i, j] * v0 + pxy[i, j] * v1
+                y1 += pxy[i, j] * v0 + pyy[i, j] * v1
+        lam[0] = minv[0, 0] * y0 + minv[0, 1] * y1
+        lam[1] = minv[1, 0] * y0 + minv[1, 1] * y1
+        # ---- check: bounds on the stick set, slip direction on the slip set
+        over_max = -np.inf
+        wrong_max = -np.inf
+        tangent = 0.0
+        over = np.full((ny, nx), -np.inf)
+        wrong = np.full((ny, nx), -np.inf)
+        for i in range(ny):
+            for j in range(nx):
+                for c in range(2):
+                    q[c, i, j] = base[c, i, j] + x[c, i, j]
+                    s[c, i, j] = lam[c] - Kdq[c, i, j] if contact[i, j] else 0.0
+                if stick[i, j]:
+                    over[i, j] = math.hypot(q[0, i, j], q[1, i, j]) - g[i, j]
+                    over_max = max(over_max, over[i, j])
+                elif slip[i, j]:
+                    wrong[i, j] = -(d[0, i, j] * s[0, i, j] + d[1, i, j] * s[1, i, j])
+                    wrong_max = max(wrong_max, wrong[i, j])
+                    t = -d[1, i, j] * x[0, i, j] + d[0, i, j] * x[1, i, j]
+                    # off the disk by t; the slip then has the normal component curv t
+                    tangent = max(tangent, abs(t * max(1.0, curv[i, j])))
+        worst = max(over_max, wrong_max)
+        measure = max(worst, tangent)
+        if worst <= tol and tangent <= tol and cg_res <= 0.5 * tol:
+            converged = True
+            break
+        if worst > tol:
+            level = tol if it <= _FULL_MOVES else max(tol, 0.5 * worst)
+            for i in range(ny):
+                for j in range(nx):
+                    if over[i, j] > level:
+                        kind[i, j] = _SLIP
+                        mag = math.hypot(q[0, i, j], q[1, i, j])
+                        mag = mag if mag > 0 else 1.0
+                        d[0, i, j], d[1, i, j] = q[0, i, j] / mag, q[1, i, j] / mag
+                        wcurv[i, j] = 0.0
+                    if wrong[i, j] > level:
+                        kind[i, j] = _STICK
+                        x[0, i, j] = x[1, i, j] = 0.0
+        # ---- Newton update of the slip directions and their curvature |s|/g: where the slip dominates (|s|/g
+        # above the self-influence) linearise q = g s/|s| about the slip direction (semismooth Newton); elsewhere
+        # follow the corrected traction
+        for i in range(ny):
+            for j in range(nx):
+                if slip[i, j] and kind[i, j] == _SLIP:
+                    nq = math.hypot(q[0, i, j], q[1, i, j])
+                    ns = math.hypot(s[0, i, j], s[1, i, j])
+                    cn = ns / g[i, j]
+                    if cn > _NEWTON_CURV * k_self:
+                        ns = ns if ns > 0 else 1.0
+                        d[0, i, j], d[1, i, j] = s[0, i, j] / ns, s[1, i, j] / ns
+                    else:
+                        nq = nq if nq > 0 else 1.0
+                        d[0, i, j], d[1, i, j] = q[0, i, j] / nq, q[1, i, j] / nq
+                    wcurv[i, j] = cn
+                    x[0, i, j] = x[1, i, j] = 0.0
+    # ---- the final traction: slipping elements exactly on the disk; slips where slipping only
+    for i in range(ny):
+        for j in range(nx):
+            if slip[i, j]:
+                q[0, i, j], q[1, i, j] = g[i, j] * d[0, i, j], g[i, j] * d[1, i, j]
+            if not contact[i, j]:
+                q[0, i, j] = q[1, i, j] = 0.0
+            if not (slip[i, j] and math.hypot(s[0, i, j], s[1, i, j]) > tol):
+                s[0, i, j] = s[1, i, j] = 0.0
+            if not stick[i, j]:
+                x[0, i, j] = x[1, i, j] = 0.0
+    return q, s, lam, Kdq, x, stick, it, cg_total, converged, worst
 
 
 def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
@@ -277,80 +410,14 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         info = dict(iterations=0, cg_iterations=0, stick_slip=0.0, bound=max(float((mag_prev - g).max()), 0.0),
                     slip_direction=0.0, out_of_contact=0.0, load_balance=float(balance))
         return q_prev.copy(), zero, np.zeros(2), info
-    cg_total = 0
-    x = warm.x
-    k_self = op.self_influence
-    # ---- predicted active set: what is above its new bound slips back along its traction
-    above = contact & (kind == _STICK) & (mag_prev > g)
-    kind[above] = _SLIP
-    d[:, above] = (q_prev / np.where(mag_prev > 0, mag_prev, 1.0))[:, above]
-    warm.curv[above] = 0.0
-    # inexact Newton: the linear solves tighten with the violation they correct
     measure = max(float((mag_prev - g).max()), balance)
-    for it in range(1, maxiter + 1):
-        stick, slip = kind == _STICK, kind == _SLIP
-        if not stick.any():  # the force balances need at least one free element
-            i = np.unravel_index(np.argmax(np.where(contact, g, -1.0)), g.shape)
-            kind[i] = _STICK
-            stick, slip = kind == _STICK, kind == _SLIP
-        dperp = np.stack([-d[1], d[0]])
-        proj = _Projector(stick.astype(float), slip.astype(float), dperp)
-        base = np.where(stick, q_prev, np.where(slip, g * d, 0.0))
-        D = target / dA - base.sum(axis=(1, 2))
-        curv = np.where(slip, warm.curv, 0.0)
-        # ---- the linear problem of this active set (warm start projected on its space)
-        x0 = proj(x) + proj.particular(D)
-        Kdq0 = op.apply(base - q_prev + x0)
-        cg_tol = max(0.1 * tol, _CG_FORCING * measure)
-        x, Kdq, its, cg_res = _pcg(op, proj, Kdq0, curv, x0, cg_tol, cg_maxiter, stick, 1.0 / (curv + k_self))
-        cg_total += its
-        lam = proj.multiplier(Kdq + curv * x)
-        q = base + x
-        s = np.where(contact, lam[:, None, None] - Kdq, 0.0)
-        # ---- check: bounds on the stick set, slip direction on the slip set
-        mag = np.hypot(q[0], q[1])
-        over = np.where(stick, mag - g, -np.inf)
-        s_par = d[0] * s[0] + d[1] * s[1]
-        wrong = np.where(slip, -s_par, -np.inf)
-        t = dperp[0] * x[0] + dperp[1] * x[1]
-        # off the disk by t; the slip then has the normal component curv t
-        tangent = float(np.abs(np.where(slip, t * np.maximum(1.0, curv), 0.0)).max())
-        worst = max(float(over.max()), float(wrong.max()))
-        measure = max(worst, tangent)
-        if worst <= tol and tangent <= tol and cg_res <= 0.5 * tol:
-            break
-        if worst > tol:
-            level = tol if it <= _FULL_MOVES else max(tol, 0.5 * worst)
-            to_slip = over > level
-            to_stick = wrong > level
-            kind[to_slip] = _SLIP
-            safe = np.where(mag > 0, mag, 1.0)
-            d[:, to_slip] = (q / safe)[:, to_slip]
-            warm.curv[to_slip] = 0.0
-            kind[to_stick] = _STICK
-            x = np.where(to_stick, 0.0, x)
-        # ---- Newton update of the slip directions and their curvature |s|/g
-        keep = slip & (kind == _SLIP)
-        qs = np.where(keep, q, 0.0)
-        nq = np.hypot(qs[0], qs[1])
-        ns = np.hypot(s[0], s[1])
-        curv_new = ns / np.where(g > 0, g, 1.0)
-        # where the slip dominates (|s|/g above the self-influence) linearise q = g s/|s| about the slip
-        # direction (semismooth Newton); elsewhere follow the corrected traction
-        newton = keep & (curv_new > _NEWTON_CURV * k_self)
-        rest = keep & ~newton
-        d[:, newton] = (s / np.where(ns > 0, ns, 1.0))[:, newton]
-        d[:, rest] = (qs / np.where(nq > 0, nq, 1.0))[:, rest]
-        warm.curv[keep] = curv_new[keep]
-        x = np.where(keep, 0.0, x)
-    else:
+    q, s, lam, Kdq, x, stick, it, cg_total, converged, worst = _increment_kernel(
+        op.spectra(), op.self_influence, g, np.ascontiguousarray(q_prev, float), np.asarray(target, float), float(dA),
+        kind, d, warm.curv, np.ascontiguousarray(warm.x, float), float(tol), int(maxiter), int(cg_maxiter), measure)
+    if not converged:
         raise RuntimeError(f"active set did not settle in {maxiter} iterations (worst violation {worst:.3g})")
-    # ---- the final traction: slipping elements exactly on the disk
-    q = np.where(slip, g * d, q)
-    q[:, ~contact] = 0.0
-    slipping = slip & (np.hypot(s[0], s[1]) > tol)
-    s = np.where(slipping, s, 0.0)
-    warm.x = np.where(stick, x, 0.0)
+    warm.x = x
+    slipping = np.hypot(s[0], s[1]) > 0
     qn = np.hypot(q[0], q[1])
     e = q / np.where(qn > 0, qn, 1.0)
     along = e[0] * s[0] + e[1] * s[1]
@@ -393,8 +460,12 @@ class _ColumnWindow:
         width = min(self.nx, -(-(c1 - c0) // _WINDOW_QUANTUM) * _WINDOW_QUANTUM)
         lo = min(max(c0 - (width - (c1 - c0)) // 2, 0), self.nx - width)
         win = slice(lo, lo + width)
-        part = _WarmStart(warm.kind[:, win], warm.d[:, :, win], warm.curv[:, win], warm.x[:, :, win])
-        q, s, lam, info = solve_increment(self.operator(width), g[:, win], q_prev[:, :, win], target, dA, part, tol)
+        part = _WarmStart(*(np.ascontiguousarray(a[..., win]) for a in (warm.kind, warm.d, warm.curv, warm.x)))
+        try:
+            q, s, lam, info = solve_increment(self.operator(width), np.ascontiguousarray(g[:, win]),
+                                              np.ascontiguousarray(q_prev[:, :, win]), target, dA, part, tol)
+        finally:
+            warm.kind[:, win], warm.d[:, :, win], warm.curv[:, win] = part.kind, part.d, part.curv
         warm.x = np.zeros_like(warm.x)
         warm.x[:, :, win] = part.x
         q_full, s_full = np.zeros_like(q_prev), np.zeros_like(q_prev)
