@@ -214,3 +214,6 @@ if __name__ == "__main__":
     if "--solvers-only" not in sys.argv:
         main(quick=quick)
     solvers(quick=quick)
+    if "--no-3d" not in sys.argv:  # the point contacts' two timed cases (issue 10): benchmarks/solver3d.py
+        import runpy
+        runpy.run_path(os.path.join(os.path.dirname(os.path.abspath(__file__)), "solver3d.py"))["timed_cases"](quick)

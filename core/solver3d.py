@@ -50,7 +50,7 @@ from .schedule import Schedule, rocking_schedule
 
 __all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
-           "MAX_GRID_ELEMENTS"]
+           "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
 #: Names of the per-step residuals (see :func:`solve_increment`).
 RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "load_balance")
@@ -58,6 +58,9 @@ RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "lo
 TOL_3D = 1e-8
 #: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
 PERIODIC_TOL = 1e-6
+#: Default element side [a] of point-contact runs: the increment per period of a ratcheting sphere changes
+#: by 2 % from a/10 to a/20 and converges at about second order (benchmarks/solver3d.py).
+DEFAULT_DX_3D = 1.0 / 20.0
 #: Largest grid (elements) a point-contact run accepts.
 MAX_GRID_ELEMENTS = 200_000
 #: Largest number of stored full-field values (snapshots at the turning points).
@@ -69,8 +72,8 @@ _OUT, _STICK, _SLIP = 0, 1, 2
 _FULL_MOVES = 6
 # |s|/g, in units of the self-influence, above which slip directions take the Newton update
 _NEWTON_CURV = 1.0
-# step of the widths of the column windows (see _ColumnWindow)
-_WINDOW_QUANTUM = 4
+# step of the sizes of the windows (see _Window)
+_WINDOW_QUANTUM = 1
 # inexact Newton: each linear solve reduces its residual to this fraction of the last KKT violation
 _CG_FORCING = 1e-2
 
@@ -433,43 +436,48 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     return q, s, lam, info
 
 
-class _ColumnWindow:
-    """Solve each increment on the columns that carry traction before or after it (all rows).
+class _Window:
+    """Solve each increment on the rectangle of elements that carry traction before or after it.
 
     The operator is a convolution, so the block of the whole grid's operator on
-    a window of columns is the operator of a grid as wide as the window,
-    wherever the window sits: out of the window the tractions are zero before
-    and after the step, and slips there are not needed. The FFTs shrink from
-    the whole rocking range to the contact's width. Windows are widened to a
-    multiple of :data:`_WINDOW_QUANTUM` columns so that a few operators serve a run.
+    a rectangle of elements is the operator of a grid of the rectangle's size,
+    wherever the rectangle sits: out of it the tractions are zero before and
+    after the step, and slips there are not needed. The FFTs shrink from the
+    whole rocking range to the contact's size. Widths are rounded up to a
+    multiple of :data:`_WINDOW_QUANTUM` elements so that a few operators serve a run.
     """
 
     def __init__(self, ny, nx, h, nu, scale):
-        self.ny, self.nx, self.args = ny, nx, (h, nu, scale)
+        self.shape, self.args = (ny, nx), (h, nu, scale)
         self.ops = {}
 
-    def operator(self, width):
-        op = self.ops.get(width)
+    def operator(self, shape):
+        op = self.ops.get(shape)
         if op is None:
-            op = self.ops[width] = HalfSpaceOperator(self.ny, width, *self.args)
+            op = self.ops[shape] = HalfSpaceOperator(*shape, *self.args)
         return op
 
+    @staticmethod
+    def _span(used, n):
+        idx = np.flatnonzero(used)
+        i0, i1 = (int(idx[0]), int(idx[-1]) + 1) if idx.size else (0, 1)
+        width = min(n, -(-(i1 - i0) // _WINDOW_QUANTUM) * _WINDOW_QUANTUM)
+        lo = min(max(i0 - (width - (i1 - i0)) // 2, 0), n - width)
+        return slice(lo, lo + width)
+
     def solve(self, g, q_prev, target, dA, warm, tol):
-        cols = np.flatnonzero((g > 0).any(axis=0) | (q_prev != 0).any(axis=(0, 1)))
-        c0, c1 = (int(cols[0]), int(cols[-1]) + 1) if cols.size else (0, 1)
-        width = min(self.nx, -(-(c1 - c0) // _WINDOW_QUANTUM) * _WINDOW_QUANTUM)
-        lo = min(max(c0 - (width - (c1 - c0)) // 2, 0), self.nx - width)
-        win = slice(lo, lo + width)
-        part = _WarmStart(*(np.ascontiguousarray(a[..., win]) for a in (warm.kind, warm.d, warm.curv, warm.x)))
+        used = (g > 0) | (q_prev != 0).any(axis=0)
+        win = (self._span(used.any(axis=1), self.shape[0]), self._span(used.any(axis=0), self.shape[1]))
+        part = _WarmStart(*(np.ascontiguousarray(a[(Ellipsis,) + win]) for a in (warm.kind, warm.d, warm.curv, warm.x)))
         try:
-            q, s, lam, info = solve_increment(self.operator(width), np.ascontiguousarray(g[:, win]),
-                                              np.ascontiguousarray(q_prev[:, :, win]), target, dA, part, tol)
+            q, s, lam, info = solve_increment(self.operator(part.kind.shape), np.ascontiguousarray(g[win]),
+                                              np.ascontiguousarray(q_prev[(slice(None),) + win]), target, dA, part, tol)
         finally:
-            warm.kind[:, win], warm.d[:, :, win], warm.curv[:, win] = part.kind, part.d, part.curv
+            warm.kind[win], warm.d[(slice(None),) + win], warm.curv[win] = part.kind, part.d, part.curv
         warm.x = np.zeros_like(warm.x)
-        warm.x[:, :, win] = part.x
+        warm.x[(slice(None),) + win] = part.x
         q_full, s_full = np.zeros_like(q_prev), np.zeros_like(q_prev)
-        q_full[:, :, win], s_full[:, :, win] = q, s
+        q_full[(slice(None),) + win], s_full[(slice(None),) + win] = q, s
         return q_full, s_full, lam, info
 
 
@@ -749,7 +757,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     scales = np.cbrt(schedule.P)
     xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
     ny, nx = ye.size - 1, xe.size - 1
-    window = _ColumnWindow(ny, nx, dx, nu, body.kernel_scale)
+    window = _Window(ny, nx, dx, nu, body.kernel_scale)
     dA = dx * dx
     direction = np.array([math.cos(angle), math.sin(angle)])
     steps = len(schedule)
@@ -849,7 +857,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0)
 
 
-def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
+def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
                            shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=PERIODIC_TOL,
                            shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None):
     """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
@@ -862,8 +870,10 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
         Rocking amplitude ``W / a`` in [0, 1) (``a`` the semi-axis along x).
     periods : int
         Rocking periods, in [1, 10000].
-    dx : float
-        Element side over ``a``, in [0.005, 0.5]; default 0.05 (40 elements across the contact).
+    dx : float, optional
+        Element side over ``a``, in [0.005, 0.5]; default :data:`DEFAULT_DX_3D`
+        (1/20: 40 elements across the contact; the increment per period is
+        within about 1 % of its grid limit there, ``benchmarks/solver3d.py``).
     dW : float, optional
         Rocking step over ``a``; defaults to ``dx``.
     body : {"sphere", "ellipsoid"} or Ellipsoid
@@ -895,7 +905,7 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
     """
     body = resolve_body(body, ratio)
     tol = TOL_3D if tol is None else tol
-    dx = check_scalar("dx", dx, 0.005, 0.5)
+    dx = check_scalar("dx", DEFAULT_DX_3D if dx is None else dx, 0.005, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
     params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name, ratio=body.ratio,
