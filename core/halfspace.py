@@ -17,7 +17,10 @@ and ``-rho``), so the coefficients are exact for piecewise-constant tractions.
 
 The operator is a 2D convolution (it depends on index offsets only), applied
 by FFT with zero padding (circulant embedding), O(N log N); :meth:`matrix`
-gives the dense form for small grids, equal to round-off.
+gives the dense form for small grids, equal to round-off. The kernels are even
+(xx, yy) or odd (xy) in both offsets, so their spectra are real. The
+convolution is compiled (:func:`convolve`, numpy.fft inside numba through
+``rocket-fft``) so that the solvers' loops call it without Python in between.
 :meth:`precondition` applies the inverse of the operator's continuous symbol,
 ``(1 - nu) |k| / (2 pi s) [I + nu/(1 - nu) k k^T/|k|^2]`` (the Fourier
 transform of ``1/rho`` is ``2 pi/|k|`` and that of ``x_i x_j/rho^3`` is
@@ -44,7 +47,7 @@ import scipy.fft as sfft
 from ._jit import jit
 from ._validate import check_int, check_scalar
 
-__all__ = ["HalfSpaceOperator", "rectangle_integrals", "MAX_DENSE_SIZE"]
+__all__ = ["HalfSpaceOperator", "rectangle_integrals", "convolve", "MAX_DENSE_SIZE"]
 
 #: Largest number of unknowns for which :meth:`HalfSpaceOperator.matrix` builds a dense matrix.
 MAX_DENSE_SIZE = 6000
@@ -197,7 +200,7 @@ class HalfSpaceOperator:
         q = np.asarray(q, dtype=float)
         if q.shape != self.shape:
             raise ValueError(f"q must have shape {self.shape}, got {q.shape}")
-        return convolve(np.ascontiguousarray(q), *hats, *grid)
+        return convolve(np.require(q, np.float64, ["C", "W"]), *hats, *grid)  # one compiled specialisation
 
     def spectra(self):
         """``(hxx, hyy, hxy, py, px, pxx, pyy, pxy, qy, qx)``: the real spectra and padded grids of
