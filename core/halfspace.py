@@ -106,13 +106,16 @@ def convolve(q, hxx, hyy, hxy, py, px):
     loops call it without Python in between.
     """
     ny, nx = q.shape[1], q.shape[2]
-    buf = np.zeros((2, py, px))
-    buf[:, :ny, :nx] = q
-    f = np.fft.rfft2(buf)
+    # 2D FFT in two passes, skipping the zero rows of the padding: the x-transform of the rows that hold data,
+    # and on the way back the x-transform of the rows wanted only (about a quarter of the work saved)
+    f = np.zeros((2, py, px // 2 + 1), np.complex128)
+    f[:, :ny, :] = np.fft.rfft(q, n=px, axis=2)
+    f = np.fft.fft(f, axis=1)
     g = np.empty_like(f)
     g[0] = hxx * f[0] + hxy * f[1]
     g[1] = hxy * f[0] + hyy * f[1]
-    return np.ascontiguousarray(np.fft.irfft2(g, s=(py, px))[:, :ny, :nx])
+    g = np.fft.ifft(g, axis=1)
+    return np.ascontiguousarray(np.fft.irfft(np.ascontiguousarray(g[:, :ny, :]), n=px, axis=2)[:, :, :nx])
 
 
 class HalfSpaceOperator:
