@@ -293,7 +293,7 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
         Number of rocking periods, in [1, 10000].
     dx : float
         Element width over ``a``, in [1e-4, 0.5]; default 1/40 (for point
-        contacts a/20 is within about 1 % and four times cheaper, see
+        contacts a/20 is about 1 % off and eight times cheaper, see
         :data:`core.solver3d.DEFAULT_DX_3D`).
     dW : float, optional
         Rocking step over ``a``; defaults to ``dx`` (as in the paper).
