@@ -250,3 +250,6 @@ if __name__ == "__main__":
         main(quick=quick)
     solvers(quick=quick)
     error_bars(quick=quick)
+    if "--no-3d" not in sys.argv:  # the point contacts' two timed cases (issue 10): benchmarks/solver3d.py
+        import runpy
+        runpy.run_path(os.path.join(os.path.dirname(os.path.abspath(__file__)), "solver3d.py"))["timed_cases"](quick)

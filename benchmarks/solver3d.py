@@ -1,13 +1,20 @@
-"""Time the 3D point-contact solver (rocking sphere) and print the grid convergence of its increment.
+"""The 3D point-contact solver (rocking sphere): timings, Mindlin's error, limit brackets, cylinder vs sphere,
+grid convergence.
 
-The two cases of issue 10 (targets 2.4 s and 27 s warm; the paper's program
-needs about 24 s and 270 s), each with the steps computed, the periods copied
-once the state repeated, and the active-set and CG iterations per step, so
-that an algorithmic regression can be told from machine noise. Then the
-increment per period of a ratcheting sphere on three grids.
-
-The CPU time is printed beside the wall time: on a shared machine it is the
-figure that does not depend on the other processes.
+1. The two timed cases of issue 10 (targets 2.4 s and 27 s warm; the paper's
+   program needs about 24 s and 270 s), each with the steps computed, the
+   periods copied once the state repeated, and the active-set and CG
+   iterations per step, so that an algorithmic regression can be told from
+   machine noise. The CPU time is printed beside the wall time: on a shared
+   machine it is the figure that depends least on the other processes.
+2. Mindlin's static partial slip (c/a = (1 - ft)^(1/3), exact for nu = 0):
+   the solver's stick half-widths along x and y, the traction on y = 0 and
+   the displacement against the closed form, for nu = 0 and nu = 0.5 (the
+   x-y coupling's effect).
+3. The sphere's exact limit bracketed by the solver at two amplitudes.
+4. Cylinder against sphere, each in its own normalisation (ft = Ft/(mu Fn),
+   w = W/a with a the half-width or the radius): exact limits and solver verdicts.
+5. Grid convergence of the increment per period of a ratcheting sphere.
 
 Run: python benchmarks/solver3d.py [--quick] [--no-fine]
 """
@@ -35,20 +42,84 @@ def _run(case, repeats):
     active = r.iterations[:computed]
     elements = (r.x_edges.size - 1) * (r.y_edges.size - 1)
     print(f"sphere ft={case['ft']}, w={case['w']}, dx=a/{round(1 / case['dx'])}, {case['periods']} periods: "
-          f"{best:.2f} s wall, {best_cpu:.2f} s CPU (best of {repeats}), {elements} elements, {r.xc.size} steps, {computed} computed "
-          f"(periodic from period {r.periodic_from}); per computed step: active-set iterations "
+          f"{best:.2f} s wall, {best_cpu:.2f} s CPU (best of {repeats}), {elements} elements, {r.xc.size} steps, "
+          f"{computed} computed (periodic from period {r.periodic_from}); per computed step: active-set iterations "
           f"{active.mean():.2f} (max {active.max()}), CG iterations {r.cg_iterations[:computed].mean():.1f} "
           f"(max {r.cg_iterations.max()}); regime {r.regime}, last increment {r.increment_per_period[-1]:.5f}, "
           f"worst residual {r.max_residual:.1e}")
     return r
 
 
-def grid_convergence(dxs=(0.2, 0.1, 0.05), ft=0.4, w=0.6, periods=5):
+def timed_cases(quick=False, fine=True):
+    """The two cases of issue 10, after a first call that loads the compiled kernels."""
+    import core
+
+    t = time.perf_counter()
+    core.simulate_cycles(0.2, 0.3, periods=1, dx=0.25, body="sphere")
+    print(f"\npoint contacts: first call (imports, compiled kernels): {time.perf_counter() - t:.2f} s")
+    _run(CASES[0], 1 if quick else 3)
+    if fine:
+        _run(CASES[1], 1)
+
+
+def mindlin(dx=0.05, fts=(0.3, 0.6)):
+    """Mindlin's partial slip against the solver, nu = 0 (exact) and nu = 0.5 (coupled)."""
+    from core.solver3d import mindlin_state
+
+    print(f"\nMindlin (static, from rest), dx = a/{round(1 / dx)}: c/a exact (1 - ft)^(1/3); displacement "
+          "3(2 - nu)/(8(1 - nu)) (1 - (1 - ft)^(2/3)) [mu Fn/(E* a)]")
+    print(f"{'nu':>4} {'ft':>4} {'c/a':>7} {'c_x':>7} {'c_y':>7} {'max|qx-Mindlin| y=0':>20} {'max|qy|':>8} "
+          f"{'U':>8} {'U Mindlin':>9} {'U error':>8}")
+    for nu in (0.0, 0.5):
+        for ft in fts:
+            r = mindlin_state(ft, dx=dx, nu=nu)
+            c = (1 - ft) ** (1 / 3)
+            x = r.x
+            exact = np.sqrt(np.clip(1 - x**2, 0, None)) - np.sqrt(np.clip(c * c - x**2, 0, None))
+            inner = np.abs(x) < 0.9  # edge elements hold means of a square-root profile
+            err = np.abs(r.traction[0][r.cut_row] - exact)[inner].max()
+            u = 3 * (2 - nu) / (8 * (1 - nu)) * (1 - (1 - ft) ** (2 / 3))
+            print(f"{nu:4.1f} {ft:4.1f} {c:7.4f} {r.stick_halfwidth:7.4f} {r.stick_halfwidth_y:7.4f} {err:20.4f} "
+                  f"{np.abs(r.traction[1]).max():8.4f} {r.displacement[0]:8.5f} {u:9.5f} "
+                  f"{(r.displacement[0] - u) / u:+8.2%}")
+
+
+def brackets(ft=0.4, amplitudes=(0.3, 0.55), dx=0.1, periods=12):
+    """The sphere's exact limit w_lim(ft) between a shaking-down and a ratcheting amplitude."""
+    import core
+
+    w_lim = float(core.w_limit(ft, body="sphere"))
+    print(f"\nsphere limit bracket: ft = {ft}, exact w_lim = {w_lim:.4f}, dx = a/{round(1 / dx)}, {periods} periods")
+    for w in amplitudes:
+        r = core.simulate_cycles(ft, w, periods=periods, dx=dx, body="sphere")
+        inc = np.abs(r.increment_per_period)
+        print(f"  w = {w:.3f} ({'below' if w < w_lim else 'above'} the limit): {r.regime}; increments first "
+              f"{inc[0]:.4f}, last {inc[-1]:.2e} ({r.regime_reason})")
+
+
+def cylinder_vs_sphere(ws=(0.1, 0.3, 0.45, 0.6), check=(0.43, 0.45)):
+    """Exact limits of both bodies in their own normalisation, and the two solvers at one point between them."""
+    import core
+
+    print("\ncylinder vs sphere, each in its own units (ft = Ft/(mu Fn), w = W/a; a the half-width of the strip or "
+          "the radius of the circle):")
+    for w in ws:
+        fc, fs = float(core.ft_limit(w)), float(core.ft_limit(w, body="sphere"))
+        print(f"  w = {w:.2f}: ft_lim cylinder {fc:.4f}, sphere {fs:.4f} -> the {'cylinder' if fc > fs else 'sphere'}"
+              " bears more")
+    ft, w = check
+    cyl = core.simulate_cycles(ft, w, periods=10, dx=1 / 40)
+    sph = core.simulate_cycles(ft, w, periods=10, dx=0.1, body="sphere")
+    print(f"  solvers at ft = {ft}, w = {w}: cylinder {cyl.regime}, sphere {sph.regime} (limits: cylinder "
+          f"{float(core.ft_limit(w)):.4f}, sphere {float(core.ft_limit(w, body='sphere')):.4f})")
+
+
+def grid_convergence(dxs=(0.2, 0.1, 0.05, 0.025), ft=0.4, w=0.6, periods=5):
     """Increment per period [mu Fn/(E* a)] of a ratcheting sphere against the element size."""
     import core
 
     print(f"\ngrid convergence: sphere ft={ft}, w={w} (exact limit ft_lim = {float(core.ft_limit(w, body='sphere')):.4f}),"
-          f" {periods} periods, nu = 0.5")
+          f" {periods} periods, nu = 0.5, dW = dx")
     print(f"{'dx [a]':>8} {'elements':>9} {'increment (last period)':>24} {'change':>9} {'time [s]':>9}")
     prev = None
     for dx in dxs:
@@ -60,15 +131,11 @@ def grid_convergence(dxs=(0.2, 0.1, 0.05), ft=0.4, w=0.6, periods=5):
 
 
 def main(quick=False, fine=True):
-    import core
-
-    t = time.perf_counter()
-    core.simulate_cycles(0.2, 0.3, periods=1, dx=0.25, body="sphere")
-    print(f"first call (imports, FFT plans): {time.perf_counter() - t:.2f} s")
-    _run(CASES[0], 1 if quick else 2)
-    if fine:
-        _run(CASES[1], 1)
-    grid_convergence(dxs=(0.2, 0.1) if quick else (0.2, 0.1, 0.05))
+    timed_cases(quick, fine)
+    mindlin(dx=0.1 if quick else 0.05)
+    brackets()
+    cylinder_vs_sphere()
+    grid_convergence(dxs=(0.2, 0.1) if quick else ((0.2, 0.1, 0.05, 0.025) if fine else (0.2, 0.1, 0.05)))
 
 
 if __name__ == "__main__":

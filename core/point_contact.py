@@ -410,7 +410,7 @@ class PointContact:
         """``mu Fn / (E* a)`` [m]."""
         return self.mu * self.Fn / (self.E_star * self.a)
 
-    def simulate(self, periods=10, dx=0.05, **options):
+    def simulate(self, periods=10, dx=None, **options):
         """Run :func:`core.solver3d.simulate_point_contact` with this contact's ``ft``, ``w``, body, angle and ``nu``.
 
         The result stays normalised: multiply lengths by :attr:`a`, tractions

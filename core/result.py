@@ -12,7 +12,7 @@ from .bodies import get_body
 from .states import STATE_NAMES, State, Zone
 
 __all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
-           "STATE_NAMES", "SolverError", "SolveCancelled", "read_only"]
+           "STATE_NAMES", "SolverError", "SolveCancelled", "read_only", "classify_increments", "SETTLED_RATIO"]
 
 #: Element states recorded per step (``CycleResult.state``): aliases of :class:`core.states.State`.
 STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = (
@@ -31,6 +31,67 @@ STICK_MARGIN = 1e-7
 #: Ratio of the last increment per period to the one before from which a run that has not shaken down
 #: counts as ratcheting (the increment has settled); below it, the run is "undetermined".
 SETTLED_RATIO = 0.9
+
+
+def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor=0.0, unit="mu P/E*"):
+    """The verdict of a run from its increments per period: one rule for every body.
+
+    * ``"shakedown"``: from some period on every increment is at most
+      ``shakedown_rtol`` of the largest (or at most ``floor``, the size of
+      solver noise); that period is the shakedown period.
+    * ``"ratcheting"``: the body keeps walking: the state repeats
+      (``periodic_from``) with a non-zero increment, or the last increment is
+      at least :data:`SETTLED_RATIO` of the one before (it has settled;
+      shakedown increments decay geometrically, by a factor of 2 to 10 per
+      period away from the limit, ever more slowly close to it).
+    * ``"undetermined"``: the run cannot tell: a single period (one increment
+      shows no trend), or increments still decaying but not yet below
+      ``shakedown_rtol``. More periods decide it.
+
+    Parameters
+    ----------
+    increments : array_like
+        Rigid-body displacement increment of each period (any sign).
+    shakedown_rtol : float
+        Relative tolerance of the shakedown verdict.
+    periodic_from : int or None
+        Period from which the solver found the state repeating.
+    floor : float
+        Absolute size below which an increment counts as zero (>= 0).
+    unit : str
+        Unit of the increments, for the reason.
+
+    Returns
+    -------
+    shakedown_period : int or None
+    regime : str
+    reason : str
+    """
+    inc = np.abs(np.asarray(increments, dtype=float))
+    if inc.size == 0:
+        return None, "undetermined", "no rocking period was run"
+    scale = float(inc.max())
+    small = inc <= max(shakedown_rtol * scale, float(floor))
+    if small[-1]:
+        k = inc.size - 1
+        while k > 0 and small[k - 1]:
+            k -= 1
+        return int(k), "shakedown", (f"the increment per period fell to <= {shakedown_rtol:g} of its largest "
+                                     f"from period {k}")
+    last = float(inc[-1])
+    if periodic_from is not None:
+        return None, "ratcheting", (f"the state repeats from period {periodic_from}, walking {last:.3g} {unit} "
+                                    "per period")
+    if inc.size < 2:
+        return None, "undetermined", (f"{inc.size} period: one increment cannot show whether it decays "
+                                      "(shakedown) or settles (ratcheting); run more periods")
+    ratio = last / float(inc[-2]) if inc[-2] > 0 else math.inf
+    if ratio >= SETTLED_RATIO:
+        return None, "ratcheting", (f"the increment per period settled at {last:.3g} {unit} (last two in ratio "
+                                    f"{ratio:.3g})")
+    return None, "undetermined", (f"after {inc.size} periods the increment still decays (ratio {ratio:.3g} per "
+                                  f"period) but is {last / scale:.3g} of its largest, above shakedown_rtol = "
+                                  f"{shakedown_rtol:g}; run more periods")
 
 
 def below_bound(q, bound):
@@ -218,51 +279,17 @@ class CycleResult:
     @cached_property
     def shakedown_period(self) -> int | None:
         """First period from which every increment is below the shakedown tolerance, else None."""
-        inc = np.abs(self.increment_per_period)
-        if inc.size == 0:
-            return None
-        scale = max(float(inc.max()), 1e-300)
-        small = inc <= self.shakedown_rtol * scale
-        if not small[-1]:
-            return None
-        k = inc.size - 1
-        while k > 0 and small[k - 1]:
-            k -= 1
-        return int(k)
+        return self._classified[0]
 
     @cached_property
-    def verdict(self) -> tuple[str, str]:
-        """``(regime, reason)``: what the periods run show about the regime, and why.
+    def _classified(self):
+        return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
+                                   floor=10.0 * self.tol, unit="mu P/E*")
 
-        * ``"shakedown"``: the increment per period fell to ``shakedown_rtol``
-          of its largest value (:attr:`shakedown_period`).
-        * ``"ratcheting"``: the body keeps walking: the state repeats
-          (:attr:`periodic_from`) with a non-zero increment, or the last
-          increment is at least :data:`SETTLED_RATIO` of the one before (it has
-          settled; shakedown increments decay geometrically, by a factor of 2
-          to 10 per period).
-        * ``"undetermined"``: the run cannot tell: a single period (one
-          increment shows no trend), or increments still decaying but not yet
-          below ``shakedown_rtol``. More periods decide it.
-        """
-        inc = np.abs(self.increment_per_period)
-        if self.shakedown_period is not None:
-            return "shakedown", (f"the increment per period fell to <= {self.shakedown_rtol:g} of its largest "
-                                 f"from period {self.shakedown_period}")
-        last = float(inc[-1]) if inc.size else float("nan")
-        if self.periodic_from is not None:
-            return "ratcheting", (f"the state repeats from period {self.periodic_from}, walking {last:.3g} mu P/E* "
-                                  "per period")
-        if inc.size < 2:
-            return "undetermined", (f"{inc.size} period: one increment cannot show whether it decays "
-                                    "(shakedown) or settles (ratcheting); run more periods")
-        ratio = last / float(inc[-2]) if inc[-2] > 0 else math.inf
-        if ratio >= SETTLED_RATIO:
-            return "ratcheting", (f"the increment per period settled at {last:.3g} mu P/E* (last two in ratio "
-                                  f"{ratio:.3g})")
-        return "undetermined", (f"after {inc.size} periods the increment still decays (ratio {ratio:.3g} per period) "
-                                f"but is {last / float(inc.max()):.3g} of its largest, above shakedown_rtol = "
-                                f"{self.shakedown_rtol:g}; run more periods")
+    @property
+    def verdict(self) -> tuple[str, str]:
+        """``(regime, reason)``: what the periods run show about the regime, and why (:func:`classify_increments`)."""
+        return self._classified[1:]
 
     @property
     def regime(self) -> str:

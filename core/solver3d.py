@@ -24,6 +24,12 @@ preconditioner (:meth:`core.halfspace.HalfSpaceOperator.precondition`), and
 warm-started from the previous iteration and step. The zero increment is
 checked first (it is the unique solution whenever it is feasible).
 
+Speed: each step is solved on the rectangle of elements that carry traction
+before or after it (:class:`_Window`; the operator is a convolution, so its
+block there is a smaller grid's operator), and the whole loop, FFT products
+included, is compiled with numba (FFTs through ``rocket-fft``). Measured
+figures and iterations per step: ``benchmarks/solver3d.py``.
+
 References
 ----------
 .. [1] J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990.
@@ -42,14 +48,15 @@ from functools import cached_property
 import numpy as np
 
 from ._validate import check_int, check_scalar
-from .halfspace import HalfSpaceOperator
+from ._jit import jit
+from .halfspace import HalfSpaceOperator, convolve
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
-from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth
+from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth, classify_increments
 from .schedule import Schedule, rocking_schedule
 
 __all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
-           "MAX_GRID_ELEMENTS"]
+           "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
 #: Names of the per-step residuals (see :func:`solve_increment`).
 RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "load_balance")
@@ -57,6 +64,10 @@ RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "lo
 TOL_3D = 1e-8
 #: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
 PERIODIC_TOL = 1e-6
+#: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
+#: w = 0.6) is 0.1589, 0.1731, 0.1771, 0.1788 at a/5, a/10, a/20, a/40 (benchmarks/solver3d.py): a/20 is
+#: 1 % below a/40 and about 2 % below the extrapolated limit, at an eighth of a/40's cost.
+DEFAULT_DX_3D = 1.0 / 20.0
 #: Largest grid (elements) a point-contact run accepts.
 MAX_GRID_ELEMENTS = 200_000
 #: Largest number of stored full-field values (snapshots at the turning points).
@@ -68,6 +79,10 @@ _OUT, _STICK, _SLIP = 0, 1, 2
 _FULL_MOVES = 6
 # |s|/g, in units of the self-influence, above which slip directions take the Newton update
 _NEWTON_CURV = 1.0
+# step of the sizes of the windows (see _Window)
+_WINDOW_QUANTUM = 1
+# inexact Newton: each linear solve reduces its residual to this fraction of the last KKT violation
+_CG_FORCING = 1e-2
 
 
 @dataclass
@@ -84,65 +99,272 @@ class _WarmStart:
         return cls(np.zeros(shape, np.int8), np.zeros((2,) + shape), np.zeros(shape), np.zeros((2,) + shape))
 
 
-class _Projector:
-    """Orthogonal projection on {x in V, sum x = 0}: V holds both components on stick, ``d_perp`` on slip."""
+@jit
+def _project(pxx, pyy, pxy, minv, v, out):
+    """``out = P v``: the orthogonal projection on {x in V, sum x = 0}, compiled.
 
-    def __init__(self, stick, slip, dperp):
-        self.pxx = stick + slip * dperp[0] ** 2
-        self.pyy = stick + slip * dperp[1] ** 2
-        self.pxy = slip * dperp[0] * dperp[1]
-        M = np.array([[self.pxx.sum(), self.pxy.sum()], [self.pxy.sum(), self.pyy.sum()]])
-        self.Minv = np.linalg.pinv(M)
+    V holds both components on stick elements and ``d_perp`` on slipping ones:
+    ``P_i = [[pxx, pxy], [pxy, pyy]]`` per element (the identity, ``d_perp
+    d_perp^T`` or 0), ``minv`` the inverse of their sum ``M``; the constant
+    ``M^-1 sum P_i v_i`` is removed so that ``sum P v = 0``.
+    """
+    ny, nx = pxx.shape
+    s0 = 0.0
+    s1 = 0.0
+    for i in range(ny):
+        for j in range(nx):
+            a, b = v[0, i, j], v[1, i, j]
+            y0 = pxx[i, j] * a + pxy[i, j] * b
+            y1 = pxy[i, j] * a + pyy[i, j] * b
+            out[0, i, j] = y0
+            out[1, i, j] = y1
+            s0 += y0
+            s1 += y1
+    m0 = minv[0, 0] * s0 + minv[0, 1] * s1
+    m1 = minv[1, 0] * s0 + minv[1, 1] * s1
+    for i in range(ny):
+        for j in range(nx):
+            out[0, i, j] -= pxx[i, j] * m0 + pxy[i, j] * m1
+            out[1, i, j] -= pxy[i, j] * m0 + pyy[i, j] * m1
 
-    def local(self, v):
-        return np.stack([self.pxx * v[0] + self.pxy * v[1], self.pxy * v[0] + self.pyy * v[1]])
 
-    def multiplier(self, v):
-        """``M^-1 sum P v``: the constant field whose projection matches ``P v`` in the mean."""
-        return self.Minv @ self.local(v).sum(axis=(1, 2))
+@jit
+def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z):
+    """``z = P M r``: the inverse continuous symbol on the stick set, ``r/(curv + K_ii)`` on slip corrections."""
+    ny, nx = stick.shape
+    w = np.zeros((2, ny, nx))
+    for c in range(2):
+        for i in range(ny):
+            for j in range(nx):
+                if stick[i, j]:
+                    w[c, i, j] = r[c, i, j]
+    zs = convolve(w, spec[5], spec[6], spec[7], spec[8], spec[9])
+    for c in range(2):
+        for i in range(ny):
+            for j in range(nx):
+                if not stick[i, j]:
+                    zs[c, i, j] = r[c, i, j] * slip_diag[i, j]
+    _project(pxx, pyy, pxy, minv, zs, z)
 
-    def __call__(self, v):
-        y = self.local(v)
-        mu = self.Minv @ y.sum(axis=(1, 2))
-        return y - self.local(np.broadcast_to(mu[:, None, None], v.shape))
 
-    def particular(self, D):
-        """A field in V with ``sum = D`` (least norm)."""
-        return self.local(np.broadcast_to((self.Minv @ D)[:, None, None], (2,) + self.pxx.shape))
-
-
-def _pcg(op, proj, Kdq, curv, x, tol, maxiter, stick, slip_diag):
+@jit
+def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, maxiter):
     """Projected preconditioned CG for ``P (K dq + curv x) = 0``, ``dq = dq_fixed + x``, ``x`` in V.
 
-    ``Kdq`` is ``K dq`` of the starting ``x``; returns (x, K dq, its, residual).
-
-    Preconditioner: the inverse continuous symbol on the stick set, the inverse
-    diagonal ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
+    ``Kdq`` is ``K dq`` of the starting ``x``; both are updated in place.
+    ``spec`` holds the spectra of the operator and of its preconditioner
+    (:meth:`core.halfspace.HalfSpaceOperator.spectra`). Preconditioner: the
+    inverse continuous symbol on the stick set, the inverse diagonal
+    ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
+    Returns the iterations and the largest residual component.
     """
-    def pre(r):
-        return proj(np.where(stick, op.precondition(np.where(stick, r, 0.0)), r * slip_diag))
-
-    r = proj(-Kdq - curv * x)
-    z = pre(r)
-    p = z
-    rz = float(np.vdot(r, z))
+    ny, nx = stick.shape
+    r = np.empty((2, ny, nx))
+    z = np.empty((2, ny, nx))
+    Ap = np.empty((2, ny, nx))
+    tmp = np.empty((2, ny, nx))
+    for c in range(2):
+        tmp[c] = -Kdq[c] - curv * x[c]
+    _project(pxx, pyy, pxy, minv, tmp, r)
+    _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z)
+    p = z.copy()
+    rz = np.sum(r * z)
+    rmax = np.abs(r).max()
     its = 0
-    while its < maxiter and np.abs(r).max() > tol:
+    while its < maxiter and rmax > tol:
         its += 1
-        Kp = op.apply(p)
-        Ap = proj(Kp + curv * p)
-        pAp = float(np.vdot(p, Ap))
+        Kp = convolve(p, spec[0], spec[1], spec[2], spec[3], spec[4])
+        for c in range(2):
+            tmp[c] = Kp[c] + curv * p[c]
+        _project(pxx, pyy, pxy, minv, tmp, Ap)
+        pAp = np.sum(p * Ap)
         if not pAp > 0.0:
             break
         alpha = rz / pAp
-        x = x + alpha * p
-        Kdq = Kdq + alpha * Kp
-        r = r - alpha * Ap
-        z = pre(r)
-        rz_new = float(np.vdot(r, z))
+        x += alpha * p
+        Kdq += alpha * Kp
+        r -= alpha * Ap
+        rmax = np.abs(r).max()
+        _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z)
+        rz_new = np.sum(r * z)
         p = z + (rz_new / rz) * p
         rz = rz_new
-    return x, Kdq, its, float(np.abs(r).max())
+    return its, rmax
+
+
+@jit
+def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, tol, maxiter, cg_maxiter, measure):
+    """The active-set / semismooth Newton loop of :func:`solve_increment`, compiled.
+
+    Updates ``kind``, ``d`` and ``wcurv`` in place; returns the final traction
+    (slipping elements on the disk), the slips (0 where sticking), ``lam``,
+    ``K dq``, the stick part of the last correction, the stick mask, the
+    iterations, the CG iterations, whether it converged and the last violation.
+    """
+    ny, nx = g.shape
+    contact = g > 0.0
+    for i in range(ny):
+        for j in range(nx):
+            if not contact[i, j]:
+                kind[i, j] = _OUT
+            elif kind[i, j] == _OUT:
+                kind[i, j] = _STICK
+            mag = math.hypot(q_prev[0, i, j], q_prev[1, i, j])
+            # predicted active set: what is above its new bound slips back along its traction
+            if contact[i, j] and kind[i, j] == _STICK and mag > g[i, j]:
+                kind[i, j] = _SLIP
+                d[0, i, j] = q_prev[0, i, j] / mag
+                d[1, i, j] = q_prev[1, i, j] / mag
+                wcurv[i, j] = 0.0
+    pxx = np.empty((ny, nx))
+    pyy = np.empty((ny, nx))
+    pxy = np.empty((ny, nx))
+    base = np.empty((2, ny, nx))
+    curv = np.empty((ny, nx))
+    slip_diag = np.empty((ny, nx))
+    x0 = np.empty((2, ny, nx))
+    s = np.zeros((2, ny, nx))
+    q = np.empty((2, ny, nx))
+    Kdq = np.empty((2, ny, nx))
+    stick = np.zeros((ny, nx), np.bool_)
+    slip = np.zeros((ny, nx), np.bool_)
+    minv = np.empty((2, 2))
+    lam = np.zeros(2)
+    cg_total = 0
+    worst = np.inf
+    converged = False
+    it = 0
+    while it < maxiter:
+        it += 1
+        nstick = 0
+        for i in range(ny):
+            for j in range(nx):
+                if kind[i, j] == _STICK:
+                    nstick += 1
+        if nstick == 0:  # the force balances need at least one free element
+            bi, bj, bg = 0, 0, -1.0
+            for i in range(ny):
+                for j in range(nx):
+                    if contact[i, j] and g[i, j] > bg:
+                        bi, bj, bg = i, j, g[i, j]
+            kind[bi, bj] = _STICK
+        # ---- the projector of this active set and the fixed part of the traction
+        m00 = m01 = m11 = 0.0
+        b0 = b1 = 0.0
+        for i in range(ny):
+            for j in range(nx):
+                st = kind[i, j] == _STICK
+                sl = kind[i, j] == _SLIP
+                stick[i, j], slip[i, j] = st, sl
+                if sl:
+                    e0, e1 = -d[1, i, j], d[0, i, j]  # d_perp
+                    pxx[i, j], pyy[i, j], pxy[i, j] = e0 * e0, e1 * e1, e0 * e1
+                    base[0, i, j], base[1, i, j] = g[i, j] * d[0, i, j], g[i, j] * d[1, i, j]
+                    curv[i, j] = wcurv[i, j]
+                else:
+                    f = 1.0 if st else 0.0
+                    pxx[i, j], pyy[i, j], pxy[i, j] = f, f, 0.0
+                    base[0, i, j], base[1, i, j] = f * q_prev[0, i, j], f * q_prev[1, i, j]
+                    curv[i, j] = 0.0
+                slip_diag[i, j] = 1.0 / (curv[i, j] + k_self)
+                m00 += pxx[i, j]
+                m11 += pyy[i, j]
+                m01 += pxy[i, j]
+                b0 += base[0, i, j]
+                b1 += base[1, i, j]
+        det = m00 * m11 - m01 * m01  # > 0: at least one stick element
+        minv[0, 0], minv[0, 1], minv[1, 0], minv[1, 1] = m11 / det, -m01 / det, -m01 / det, m00 / det
+        D0, D1 = target[0] / dA - b0, target[1] / dA - b1
+        c0 = minv[0, 0] * D0 + minv[0, 1] * D1
+        c1 = minv[1, 0] * D0 + minv[1, 1] * D1
+        # ---- the linear problem of this active set (warm start projected on its space, plus the particular part)
+        _project(pxx, pyy, pxy, minv, x, x0)
+        for i in range(ny):
+            for j in range(nx):
+                x0[0, i, j] += pxx[i, j] * c0 + pxy[i, j] * c1
+                x0[1, i, j] += pxy[i, j] * c0 + pyy[i, j] * c1
+        Kdq = convolve(base - q_prev + x0, spec[0], spec[1], spec[2], spec[3], spec[4])
+        cg_tol = max(0.1 * tol, _CG_FORCING * measure)
+        its, cg_res = _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x0, Kdq, cg_tol, cg_maxiter)
+        x = x0.copy()
+        cg_total += its
+        # ---- the multipliers, the traction and the slips
+        y0 = y1 = 0.0
+        for i in range(ny):
+            for j in range(nx):
+                v0 = Kdq[0, i, j] + curv[i, j] * x[0, i, j]
+                v1 = Kdq[1, i, j] + curv[i, j] * x[1, i, j]
+                y0 += pxx[i, j] * v0 + pxy[i, j] * v1
+                y1 += pxy[i, j] * v0 + pyy[i, j] * v1
+        lam[0] = minv[0, 0] * y0 + minv[0, 1] * y1
+        lam[1] = minv[1, 0] * y0 + minv[1, 1] * y1
+        # ---- check: bounds on the stick set, slip direction on the slip set
+        over_max = -np.inf
+        wrong_max = -np.inf
+        tangent = 0.0
+        over = np.full((ny, nx), -np.inf)
+        wrong = np.full((ny, nx), -np.inf)
+        for i in range(ny):
+            for j in range(nx):
+                for c in range(2):
+                    q[c, i, j] = base[c, i, j] + x[c, i, j]
+                    s[c, i, j] = lam[c] - Kdq[c, i, j] if contact[i, j] else 0.0
+                if stick[i, j]:
+                    over[i, j] = math.hypot(q[0, i, j], q[1, i, j]) - g[i, j]
+                    over_max = max(over_max, over[i, j])
+                elif slip[i, j]:
+                    wrong[i, j] = -(d[0, i, j] * s[0, i, j] + d[1, i, j] * s[1, i, j])
+                    wrong_max = max(wrong_max, wrong[i, j])
+                    t = -d[1, i, j] * x[0, i, j] + d[0, i, j] * x[1, i, j]
+                    # off the disk by t; the slip then has the normal component curv t
+                    tangent = max(tangent, abs(t * max(1.0, curv[i, j])))
+        worst = max(over_max, wrong_max)
+        measure = max(worst, tangent)
+        if worst <= tol and tangent <= tol and cg_res <= 0.5 * tol:
+            converged = True
+            break
+        if worst > tol:
+            level = tol if it <= _FULL_MOVES else max(tol, 0.5 * worst)
+            for i in range(ny):
+                for j in range(nx):
+                    if over[i, j] > level:
+                        kind[i, j] = _SLIP
+                        mag = math.hypot(q[0, i, j], q[1, i, j])
+                        mag = mag if mag > 0 else 1.0
+                        d[0, i, j], d[1, i, j] = q[0, i, j] / mag, q[1, i, j] / mag
+                        wcurv[i, j] = 0.0
+                    if wrong[i, j] > level:
+                        kind[i, j] = _STICK
+                        x[0, i, j] = x[1, i, j] = 0.0
+        # ---- Newton update of the slip directions and their curvature |s|/g: where the slip dominates (|s|/g
+        # above the self-influence) linearise q = g s/|s| about the slip direction (semismooth Newton); elsewhere
+        # follow the corrected traction
+        for i in range(ny):
+            for j in range(nx):
+                if slip[i, j] and kind[i, j] == _SLIP:
+                    nq = math.hypot(q[0, i, j], q[1, i, j])
+                    ns = math.hypot(s[0, i, j], s[1, i, j])
+                    cn = ns / g[i, j]
+                    if cn > _NEWTON_CURV * k_self:
+                        ns = ns if ns > 0 else 1.0
+                        d[0, i, j], d[1, i, j] = s[0, i, j] / ns, s[1, i, j] / ns
+                    else:
+                        nq = nq if nq > 0 else 1.0
+                        d[0, i, j], d[1, i, j] = q[0, i, j] / nq, q[1, i, j] / nq
+                    wcurv[i, j] = cn
+                    x[0, i, j] = x[1, i, j] = 0.0
+    # ---- the final traction: slipping elements exactly on the disk; slips where slipping only
+    for i in range(ny):
+        for j in range(nx):
+            if slip[i, j]:
+                q[0, i, j], q[1, i, j] = g[i, j] * d[0, i, j], g[i, j] * d[1, i, j]
+            if not contact[i, j]:
+                q[0, i, j] = q[1, i, j] = 0.0
+            if not (slip[i, j] and math.hypot(s[0, i, j], s[1, i, j]) > tol):
+                s[0, i, j] = s[1, i, j] = 0.0
+            if not stick[i, j]:
+                x[0, i, j] = x[1, i, j] = 0.0
+    return q, s, lam, Kdq, x, stick, it, cg_total, converged, worst
 
 
 def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
@@ -184,6 +406,10 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     RuntimeError
         If the iteration does not settle within ``maxiter``.
     """
+    # one compiled specialisation: C-contiguous, writeable float64 (int8 kinds) arrays
+    g, q_prev = (np.require(a, np.float64, ["C", "W"]) for a in (g, q_prev))
+    warm.kind = np.require(warm.kind, np.int8, ["C", "W"])
+    warm.d, warm.curv, warm.x = (np.require(a, np.float64, ["C", "W"]) for a in (warm.d, warm.curv, warm.x))
     contact = g > 0
     kind, d = warm.kind, warm.d
     kind[~contact] = _OUT
@@ -198,80 +424,14 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         info = dict(iterations=0, cg_iterations=0, stick_slip=0.0, bound=max(float((mag_prev - g).max()), 0.0),
                     slip_direction=0.0, out_of_contact=0.0, load_balance=float(balance))
         return q_prev.copy(), zero, np.zeros(2), info
-    cg_total = 0
-    x = warm.x
-    k_self = op.self_influence
-    # ---- predicted active set: what is above its new bound slips back along its traction
-    above = contact & (kind == _STICK) & (mag_prev > g)
-    kind[above] = _SLIP
-    d[:, above] = (q_prev / np.where(mag_prev > 0, mag_prev, 1.0))[:, above]
-    warm.curv[above] = 0.0
-    # inexact Newton: the linear solves tighten with the violation they correct
     measure = max(float((mag_prev - g).max()), balance)
-    for it in range(1, maxiter + 1):
-        stick, slip = kind == _STICK, kind == _SLIP
-        if not stick.any():  # the force balances need at least one free element
-            i = np.unravel_index(np.argmax(np.where(contact, g, -1.0)), g.shape)
-            kind[i] = _STICK
-            stick, slip = kind == _STICK, kind == _SLIP
-        dperp = np.stack([-d[1], d[0]])
-        proj = _Projector(stick.astype(float), slip.astype(float), dperp)
-        base = np.where(stick, q_prev, np.where(slip, g * d, 0.0))
-        D = target / dA - base.sum(axis=(1, 2))
-        curv = np.where(slip, warm.curv, 0.0)
-        # ---- the linear problem of this active set (warm start projected on its space)
-        x0 = proj(x) + proj.particular(D)
-        Kdq0 = op.apply(base - q_prev + x0)
-        cg_tol = max(0.1 * tol, 1e-3 * measure)
-        x, Kdq, its, cg_res = _pcg(op, proj, Kdq0, curv, x0, cg_tol, cg_maxiter, stick, 1.0 / (curv + k_self))
-        cg_total += its
-        lam = proj.multiplier(Kdq + curv * x)
-        q = base + x
-        s = np.where(contact, lam[:, None, None] - Kdq, 0.0)
-        # ---- check: bounds on the stick set, slip direction on the slip set
-        mag = np.hypot(q[0], q[1])
-        over = np.where(stick, mag - g, -np.inf)
-        s_par = d[0] * s[0] + d[1] * s[1]
-        wrong = np.where(slip, -s_par, -np.inf)
-        t = dperp[0] * x[0] + dperp[1] * x[1]
-        # off the disk by t; the slip then has the normal component curv t
-        tangent = float(np.abs(np.where(slip, t * np.maximum(1.0, curv), 0.0)).max())
-        worst = max(float(over.max()), float(wrong.max()))
-        measure = max(worst, tangent)
-        if worst <= tol and tangent <= tol and cg_res <= 0.5 * tol:
-            break
-        if worst > tol:
-            level = tol if it <= _FULL_MOVES else max(tol, 0.5 * worst)
-            to_slip = over > level
-            to_stick = wrong > level
-            kind[to_slip] = _SLIP
-            safe = np.where(mag > 0, mag, 1.0)
-            d[:, to_slip] = (q / safe)[:, to_slip]
-            warm.curv[to_slip] = 0.0
-            kind[to_stick] = _STICK
-            x = np.where(to_stick, 0.0, x)
-        # ---- Newton update of the slip directions and their curvature |s|/g
-        keep = slip & (kind == _SLIP)
-        qs = np.where(keep, q, 0.0)
-        nq = np.hypot(qs[0], qs[1])
-        ns = np.hypot(s[0], s[1])
-        curv_new = ns / np.where(g > 0, g, 1.0)
-        # where the slip dominates (|s|/g above the self-influence) linearise q = g s/|s| about the slip
-        # direction (semismooth Newton); elsewhere follow the corrected traction
-        newton = keep & (curv_new > _NEWTON_CURV * k_self)
-        rest = keep & ~newton
-        d[:, newton] = (s / np.where(ns > 0, ns, 1.0))[:, newton]
-        d[:, rest] = (qs / np.where(nq > 0, nq, 1.0))[:, rest]
-        warm.curv[keep] = curv_new[keep]
-        x = np.where(keep, 0.0, x)
-    else:
+    q, s, lam, Kdq, x, stick, it, cg_total, converged, worst = _increment_kernel(
+        op.spectra(), op.self_influence, g, q_prev, np.asarray(target, float), float(dA), kind, d, warm.curv, warm.x,
+        float(tol), int(maxiter), int(cg_maxiter), float(measure))
+    if not converged:
         raise RuntimeError(f"active set did not settle in {maxiter} iterations (worst violation {worst:.3g})")
-    # ---- the final traction: slipping elements exactly on the disk
-    q = np.where(slip, g * d, q)
-    q[:, ~contact] = 0.0
-    slipping = slip & (np.hypot(s[0], s[1]) > tol)
-    s = np.where(slipping, s, 0.0)
-    warm.x = np.where(stick, x, 0.0)
+    warm.x = x
+    slipping = np.hypot(s[0], s[1]) > 0
     qn = np.hypot(q[0], q[1])
     e = q / np.where(qn > 0, qn, 1.0)
     along = e[0] * s[0] + e[1] * s[1]
@@ -285,6 +445,51 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         load_balance=float(np.abs(q.sum(axis=(1, 2)) * dA - target).max()),
     )
     return q, s, lam, info
+
+
+class _Window:
+    """Solve each increment on the rectangle of elements that carry traction before or after it.
+
+    The operator is a convolution, so the block of the whole grid's operator on
+    a rectangle of elements is the operator of a grid of the rectangle's size,
+    wherever the rectangle sits: out of it the tractions are zero before and
+    after the step, and slips there are not needed. The FFTs shrink from the
+    whole rocking range to the contact's size. Widths are rounded up to a
+    multiple of :data:`_WINDOW_QUANTUM` elements so that a few operators serve a run.
+    """
+
+    def __init__(self, ny, nx, h, nu, scale):
+        self.shape, self.args = (ny, nx), (h, nu, scale)
+        self.ops = {}
+
+    def operator(self, shape):
+        op = self.ops.get(shape)
+        if op is None:
+            op = self.ops[shape] = HalfSpaceOperator(*shape, *self.args)
+        return op
+
+    @staticmethod
+    def _span(used, n):
+        idx = np.flatnonzero(used)
+        i0, i1 = (int(idx[0]), int(idx[-1]) + 1) if idx.size else (0, 1)
+        width = min(n, -(-(i1 - i0) // _WINDOW_QUANTUM) * _WINDOW_QUANTUM)
+        lo = min(max(i0 - (width - (i1 - i0)) // 2, 0), n - width)
+        return slice(lo, lo + width)
+
+    def solve(self, g, q_prev, target, dA, warm, tol):
+        used = (g > 0) | (q_prev != 0).any(axis=0)
+        win = (self._span(used.any(axis=1), self.shape[0]), self._span(used.any(axis=0), self.shape[1]))
+        part = _WarmStart(*(np.ascontiguousarray(a[(Ellipsis,) + win]) for a in (warm.kind, warm.d, warm.curv, warm.x)))
+        try:
+            q, s, lam, info = solve_increment(self.operator(part.kind.shape), np.ascontiguousarray(g[win]),
+                                              np.ascontiguousarray(q_prev[(slice(None),) + win]), target, dA, part, tol)
+        finally:
+            warm.kind[win], warm.d[(slice(None),) + win], warm.curv[win] = part.kind, part.d, part.curv
+        warm.x = np.zeros_like(warm.x)
+        warm.x[(slice(None),) + win] = part.x
+        q_full, s_full = np.zeros_like(q_prev), np.zeros_like(q_prev)
+        q_full[(slice(None),) + win], s_full[(slice(None),) + win] = q, s
+        return q_full, s_full, lam, info
 
 
 def _state_codes(q, s, g, tol):
@@ -447,29 +652,18 @@ class PointContactResult(_GridFields):
 
     @cached_property
     def _verdict(self):
-        inc = np.abs(self.increment_per_period)
-        if inc.size == 0:
-            return "undetermined", "no rocking period was run"
-        scale = float(inc.max())
-        floor = 10.0 * self.tol
-        if scale <= floor or inc[-1] <= self.shakedown_rtol * scale:
-            return "shakedown", f"the last increment is {inc[-1]:.3g} (largest {scale:.3g})"
-        if self.periodic_from is not None:
-            return "ratcheting", f"the state repeats from period {self.periodic_from} with increment {inc[-1]:.4g}"
-        if inc.size >= 3 and abs(inc[-1] - inc[-2]) <= 0.01 * inc[-1] and abs(inc[-2] - inc[-3]) <= 0.02 * inc[-1]:
-            return "ratcheting", f"the increment settled at {inc[-1]:.4g} per period"
-        ratio = inc[-1] / inc[-2] if inc.size >= 2 and inc[-2] > 0 else float("nan")
-        return "undetermined", (f"after {inc.size} periods the increment is {inc[-1]:.3g} ({inc[-1] / scale:.2g} of "
-                                f"the largest), changing by a factor {ratio:.3g} per period: run more periods")
+        """``(shakedown_period, regime, reason)`` by the rule of every body (:func:`core.result.classify_increments`)."""
+        return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
+                                   floor=10.0 * self.tol, unit="mu Fn/(E* a)")
 
     @property
     def regime(self) -> str:
         """``"shakedown"``, ``"ratcheting"`` or ``"undetermined"`` (see :attr:`regime_reason`)."""
-        return self._verdict[0]
+        return self._verdict[1]
 
     @property
     def regime_reason(self) -> str:
-        return self._verdict[1]
+        return self._verdict[2]
 
     # ---- the final state ---------------------------------------------------
     @cached_property
@@ -489,17 +683,10 @@ class PointContactResult(_GridFields):
         """Worst KKT residual over all steps (the name the cylinder's result and the sweep tables use)."""
         return self.max_residual
 
-    @cached_property
+    @property
     def shakedown_period(self) -> int | None:
         """First period from which every increment is below ``shakedown_rtol`` of the largest, if shaken down."""
-        if self.regime != "shakedown":
-            return None
-        inc = np.abs(self.increment_per_period)
-        small = inc <= self.shakedown_rtol * max(float(inc.max()), 1e-300)
-        k = inc.size - 1
-        while k > 0 and small[k - 1]:
-            k -= 1
-        return int(k)
+        return self._verdict[0]
 
     def summary(self) -> dict:
         inc = self.increment_per_period
@@ -581,7 +768,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     scales = np.cbrt(schedule.P)
     xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
     ny, nx = ye.size - 1, xe.size - 1
-    op = HalfSpaceOperator(ny, nx, dx, nu, body.kernel_scale)
+    window = _Window(ny, nx, dx, nu, body.kernel_scale)
     dA = dx * dx
     direction = np.array([math.cos(angle), math.sin(angle)])
     steps = len(schedule)
@@ -621,7 +808,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         pmin[per] = g if per not in pmin else np.minimum(pmin[per], g)
         target = schedule.Q[k] * body.total_load * direction
         try:
-            q_new, s, lam, info = solve_increment(op, g, q, target, dA, warm, tol)
+            q_new, s, lam, info = window.solve(g, q, target, dA, warm, tol)
         except RuntimeError as e:
             raise SolverError(k, schedule.xc[k], float("inf"), str(e)) from e
         worst = max(info[name] for name in RESIDUAL_NAMES)
@@ -681,8 +868,8 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0)
 
 
-def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
-                           shape="triangle", load_steps=1, tol=TOL_3D, detect_periodic=True, periodic_tol=PERIODIC_TOL,
+def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
+                           shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=PERIODIC_TOL,
                            shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None):
     """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
 
@@ -694,8 +881,10 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
         Rocking amplitude ``W / a`` in [0, 1) (``a`` the semi-axis along x).
     periods : int
         Rocking periods, in [1, 10000].
-    dx : float
-        Element side over ``a``, in [0.005, 0.5]; default 0.05 (40 elements across the contact).
+    dx : float, optional
+        Element side over ``a``, in [0.005, 0.5]; default :data:`DEFAULT_DX_3D`
+        (1/20: 40 elements across the contact; the increment per period is
+        about 2 % below its grid limit there, ``benchmarks/solver3d.py``).
     dW : float, optional
         Rocking step over ``a``; defaults to ``dx``.
     body : {"sphere", "ellipsoid"} or Ellipsoid
@@ -708,7 +897,9 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
         Substrate's Poisson ratio under a rigid body, in [0, 0.5] (default 0.5: beta = 0).
     shape, load_steps :
         As in :func:`core.schedule.rocking_schedule`.
-    tol, detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress :
+    tol : float, optional
+        KKT tolerance of every step; default :data:`TOL_3D`.
+    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress :
         As in :func:`solve_point_schedule`.
 
     Returns
@@ -724,7 +915,8 @@ def simulate_point_contact(ft, w, periods=10, dx=0.05, dW=None, *, body="sphere"
     'shakedown'
     """
     body = resolve_body(body, ratio)
-    dx = check_scalar("dx", dx, 0.005, 0.5)
+    tol = TOL_3D if tol is None else tol
+    dx = check_scalar("dx", DEFAULT_DX_3D if dx is None else dx, 0.005, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
     params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name, ratio=body.ratio,
