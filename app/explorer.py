@@ -848,7 +848,7 @@ class Explorer(pn.viewable.Viewer):
                           cell("map", self.map_controls()), cell("increments"),
                           flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)
-        return pn.Column(self.player_controls(), self.pins, slides.save_format(self), grid, sizing_mode="stretch_width",
+        return pn.Column(self.player_controls(), self.pins, slides.save_svg(self), grid, sizing_mode="stretch_width",
                          name="Explorer")
 
     def map_controls(self) -> pn.Column:

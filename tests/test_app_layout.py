@@ -303,11 +303,14 @@ def test_pinned_runs_overlay_the_figures_and_the_page_still_fits(browser, app_ur
     page.get_by_text("Clear pins", exact=True).first.click()
     page.get_by_text("No run pinned").first.wait_for(timeout=20_000)
     page.wait_for_function(f"() => Object.keys(({pinned_points})()).length === 0", timeout=20_000)
-    # for slides: the figures switch to SVG, so the toolbar's save button saves an SVG
-    page.locator(".save-format button", has_text="SVG").first.click()
-    page.wait_for_function("""() => { const b = [...Bokeh.documents[0].all_models].filter((m) => 'output_backend' in m
-        && 'renderers' in m).map((m) => m.output_backend); return b.length >= 7 && b.every((x) => x === 'svg'); }""",
-                           timeout=20_000)
+    # for slides: a figure saves as SVG, named after the figure and the run
+    page.locator(".svg-figure select").first.select_option("Displacement of the cylinder")
+    with page.expect_download(timeout=20_000) as download:
+        page.get_by_text("Save as SVG", exact=True).first.click()
+    assert download.value.suggested_filename == "shakedown_displacement_ft0.30_w0.70.svg"
+    with open(download.value.path(), encoding="utf-8") as f:
+        svg = f.read()
+    assert svg.startswith("<svg") and "</svg>" in svg and "<path" in svg
     assert page.problems == [], page.problems
     page.close()
 
