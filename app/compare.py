@@ -122,8 +122,8 @@ def _fmt(v, digits=3) -> str:
 def table_html(pins) -> str:
     """The pinned runs' parameters and verdicts, one row each, with the swatch of their curves."""
     if not pins:
-        return ("<div class='pins-empty'>No run pinned: <b>Pin this run</b> keeps the current run on the "
-                "displacement, increment and traction figures to compare it with the next ones.</div>")
+        return ("<div class='pins-empty'>No run pinned: pinned runs stay on the displacement, increment and "
+                "traction figures.</div>")
     head = ("<tr><th>run</th><th>ft, w</th><th>μ</th><th>periods</th><th>solver</th>"
             "<th>eq 35</th><th>c_sd / a</th><th>|Δu| last</th></tr>")
     rows = []
