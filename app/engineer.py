@@ -36,10 +36,10 @@ class EngineerInputs(pn.viewable.Viewer):
         super().__init__(**params)
         self.explorer = explorer
         kw = dict(sizing_mode="stretch_width", format="0,0.[000]")
-        self.force = pn.widgets.FloatInput(name="Ft, tangential force [N]", start=0.0, step=1.0, **kw)
-        self.amplitude = pn.widgets.FloatInput(name="W, rocking amplitude [µm]", start=0.0, step=10.0, **kw)
-        self.angle = pn.widgets.FloatInput(name="θ, rocking angle ±[mrad] (W = R θ)", start=0.0, step=0.1, **kw)
-        self.cycles_input = pn.widgets.IntInput.from_param(self.param.cycles, name="N, cycles for the creep",
+        self.force = pn.widgets.FloatInput(label="Ft, tangential force [N]", start=0.0, step=1.0, **kw)
+        self.amplitude = pn.widgets.FloatInput(label="W, rocking amplitude [µm]", start=0.0, step=10.0, **kw)
+        self.angle = pn.widgets.FloatInput(label="θ, rocking angle ±[mrad] (W = R θ)", start=0.0, step=0.1, **kw)
+        self.cycles_input = pn.widgets.IntInput.from_param(self.param.cycles, label="N, cycles for the creep",
                                                            sizing_mode="stretch_width", step=1000)
         self._syncing = False
         self.force.param.watch(self._force_edited, "value")

@@ -53,7 +53,7 @@ def save_svg(explorer) -> pn.FlexBox:
     select = pn.widgets.Select(options=list(names), value=next(iter(names)), width=300, margin=(8, 10),
                                css_classes=["svg-figure"], stylesheets=[":host select {font-size: 15px;}"])
     button = pn.widgets.Button(label="Save as SVG", width=120, margin=(8, 10), css_classes=["save-svg"],
-                               button_type="light")
+                               color="light")
     button.js_on_click(args=dict(select=select, ft=explorer.ft_slider, w=explorer.w_slider, names=names), code=SVG_JS)
     note = pn.pane.HTML("<span style='font-size: 15px'>For slides: the toolbar's ⤓ saves a PNG; as SVG:</span>",
                         margin=(14, 0, 0, 10))
