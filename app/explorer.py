@@ -32,6 +32,9 @@ from core.export import to_csv, to_json
 
 from . import plots
 from . import runs
+from . import slides
+from .compare import Pins
+from .engineer import EngineerInputs
 from .live import LiveFigure
 from .paper_figures import paper_figures_tab
 from .runs import RESULTS, Generation, run_key, solve, submit
@@ -83,6 +86,30 @@ def _fmt(v, unit="", digits=4) -> str:
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return "–"
     return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
+
+
+def _count(n: int) -> str:
+    """A number of cycles, short: 1000, 2.5×10⁶."""
+    if n < 10**4:
+        return str(n)
+    e = int(math.floor(math.log10(n)))
+    m = n / 10**e
+    power = "10" + str(e).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return power if abs(m - 1) < 1e-9 else f"{m:.3g}×{power}"
+
+
+def _renumber_periods(text: str) -> str:
+    """A CSV of :func:`core.export.to_csv` with its ``period`` column numbered as the player and the increment
+    plot number them (0 the loading, 1 the first rocking period; core counts from -1)."""
+    lines = text.splitlines()
+    k = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    col = lines[k].split(",").index("period")
+    for i in range(k + 1, len(lines)):
+        cells = lines[i].split(",")
+        cells[col] = str(int(cells[col]) + 1)
+        lines[i] = ",".join(cells)
+    lines.insert(k, "# period: 0 = the loading, 1 = the first rocking period (as on the player)")
+    return "\n".join(lines) + "\n"
 
 
 @functools.lru_cache(maxsize=1)
@@ -170,7 +197,7 @@ class IntSlider(_Prompt, pn.widgets.IntSlider):
 
 #: The explorer parameter behind each input of the figures (:class:`app.plots.Inputs`).
 _FIGURE_INPUTS = {"ft": "ft_live", "w": "w_live", "units": "plot_units", "result": "result", "frame": "frame",
-                  "table": "map_table"}
+                  "table": "map_table", "pinned": "pinned"}
 #: Range padding (x, y) of the axes that follow the data; None: the figure's own fixed ranges.
 _PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
 
@@ -199,6 +226,7 @@ class Explorer(pn.viewable.Viewer):
     map_running = param.Boolean(default=False, doc="A numerical map is being computed.")
     map_progress = param.Integer(default=0, bounds=(0, 100), doc="Progress of the map computation [%].")
     map_status = param.String(default="", doc="Outcome of the last map computation.")
+    pinned = param.Parameter(default=(), doc="Pinned runs overlaid on the figures (app.compare.Pins).")
 
     def __init__(self, state: ExplorerState | None = None, query: str | None = None, **params):
         super().__init__(**params)
@@ -602,6 +630,8 @@ class Explorer(pn.viewable.Viewer):
         if self.result is None:
             return io.StringIO("# no run yet\n")
         text = to_csv(self.result, self.csv_table.value, self.contact)
+        if self.csv_table.value in ("steps", "periods"):  # periods numbered as on the player and the increment plot
+            text = _renumber_periods(text)
         if self.csv_table.value == "final":  # beside the numerical traction, the paper's closure (eqs 22-30)
             r = self.result
             ft, w = float(r.params.get("ft", 0.0)), float(r.params.get("w", 0.0))
@@ -667,6 +697,11 @@ class Explorer(pn.viewable.Viewer):
                        for name, live in self._live.items()}
         return self._panes
 
+    @functools.cached_property
+    def engineer(self) -> EngineerInputs:
+        """The loads in physical units (Ft, W or the rocking angle) and the cycles the creep is extrapolated to."""
+        return EngineerInputs(self)
+
     # ------------------------------------------------------------------ cards
     @staticmethod
     def _shows(result, ft, w) -> bool:
@@ -724,7 +759,7 @@ class Explorer(pn.viewable.Viewer):
             if physical and c is not None:
                 um = inc * c.displacement_unit * 1e6
                 rows.append(("creep per period (last)", _fmt(um, "µm", 3)))
-                rows.append(("creep after 10⁶ periods", _fmt(um * cycles / 1e3, "mm", 3)))
+                rows.append((f"creep after {_count(cycles)} periods", _fmt(um * cycles / 1e3, "mm", 3)))
             else:
                 unit_u = "U0" if result.u0 else "μP/E*"
                 rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
@@ -762,7 +797,8 @@ class Explorer(pn.viewable.Viewer):
                              css_classes=["regime"], margin=(6, 10), sizing_mode="stretch_width", stylesheets=[_CSS])
         cards = pn.pane.HTML(pn.bind(self._cards, **live, mu=self.mu_slider.param.value,
                                      contact=self.param.contact, result=self.param.result,
-                                     pending=self.param.pending, units=self.state.param.units),
+                                     pending=self.param.pending, units=self.state.param.units,
+                                     cycles=self.engineer.param.cycles),
                              css_classes=["summary-cards"], margin=(0, 10), sizing_mode="stretch_width",
                              stylesheets=[_CSS])
         model_warnings = pn.bind(self._warnings, **live, contact=self.param.contact, result=self.param.result)
@@ -808,10 +844,12 @@ class Explorer(pn.viewable.Viewer):
             return pn.Column(figs[name], caption, *extra, sizing_mode="stretch_width",
                              styles={"flex": "1 1 560px", "min-width": "min(300px, 100%)"})
 
-        grid = pn.FlexBox(cell("pressure"), cell("traction"), cell("states"), cell("displacement"),
+        grid = pn.FlexBox(cell("sketch"), cell("pressure"), cell("traction"), cell("states"), cell("displacement"),
                           cell("map", self.map_controls()), cell("increments"),
                           flex_wrap="wrap", sizing_mode="stretch_width")
-        return pn.Column(self.player_controls(), grid, sizing_mode="stretch_width", name="Explorer")
+        self.pins = Pins(self)
+        return pn.Column(self.player_controls(), self.pins, slides.save_svg(self), grid, sizing_mode="stretch_width",
+                         name="Explorer")
 
     def map_controls(self) -> pn.Column:
         """The 'compute the numerical map' action, its progress and its outcome."""
@@ -829,7 +867,7 @@ class Explorer(pn.viewable.Viewer):
         return [
             self.preset, self.preset_note,
             pn.pane.Markdown("### Loads"), self.ft_slider, self.w_slider, self.mu_slider,
-            pn.pane.Markdown("### Units"), self.units_toggle,
+            pn.pane.Markdown("### Units"), self.units_toggle, self.engineer,
             pn.Card(*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs,
                     title="Geometry and materials", collapsed=False, sizing_mode="stretch_width"),
             pn.Card(*self.solver_inputs, title="Solver", collapsed=True, sizing_mode="stretch_width"),

@@ -31,6 +31,7 @@ import numpy as np
 import core
 from core import approximations as approx
 
+from . import compare, sketch
 from .live import Layer, Styled, overlay
 
 __all__ = ["Units", "make_units", "Inputs", "FIGURES", "figure", "layers", "specs", "group",
@@ -147,6 +148,7 @@ class Inputs(NamedTuple):
     result: core.CycleResult | None = None
     frame: int | None = None
     table: object = None  # sweep table (pandas DataFrame) shown on the map
+    pinned: tuple = ()  # pinned runs (app.compare.Pin) overlaid on the displacement, increment and traction
 
 
 # --------------------------------------------------------------------------
@@ -245,6 +247,7 @@ def _traction_specs(units: Units) -> list:
         _line("", "black", kd, vd, dash="dotted", width=2),
         _line("closure (paper, eqs 22–30)", _C["blue"], kd, vd, dash="dashed", width=LINE + 1),
         _line("numerical", _C["vermillion"], kd, vd),
+        *compare.specs("traction", kd, vd),
     ]
 
 
@@ -302,7 +305,8 @@ def traction_run(units: Units, result: core.CycleResult | None = None, frame: in
 
 def _traction_layers(i: Inputs) -> tuple:
     *zones_and_bounds, numerical = traction_run(i.units, i.result, i.frame)
-    return (*zones_and_bounds, *traction_bounds(i.w, i.units), traction_closure(i.ft, i.w, i.units), numerical)
+    return (*zones_and_bounds, *traction_bounds(i.w, i.units), traction_closure(i.ft, i.w, i.units), numerical,
+            *compare.layers("traction", i.pinned, i.units))
 
 
 # --------------------------------------------------------------------------
@@ -401,6 +405,7 @@ def _displacement_specs(units: Units) -> list:
         Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=LINE)),
         Layer(hv.HLines, (vd,), (), "u_sd (eq 34, regression)",
               dict(color=_C["blue"], line_dash="dashed", line_width=2)),
+        *compare.specs("displacement", kd, vd),
         Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color=_C["yellow"], size=12, line_color="black")),
     ]
 
@@ -427,7 +432,8 @@ def displacement_step(units: Units, result: core.CycleResult | None = None, fram
 
 
 def _displacement_layers(i: Inputs) -> tuple:
-    return (*displacement_curves(i.result, i.units), displacement_step(i.units, i.result, i.frame))
+    return (*displacement_curves(i.result, i.units), *compare.layers("displacement", i.pinned, i.units),
+            displacement_step(i.units, i.result, i.frame))
 
 
 # --------------------------------------------------------------------------
@@ -442,6 +448,7 @@ def _increments_specs(units: Units) -> list:
         Layer(hv.Scatter, (kd,), (vd,), "", dict(color=_C["vermillion"], size=9)),
         Layer(hv.HLines, (vd,), (), "eq 38 (regression)",
               dict(color=_C["blue"], line_dash="dashed", line_width=2)),
+        *compare.specs("increments", kd, vd),
     ]
 
 
@@ -463,7 +470,7 @@ def increment_layers(result: core.CycleResult | None, units: Units) -> tuple:
 
 
 def _increments_layers(i: Inputs) -> tuple:
-    return increment_layers(i.result, i.units)
+    return (*increment_layers(i.result, i.units), *compare.layers("increments", i.pinned, i.units))
 
 
 # --------------------------------------------------------------------------
@@ -570,21 +577,26 @@ def _map_layers(i: Inputs) -> tuple:
 #: Each figure: its title and options, a one-line "what you see" caption, its layers' looks (a function of the units), its layers' data (a function
 #: of :class:`Inputs`), and the inputs these depend on.
 FIGURES = {
+    "sketch": dict(opts=dict(title="The cylinder at the player's step", height=340, yaxis=None, show_grid=False,
+                             legend_position="right", legend_cols=1),
+                   caption="What you see: the rocking cylinder (not to scale) at the player's step: its contact 2a, "
+                           "the way it rolls and the trailing edge, where the contact lets go.",
+                   specs=sketch.specs, layers=sketch.layers, inputs=("result", "frame")),
     "pressure": dict(opts=dict(title="Pressure (Hertz, uncoupled)"),
                 caption="What you see: the Hertz pressure moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
     "traction": dict(opts=dict(title="Traction: numerical vs closure"),
                 caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: stick, slip (hatched), no contact.", specs=_traction_specs,
-                     layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame")),
+                     layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame", "pinned")),
     "states": dict(opts=dict(title="Element states over the run"),
                 caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,
                    layers=_states_layers, inputs=("units", "result", "frame")),
     "displacement": dict(opts=dict(title="Displacement of the cylinder"),
                 caption="What you see: the cylinder's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
-                         layers=_displacement_layers, inputs=("units", "result", "frame")),
+                         layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),
                 caption="What you see: how far the cylinder walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
-                       layers=_increments_layers, inputs=("units", "result")),
+                       layers=_increments_layers, inputs=("units", "result", "pinned")),
     "map": dict(opts=dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
                 caption="What you see: below the black curve (eq 35) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
                 specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table")),
@@ -596,7 +608,7 @@ def group(name: str) -> str:
     return name.capitalize()
 
 
-hv.opts.defaults(*[hv.opts.Overlay(group(name), legend_position="bottom", legend_cols=2, **_BASE, **f["opts"])
+hv.opts.defaults(*[hv.opts.Overlay(group(name), **{"legend_position": "bottom", "legend_cols": 2, **_BASE, **f["opts"]})
                    for name, f in FIGURES.items()])
 
 

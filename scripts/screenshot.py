@@ -1,10 +1,11 @@
 """Take a screenshot of the served explorer for the README: docs/screenshot.png.
 
-Usage: python scripts/screenshot.py [--url-query "?ft=0.3&w=0.5"] [--out docs/screenshot.png]
+Usage: python scripts/screenshot.py [--query "?ft=0.3&w=0.5"] [--pin 0.26 --pin 0.77] [--out docs/screenshot.png]
 
 Serves ``app/main.py`` on a free loopback port, opens it in headless Chromium at a projector's
-1280x720 CSS pixels, waits until the solver's verdict and the figures are drawn, scrolls the main
-area to ``--scroll`` pixels, and saves a PNG (palette-quantised to stay small).
+1280x720 CSS pixels, waits until the solver's verdict and the figures are drawn, pins the runs at the
+``--pin`` amplitudes w (then returns to the query's w), scrolls the main area to ``--scroll`` pixels, and
+saves a PNG (palette-quantised to stay small).
 """
 
 from __future__ import annotations
@@ -19,6 +20,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from app.serving import ROOT, chromium, served_app, wait_until  # noqa: E402
 
 BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
+#: Reads (and with SET replaced by assignments, sets) the w slider in the browser.
+_SLIDER = """(v) => { for (const m of Bokeh.documents[0].all_models)
+    if (m.title === 'w = W/a' && 'value_throttled' in m) { SET return m.value; } }"""
 
 
 def main(argv=None) -> int:
@@ -29,12 +33,22 @@ def main(argv=None) -> int:
     ap.add_argument("--height", type=int, default=720)
     ap.add_argument("--scroll", type=int, default=0, help="scroll the main area by this many CSS pixels")
     ap.add_argument("--full-page", action="store_true", help="capture the whole page, not the viewport")
+    ap.add_argument("--pin", type=float, action="append", default=[], help="pin the run at this w first (repeatable)")
     args = ap.parse_args(argv)
     with served_app() as url, chromium() as browser:
         page = browser.new_page(viewport={"width": args.width, "height": args.height})
         page.goto(url + args.query, timeout=180_000)
         page.locator(BADGE).first.wait_for(timeout=60_000)
         wait_until(lambda: page.locator(".bk-Canvas, canvas").count() >= 6, 30, message="the figures")
+        if args.pin:
+            w0 = page.evaluate(_SLIDER.replace("SET", ""), None)
+            for k, w in enumerate([*args.pin, w0]):
+                page.evaluate(_SLIDER.replace("SET", "m.value = v; m.value_throttled = v;"), w)
+                page.locator(".regime-note", has_text=f"w = {w:.2f}").first.wait_for(timeout=60_000)
+                page.locator(BADGE).first.wait_for(timeout=60_000)  # the new run's verdict (not 'solving')
+                if k < len(args.pin):
+                    page.get_by_text("Pin this run", exact=True).first.click()
+                    page.locator(f"[data-pin='{k + 1}']").first.wait_for(timeout=20_000)
         page.evaluate("(y) => { const m = document.getElementById('main'); if (m) m.scrollTop = y; }", args.scroll)
         page.wait_for_timeout(1500)  # let the last figures paint (one-off script, not a test)
         png = page.screenshot(full_page=args.full_page)

@@ -252,3 +252,81 @@ def test_a_session_after_an_expired_one_finds_every_label(browser, tmp_path):
         # which Panel 1.9 serves without its stylesheet paths, a server-side matter of its own)
         assert not [p for p in second.problems if p.startswith("page error")], second.problems
         second.close()
+
+
+def _set_slider(page, title, value):
+    page.evaluate("""([title, v]) => { for (const m of Bokeh.documents[0].all_models)
+        if (m.title === title && 'value_throttled' in m) { m.value = v; m.value_throttled = v; } }""", [title, value])
+
+
+def test_pinned_runs_overlay_the_figures_and_the_page_still_fits(browser, app_url):
+    """Pin two runs (in physical units: the engineer's inputs and the creep cards show), find them in the table
+    and as curves on the displacement, increment and traction figures; unpin one, clear; the figures switch to
+    SVG for export; nothing overlaps at 1024x768 with all of it shown."""
+    page = _open(browser, app_url, SIZES[0], "?ft=0.3&w=0.5&units=physical&periods=6")
+    pinned_points = """() => { const out = {};
+        for (const m of Bokeh.documents[0].all_models) {
+          if (m.type !== 'LegendItem' && !(m.constructor && m.constructor.__name__ === 'LegendItem')) continue;
+          const label = m.label && (m.label.value ?? m.label);
+          if (typeof label === 'string' && label.startsWith('pin ') && m.visible)
+            for (const r of m.renderers) { const d = r.data_source.data;
+              const n = (d instanceof Map ? [...d.values()] : Object.values(d))[0].length;
+              (out[label] = out[label] || []).push(n); } }
+        return out; }"""
+    page.get_by_text("Pin this run", exact=True).first.click()
+    page.locator("[data-pin='1']").first.wait_for(timeout=20_000)
+    _set_slider(page, "w = W/a", 0.7)
+    page.locator("[data-regime='ratcheting']").first.wait_for(timeout=60_000)
+    page.get_by_text("Pin this run", exact=True).first.click()
+    page.locator("[data-pin='2']").first.wait_for(timeout=20_000)
+    rows = page.locator("table.pins tr[data-pin]").all_inner_texts()
+    assert "shakedown" in rows[0] and "0.50" in rows[0] and "ratcheting" in rows[1] and "0.70" in rows[1], rows
+    # each pin is drawn on the three figures, with data (legend entries of empty pins stay hidden)
+    page.wait_for_function(f"""() => {{ const p = ({pinned_points})(); return Object.keys(p).length === 2
+        && Object.values(p).every((n) => n.length === 3 && n.every((k) => k > 1)); }}""", timeout=20_000)
+    # the engineer's inputs: Ft in N follows ft = 0.3 of μ Fn
+    assert page.get_by_text("Ft, tangential force [N]").count() >= 1
+    assert page.get_by_text("creep after 10⁶ periods").count() >= 1
+    _settle(page)
+    problems = page.evaluate(_LAYOUT)
+    assert problems == [], "with pinned runs at 1024x768:\n" + "\n".join(problems[:30])
+    # pinning the same run twice is refused, with a message
+    page.get_by_text("Pin this run", exact=True).first.click()
+    page.get_by_text("pinned already").first.wait_for(timeout=20_000)
+    # unpin the first: the second becomes pin 1; clear: none left
+    page.locator(".unpin select").first.select_option("pin 1")
+    page.wait_for_function("""() => { let n = 0;
+        const walk = (root) => { for (const e of root.querySelectorAll('*')) if (e.shadowRoot) walk(e.shadowRoot);
+          n += root.querySelectorAll('table.pins tr[data-pin]').length; }; walk(document); return n === 1; }""",
+                           timeout=20_000)
+    assert "ratcheting" in page.locator("table.pins tr[data-pin]").first.inner_text()
+    page.get_by_text("Clear pins", exact=True).first.click()
+    page.get_by_text("No run pinned").first.wait_for(timeout=20_000)
+    page.wait_for_function(f"() => Object.keys(({pinned_points})()).length === 0", timeout=20_000)
+    # for slides: a figure saves as SVG, named after the figure and the run
+    page.locator(".svg-figure select").first.select_option("Displacement of the cylinder")
+    with page.expect_download(timeout=20_000) as download:
+        page.get_by_text("Save as SVG", exact=True).first.click()
+    assert download.value.suggested_filename == "shakedown_displacement_ft0.30_w0.70.svg"
+    with open(download.value.path(), encoding="utf-8") as f:
+        svg = f.read()
+    assert svg.startswith("<svg") and "</svg>" in svg and "<path" in svg
+    assert page.problems == [], page.problems
+    page.close()
+
+
+def test_the_sketch_follows_the_player(browser, app_url):
+    """The cylinder sketch shows the player's step: a step back moves the cylinder and keeps a trailing edge."""
+    page = _open(browser, app_url, SIZES[1], "?ft=0.3&w=0.5")
+    sketch = """() => { for (const m of Bokeh.documents[0].all_models)
+        if (m.type === 'LegendItem' || (m.constructor && m.constructor.__name__ === 'LegendItem')) {
+          const label = m.label && (m.label.value ?? m.label);
+          if (label === 'trailing edge') { const d = m.renderers[0].data_source.data;
+            const g = (k) => Array.from(d instanceof Map ? d.get(k) : d[k]); return [g('x'), m.visible]; } } }"""
+    before = page.evaluate(sketch)
+    for _ in range(5):
+        page.get_by_text("◀ Step", exact=True).first.click()
+    page.wait_for_function(f"(b) => JSON.stringify(({sketch})()) !== JSON.stringify(b)", arg=before, timeout=20_000)
+    after = page.evaluate(sketch)
+    assert len(after[0]) == 1 and after[1], after
+    page.close()

@@ -13,6 +13,7 @@ from bokeh.model import Model
 
 import core
 from app import plots
+from app.compare import MAX_PINS
 from app.explorer import Explorer
 from app.live import LiveFigure
 from app.runs import Generation, ResultCache, result_nbytes
@@ -272,7 +273,7 @@ def test_explorer_pushes_only_what_changed():
     after = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
     changed = {name: [i for i, (a, b) in enumerate(zip(before[name], after[name])) if a is not b] for name in before}
     n_traction = len(before["traction"])
-    assert changed == {"pressure": [], "traction": [n_traction - 2], "states": [], "displacement": [],
+    assert changed == {"pressure": [], "traction": [n_traction - 2 - MAX_PINS], "states": [], "displacement": [],
                        "increments": [], "map": [len(before["map"]) - 1]}
 
 
@@ -288,7 +289,8 @@ def test_a_new_run_pushes_only_the_layers_of_the_run():
     kept = {name: [i for i, (a, b) in enumerate(zip(before[name], after[name])) if a is b] for name in before}
     assert {0, 1, 2, 3} <= set(kept["pressure"])  # the Hertz curves follow w, not the run
     assert {5, 6, 7} <= set(kept["traction"])  # ±μ p_min and the closure follow the sliders, not the run
-    assert 8 not in kept["traction"] and kept["displacement"] == []  # the numerical traction and u(t) are new
+    assert 8 not in kept["traction"]  # the numerical traction is new, and u(t): only the empty pinned layers stay
+    assert kept["displacement"] == list(range(2, 2 + MAX_PINS))
     assert set(range(len(before["map"]) - 1)) <= set(kept["map"])  # all but the current point (its regime)
 
 

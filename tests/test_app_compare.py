@@ -1,0 +1,106 @@
+"""Headless tests of the explorer's compare, engineer and slide parts (app/compare.py, app/engineer.py,
+app/sketch.py): what the browser tests do not pin down number by number."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import core
+from app import compare, plots, sketch
+from app.explorer import Explorer
+
+
+@pytest.fixture(scope="module")
+def explorer():
+    ex = Explorer(query="ft=0.3&w=0.5&periods=3&kernel=plane")
+    ex.template()
+    return ex
+
+
+def test_pins_overlay_the_runs_and_keep_at_most_four(explorer):
+    ex = explorer
+    ex.pins.clear()
+    runs = []
+    for w in (0.2, 0.3, 0.4, 0.5, 0.6):
+        ex.state.w = w
+        ex.solve_now()
+        runs.append(ex.result)
+        ok = ex.pins.pin()
+        assert ok == (len(runs) <= compare.MAX_PINS), ex.pins.message
+    assert "unpin one first" in ex.pins.message
+    assert [p.result for p in ex.pinned] == runs[:4]
+    # each pin is drawn on the displacement figure as its own run's curve (plane kernel: in μP/E*)
+    sources = ex._live["displacement"].sources()
+    pinned = sources[2:2 + compare.MAX_PINS]
+    for src, r in zip(pinned, runs):
+        np.testing.assert_array_equal(src.data["u"], r.displacement)
+    # the traction figure shows each pin's last step as stairs
+    t = ex._live["traction"].sources()[-compare.MAX_PINS]
+    np.testing.assert_array_equal(t.data["q"], np.repeat(runs[0].traction[-1], 2))
+    # unpinning the second moves the third up; clearing empties every pinned layer and hides its legend entry
+    ex.pins.remove(1)
+    assert [p.result for p in ex.pinned] == [runs[0], runs[2], runs[3]]
+    ex.pins.clear()
+    assert all(len(s.data["u"]) == 0 for s in ex._live["displacement"].sources()[2:2 + compare.MAX_PINS])
+    legend = {item.label.value: item.visible for item in ex._live["increments"].figure.legend[0].items}
+    assert not any(v for k, v in legend.items() if k.startswith("pin "))
+    assert "No run pinned" in ex.pins.table.object
+
+
+def test_a_pinned_layer_is_sent_once():
+    """The live figure skips a layer whose data is the same object: a pinned run's curve is memoised."""
+    r = core.simulate_cycles(0.3, 0.5, periods=2)
+    pin = compare.Pin(r, None, dict(ft=0.3, w=0.5, mu=0.58))
+    units = plots.make_units("normalised", None, "plane")
+    assert compare.layers("displacement", (pin,), units)[0] is compare.layers("displacement", (pin,), units)[0]
+
+
+def test_the_engineers_inputs_move_the_sliders(explorer):
+    ex = explorer
+    s, e = ex.state, ex.engineer
+    s.param.update(ft=0.3, w=0.5)
+    a = ex.geometry.a
+    assert e.force.value == pytest.approx(0.3 * s.mu * s.Fn, rel=1e-6)
+    assert e.amplitude.value == pytest.approx(0.5 * a * 1e6, rel=1e-4)
+    e.force.value = 0.2 * s.mu * s.Fn
+    assert s.ft == pytest.approx(0.2, abs=1e-6)
+    e.angle.value = 0.4 * a / (s.R * 1e-3) * 1e3  # θ = W / R  [mrad]
+    assert s.w == pytest.approx(0.4, abs=1e-5)
+    e.amplitude.value = 10 * a * 1e6  # beyond the sliders' range: clipped, and the input shows what was applied
+    assert s.w == s.param.w.softbounds[1] and e.amplitude.value == pytest.approx(s.w * a * 1e6, rel=1e-4)
+
+
+def test_creep_after_n_cycles_in_the_cards(explorer):
+    ex = explorer
+    ex.state.param.update(ft=0.3, w=0.7, units="physical")
+    ex.solve_now()
+    ex.engineer.cycles = 2_500_000
+    html = ex._cards(0.3, 0.7, ex.state.mu, ex.contact, ex.result, units="physical", cycles=ex.engineer.cycles)
+    um = float(ex.result.increment_per_period[-1]) * ex.contact.displacement_unit * 1e6
+    assert "creep after 2.5×10⁶ periods" in html and f"{um * 2.5e6 / 1e3:.3g} mm" in html
+    ex.state.units = "normalised"
+
+
+def test_the_csv_numbers_periods_as_the_player(explorer):
+    ex = explorer
+    ex.csv_table.value = "periods"
+    rows = [line for line in ex._csv().read().splitlines() if not line.startswith("#")]
+    assert rows[1].split(",")[0] == "1" and len(rows) == ex.result.periods + 1
+    ex.csv_table.value = "steps"
+    rows = [line.split(",") for line in ex._csv().read().splitlines() if not line.startswith("#")]
+    col = rows[0].index("period")
+    assert {int(r[col]) for r in rows[1:]} == set(range(0 if (ex.result.period < 0).any() else 1,
+                                                         ex.result.periods + 1))
+
+
+def test_the_sketch_rolls_with_the_centre():
+    r = core.simulate_cycles(0.3, 0.5, periods=1)
+    k = int(np.argmax(np.diff(r.xc) > 0)) + 1  # a step moving towards +x
+    inputs = plots.Inputs(0.3, 0.5, plots.make_units("normalised", None, "plane"), r, k)
+    ground, centre_range, pressure, circle, spoke, patch, arrow, trailing = sketch.layers(inputs)
+    xc = float(r.xc[k])
+    assert sketch.motion(r, k) == 1 and centre_range == [-0.5, 0.5]
+    assert np.isclose((circle[0].max() + circle[0].min()) / 2, xc) and np.isclose(circle[1].min(), 0.0, atol=1e-3)
+    assert trailing[0][0] == pytest.approx(xc - 1.0)  # rolling towards +x: the trailing edge is at xc − a
+    assert arrow[0][1] > xc  # the arrow points the way it rolls
