@@ -475,7 +475,8 @@ _MAP_DIMS = (hv.Dimension("ft", label="ft = Ft / (μ Fn)"), hv.Dimension("w", la
 
 @lru_cache(maxsize=1)
 def map_base() -> hv.Overlay:
-    """The (ft, w) plane: exact limit (eq 35), the paper's regression (eq 36) and c_sd/a contours of the closure."""
+    """The (ft, w) plane: exact limits (the cylinder's eq 35, the sphere's and ellipsoid's
+    ``(1 - w)^2 (2 + w)/2``, the paper's Fig 14), the paper's regression (eq 36) and c_sd/a contours of the closure."""
     kd = [hv.Dimension("ft", label="ft = Ft / (μ Fn)", range=(0, 1)),
           hv.Dimension("w", label="w = W / a", range=(0, 1))]
     ft = np.linspace(0.0, 1.0, 401)
@@ -491,6 +492,8 @@ def map_base() -> hv.Overlay:
         contours,
         hv.Curve((ft, core.w_limit(ft)), kdims=kd[:1], vdims=kd[1:], label="eq 35 (exact)").opts(
             color="black", line_width=LINE + 1),
+        hv.Curve((ft, core.w_limit(ft, body="sphere")), kdims=kd[:1], vdims=kd[1:],
+                 label="sphere, ellipsoid (exact)").opts(color=_C["purple"], line_dash="dotdash", line_width=LINE),
         hv.Curve((ft, approx.w_limit_regression(ft)), kdims=kd[:1], vdims=kd[1:],
                  label="eq 36 regression").opts(color=_C["orange"], line_dash="dashed",
                                                                        line_width=LINE),
@@ -586,8 +589,9 @@ FIGURES = {
                 caption="What you see: how far the cylinder walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result")),
     "map": dict(opts=dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
-                caption="What you see: below the black curve (eq 35) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
-                specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table")),
+                caption="What you see: below the black curve (eq 35, the cylinder) or the purple one (sphere, ellipsoid) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
+                specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table"),
+                result=(core.CycleResult, core.PointContactResult)),
 }
 
 
@@ -607,8 +611,12 @@ def specs(name: str, units: Units) -> list:
 
 
 def layers(name: str, inputs: Inputs) -> tuple:
-    """The data of each layer of figure ``name``."""
-    return FIGURES[name]["layers"](inputs)
+    """The data of each layer of figure ``name`` (a run of a kind the figure does not draw, see its ``result``
+    entry, is not handed to it: the cylinder's figures draw no sphere run, and the other way round)."""
+    figure_ = FIGURES[name]
+    if inputs.result is not None and not isinstance(inputs.result, figure_.get("result", core.CycleResult)):
+        inputs = inputs._replace(result=None)
+    return figure_["layers"](inputs)
 
 
 def figure(name: str, inputs: Inputs) -> hv.Overlay:
