@@ -233,7 +233,7 @@ class Explorer(pn.viewable.Viewer):
         self.map_scheduler = None  # core.sweep's default: a local process pool
         try:
             self.map_table = _shipped_map()
-            self.map_label = "shipped 40×40, plane kernel"
+            self.map_label = "shipped 40×40, cylinder, plane kernel (drawn beside cylinder runs only)"
         except (OSError, ValueError) as e:  # pragma: no cover - a broken install
             self.map_status = f"shipped map not available: {e}"
 

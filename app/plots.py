@@ -562,9 +562,19 @@ def map_point(ft: float, w: float, regime: str | None = None) -> Styled:
                                 "marker": REGIME_MARKERS.get(regime, REGIME_MARKERS[None])})
 
 
+def _body_of(run) -> str:
+    """The body of a run or a sweep table (a table without a 'body' column is the cylinder's)."""
+    if isinstance(run, core.PointContactResult):
+        return run.body.name
+    columns = getattr(run, "columns", ())
+    return str(run["body"].iloc[0]) if "body" in columns and len(run) else "cylinder"
+
+
 def _map_layers(i: Inputs) -> tuple:
     regime = None if i.result is None else i.result.regime
-    return (*map_numerical(i.table), *[None] * len(map_base()), map_point(i.ft, i.w, regime))
+    # a sweep of another body than the run's is not drawn (the cylinder's shipped map beside a sphere's run)
+    table = i.table if i.result is None or _body_of(i.result) == _body_of(i.table) else None
+    return (*map_numerical(table), *[None] * len(map_base()), map_point(i.ft, i.w, regime))
 
 
 # --------------------------------------------------------------------------

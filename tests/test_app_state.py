@@ -582,3 +582,16 @@ def test_fig14_and_the_map_show_both_bodies_exact_limits():
     curves = {e.label: e for e in plots.map_base() if isinstance(e, hv.Curve)}
     np.testing.assert_allclose(curves["sphere, ellipsoid (exact)"].dimension_values(1),
                                core.w_limit(curves["sphere, ellipsoid (exact)"].dimension_values(0), body="sphere"))
+
+
+def test_the_map_draws_only_the_current_bodys_sweep(sphere_explorer):
+    ex = sphere_explorer
+    u = plots.make_units("normalised", None, "plane")
+    n_runs = sum(len(layer.data[0]) for layer in plots.map_numerical(ex.map_table)[:3])
+    assert n_runs == len(ex.map_table) > 0  # the shipped (cylinder) map
+    sphere = plots.layers("map", plots.Inputs(0.6, 0.3, u, ex.result, None, ex.map_table))
+    assert all(len(layer.data[0]) == 0 for layer in sphere[:3])  # not beside a sphere's run
+    assert sphere[-1].data == ([0.6], [0.3])  # the current point is drawn, coloured by the sphere's regime
+    assert sphere[-1].glyph["fill_color"] == plots.REGIME_COLORS[ex.result.regime]
+    # a map computed for the sphere sweeps the sphere on its coarse grid
+    assert ex._map_options() == {"periods": 3, "dx": 1 / 6, "shape": "triangle", "body": "sphere", "ratio": None}
