@@ -752,10 +752,7 @@ class Explorer(pn.viewable.Viewer):
                 rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
             rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., "
                                   f"{result.xc.size} steps"))
-        body = "".join(
-            f"<div><span class='k'>{html.escape(k)}</span><span class='v{' pending' if v == wait else ''}'>"
-            f"{html.escape(v)}</span></div>" for k, v in rows)
-        return f"<div class='cards'>{body}</div>"
+        return point_view.cards_html(rows, wait)
 
     def _warnings(self, ft, w, contact, result):
         out = [] if contact is None else list(getattr(contact, "warnings", ()))

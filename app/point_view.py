@@ -40,9 +40,10 @@ from core.point_contact import hertz_pressure_3d
 
 from . import plots
 from .live import Layer, Styled
-from .plots import FONT, LINE, OKABE_ITO as _C, ZONE_COLORS, ZONE_HATCH, Units
+from .plots import LINE, OKABE_ITO as _C, ZONE_COLORS, ZONE_HATCH, Units
+from .state import POINT_RESOLUTION
 
-__all__ = ["FIGURES", "shown", "prediction", "limit_name", "cards", "body_inputs", "stored_step", "zone_codes",
+__all__ = ["FIGURES", "shown", "prediction", "limit_name", "cards", "cards_html", "body_inputs", "stored_step", "zone_codes",
            "pressure_map", "traction_map", "zone_map", "cut_layers", "displacement_layers", "increment_layers",
            "to_csv", "to_json", "ZONE_NAMES"]
 
@@ -188,8 +189,8 @@ def _zone_specs(units):
             _outline_spec(units)]
 
 
-_COARSE = ("Point contacts run on a coarse grid by default (a/10 per element, 10 periods: seconds); "
-           "refine it under 'Body'.")
+_COARSE = (f"Point contacts run on a coarse grid by default (dx = a/{POINT_RESOLUTION}, so that a run stays "
+           "short); refine it under 'Body'.")
 
 
 @_figure("point_pressure", "Pressure at the player's step (Hertz, uncoupled)",
@@ -389,10 +390,15 @@ def cards(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, bo
         nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
         rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{round(1 / result.dx):d}), "
                               f"{result.xc.size} steps"))
-    body_html = "".join(
+    return cards_html(rows, wait)
+
+
+def cards_html(rows, wait=None) -> str:
+    """Summary cards (HTML) of ``(name, value)`` rows; values equal to ``wait`` are shown as pending."""
+    body = "".join(
         f"<div><span class='k'>{html.escape(k)}</span><span class='v{' pending' if v == wait else ''}'>"
         f"{html.escape(v)}</span></div>" for k, v in rows)
-    return f"<div class='cards'>{body_html}</div>"
+    return f"<div class='cards'>{body}</div>"
 
 
 def body_inputs(state) -> list:
@@ -407,7 +413,7 @@ def body_inputs(state) -> list:
                                 visible=state.param.body.rx() != "cylinder")
     note = pn.pane.Markdown(
         "Sphere and ellipsoid: R is the radius along the rocking direction x; a coarse grid by default "
-        "(dx = a/10) keeps a run to seconds.", styles={"font-size": "13px"}, margin=(0, 10),
+        f"(dx = a/{POINT_RESOLUTION}) keeps a run short; refine it for converged numbers.", styles={"font-size": "13px"}, margin=(0, 10),
         visible=state.param.body.rx() != "cylinder")
     return [pn.pane.Markdown("### Body"), select, ratio, grid, note]
 

@@ -38,7 +38,8 @@ MAX_POINT_RESOLUTION = 40
 
 
 class ExplorerState(param.Parameterized):
-    """Inputs of the rocking-cylinder model as shown in the explorer.
+    """Inputs of the rocking-contact model as shown in the explorer: the cylinder (the paper's line contact), or a
+    sphere or an ellipsoid (point contacts, ``body``), with loads, geometry, materials, solver and view settings.
 
     ``bounds`` are the physical validity of each input (or an operator cap on
     the work a served app accepts); ``softbounds`` are the slider ranges.

@@ -239,16 +239,21 @@ def test_live_figures_show_what_a_fresh_render_shows():
     live = {name: LiveFigure(plots.specs(name, steps[0].units), plots.layers(name, steps[0]), plots.group(name))
             for name in plots.FIGURES}
     for inputs in steps:
-        for name, fig in live.items():
-            assert not fig.update(plots.specs(name, inputs.units), plots.layers(name, inputs))
-            fresh = hv.renderer("bokeh").get_plot(plots.figure(name, inputs))
-            for i, (mine, ref) in enumerate(zip(fig._subplots, fresh.subplots.values())):
-                a, b = mine.handles["source"].data, ref.handles["source"].data
-                assert a.keys() == b.keys(), (name, i)
-                for col in a:
-                    assert repr(np.asarray(a[col], dtype=object)) == repr(np.asarray(b[col], dtype=object)), \
-                        (name, i, col)
-                assert _glyph_props(mine.handles["glyph"]) == _glyph_props(ref.handles["glyph"]), (name, i)
+        _assert_live_is_fresh(live, inputs)
+
+
+def _assert_live_is_fresh(live, inputs):
+    """Each live figure, updated to ``inputs``, has the data and glyphs of a fresh render of them."""
+    for name, fig in live.items():
+        assert not fig.update(plots.specs(name, inputs.units), plots.layers(name, inputs))
+        fresh = hv.renderer("bokeh").get_plot(plots.figure(name, inputs))
+        for i, (mine, ref) in enumerate(zip(fig._subplots, fresh.subplots.values())):
+            a, b = mine.handles["source"].data, ref.handles["source"].data
+            assert a.keys() == b.keys(), (name, i)
+            for col in a:
+                assert repr(np.asarray(a[col], dtype=object)) == repr(np.asarray(b[col], dtype=object)), \
+                    (name, i, col)
+            assert _glyph_props(mine.handles["glyph"]) == _glyph_props(ref.handles["glyph"]), (name, i)
 
 
 def test_live_figure_is_rebuilt_for_new_axis_labels_only():
@@ -518,15 +523,7 @@ def test_point_live_figures_show_what_a_fresh_render_shows(sphere_explorer):
     names = list(point_view.FIGURES)
     live = {n: LiveFigure(plots.specs(n, u), plots.layers(n, steps[0]), plots.group(n)) for n in names}
     for inputs in steps:
-        for name, fig in live.items():
-            assert not fig.update(plots.specs(name, inputs.units), plots.layers(name, inputs))
-            fresh = hv.renderer("bokeh").get_plot(plots.figure(name, inputs))
-            for i, (mine, ref) in enumerate(zip(fig._subplots, fresh.subplots.values())):
-                a, b = mine.handles["source"].data, ref.handles["source"].data
-                assert a.keys() == b.keys(), (name, i)
-                for col in a:
-                    assert repr(np.asarray(a[col], dtype=object)) == repr(np.asarray(b[col], dtype=object)), \
-                        (name, i, col)
+        _assert_live_is_fresh(live, inputs)
 
 
 def test_switching_bodies_solves_the_new_body_and_shows_its_figures():
