@@ -135,7 +135,7 @@ def _fig14(fig, data):
     layers = [
         _paper(d, line["ft"], line["w_eq35"], "exact limit eq 35", PALETTE[0]),
         _paper(d, line["ft"], line["w_eq36"], "paper's regression eq 36", PALETTE[2], dash="dashed"),
-        _paper(d, line["ft"], line["w_sphere"], "sphere, ellipsoid: exact (1 − w)²(2 + w)/2", PALETTE[4],
+        _paper(d, line["ft"], line["w_sphere"], "sphere, ellipsoid: exact (1 − w)²(2 + w)/2", PALETTE[3],
                dash="dotdash"),
         _solver(d, p["ft"], p["w_shakedown"], "solver: last shakedown", PALETTE[1], marker="triangle", size=11),
         _solver(d, p["ft"], p["w_ratcheting"], "solver: first ratcheting", PALETTE[4], marker="inverted_triangle",
