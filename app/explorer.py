@@ -12,6 +12,7 @@ only the arrays of the layers that depend on it, in one held document patch.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 import html
 import io
@@ -30,7 +31,7 @@ from panel.models.katex import KaTeX as KaTeXModel
 import core
 from core.export import to_csv, to_json
 
-from . import plots
+from . import plots, point_view
 from . import runs
 from . import slides
 from .compare import Pins
@@ -205,11 +206,11 @@ _PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
 class Explorer(pn.viewable.Viewer):
     """The shakedown explorer over an :class:`ExplorerState` (one per browser session)."""
 
-    result = param.ClassSelector(class_=core.CycleResult, default=None, allow_None=True,
+    result = param.ClassSelector(class_=(core.CycleResult, core.PointContactResult), default=None, allow_None=True,
                                  doc="The solver run of the current inputs (None until solved, or if they are invalid).")
-    contact = param.ClassSelector(class_=core.Contact, default=None, allow_None=True,
+    contact = param.ClassSelector(class_=(core.Contact, core.PointContact), default=None, allow_None=True,
                                   doc="The current contact (None if the inputs are invalid).")
-    geometry = param.ClassSelector(class_=core.Contact, default=None, allow_None=True,
+    geometry = param.ClassSelector(class_=(core.Contact, core.PointContact), default=None, allow_None=True,
                                    doc="The current contact at ft = w = 0: what the plot units depend on.")
     plot_units = param.ClassSelector(class_=plots.Units, default=plots.Units("normalised"),
                                      doc="Scales and labels of the figures.")
@@ -249,12 +250,18 @@ class Explorer(pn.viewable.Viewer):
         self._panes: dict[str, pn.pane.Bokeh] = {}
         self.param.watch(self._redraw, list(_FIGURE_INPUTS.values()))
         self._update_contact()
-        self.solve_now()  # the first run is in the page as it is first sent: no update before the browser connects
+        if self.state.point and self._doc is not None and self._doc.session_context is not None:
+            # a point contact's run takes seconds: off the event loop once the page is shown (updates sent
+            # before the browser has built the page could be lost); until then the badge says 'solving'
+            self.pending = True
+            pn.state.onload(self._request_solve)
+        else:
+            self.solve_now()  # the first run is in the page as it is first sent: no update before the browser connects
         self._map_cancel = threading.Event()
         self.map_scheduler = None  # core.sweep's default: a local process pool
         try:
             self.map_table = _shipped_map()
-            self.map_label = "shipped 40×40, plane kernel"
+            self.map_label = "shipped 40×40, cylinder, plane kernel (drawn beside cylinder runs only)"
         except (OSError, ValueError) as e:  # pragma: no cover - a broken install
             self.map_status = f"shipped map not available: {e}"
 
@@ -398,7 +405,8 @@ class Explorer(pn.viewable.Viewer):
         except ValueError as e:
             self.param.update(contact=None, error=str(e))
             return
-        geometry = contact.replace(ft=0.0, w=0.0)
+        geometry = (contact.replace(ft=0.0, w=0.0) if isinstance(contact, core.Contact)
+                    else dataclasses.replace(contact, Ft=0.0, W=0.0))
         self.param.update(contact=contact, error="",
                           **({} if geometry == self.geometry else {"geometry": geometry}))
 
@@ -561,6 +569,10 @@ class Explorer(pn.viewable.Viewer):
         contact's (:func:`core.strip_options`), whatever run is shown."""
         opts = dict(periods=self.state.periods, dx=self.state.dx, kernel=self.state.kernel,
                     shape=self.state.schedule)
+        if self.state.point:  # the current body's map: no kernel (the half-space's)
+            ratio = self.state.ratio if self.state.body == "ellipsoid" else None
+            return dict(periods=self.state.periods, dx=self.state.dx, shape=self.state.schedule,
+                        body=self.state.body, ratio=ratio)
         if opts["kernel"] == "strip":
             if self.contact is None:  # invalid geometry: no strip to take L/a from
                 opts["kernel"] = "plane"
@@ -591,7 +603,8 @@ class Explorer(pn.viewable.Viewer):
             finally:
                 runs.MAP_SLOT.release()
 
-        label = f"computed {n}×{n}, {opts['kernel']} kernel, {opts['periods']} periods"
+        label = (f"computed {n}×{n}, {opts['body']}, {opts['periods']} periods" if "body" in opts
+                 else f"computed {n}×{n}, {opts['kernel']} kernel, {opts['periods']} periods")
 
         def done(table=None, error=None):
             if table is not None:
@@ -629,6 +642,8 @@ class Explorer(pn.viewable.Viewer):
     def _csv(self):
         if self.result is None:
             return io.StringIO("# no run yet\n")
+        if isinstance(self.result, core.PointContactResult):
+            return io.StringIO(point_view.to_csv(self.result, self.csv_table.value))
         text = to_csv(self.result, self.csv_table.value, self.contact)
         if self.csv_table.value in ("steps", "periods"):  # periods numbered as on the player and the increment plot
             text = _renumber_periods(text)
@@ -654,14 +669,18 @@ class Explorer(pn.viewable.Viewer):
     def _json(self):
         if self.result is None:
             return io.StringIO("{}")
+        if isinstance(self.result, core.PointContactResult):
+            return io.StringIO(point_view.to_json(self.result))
         return io.StringIO(to_json(self.result, self.contact))
 
     # ------------------------------------------------------------------ figures
     def _compute_units(self, result=None) -> plots.Units:
         result = self.result if result is None else result
-        geometry = None if self.geometry is None else self.geometry.replace(mu=self.mu_slider.value)
-        kernel = result.kernel if result is not None else self.state.kernel
-        return plots.make_units(self.state.units, geometry, kernel, None if result is None else result.u0)
+        g = self.geometry
+        geometry = (None if g is None else g.replace(mu=self.mu_slider.value) if isinstance(g, core.Contact)
+                    else dataclasses.replace(g, mu=self.mu_slider.value))
+        kernel = getattr(result, "kernel", self.state.kernel)
+        return plots.make_units(self.state.units, geometry, kernel, getattr(result, "u0", None))
 
     def _update_units(self, *_):
         units = self._compute_units()
@@ -710,21 +729,22 @@ class Explorer(pn.viewable.Viewer):
                 and abs(float(result.params.get("w", math.nan)) - w) < 1e-9)
 
     def _badge(self, ft, w, result, error, pending=False):
-        predicted = core.classify_regime(ft, w)
+        body = getattr(getattr(self, "state", None), "body", "cylinder")  # (also called on the class, headless)
+        predicted, rule = point_view.prediction(ft, w, body)
         if error:
             return ('<span class="regime-badge regime-none" data-regime="invalid">INVALID INPUT</span>'
                     f'<div class="regime-note">{html.escape(error)}</div>')
         if pending or not self._shows(result, ft, w):
             what = "SOLVING…" if pending or result is None else "RELEASE TO SOLVE"
             return (f'<span class="regime-badge regime-none" data-regime="pending">{what}</span>'
-                    f'<div class="regime-note">eq 35 predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}</div>')
+                    f'<div class="regime-note">{rule} predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}</div>')
         regime = str(result.regime)
         note = f"solver, {result.periods} periods"
         if result.shakedown_period is not None:
             note += f"; shaken down after period {result.shakedown_period}"
         if regime == "undetermined":  # the periods run cannot tell: say why
             note += f": {html.escape(str(result.regime_reason))}"
-        note += f"<br>eq 35 predicts {html.escape(str(predicted))} for ft = {ft:.2f}, w = {w:.2f}"
+        note += f"<br>{html.escape(rule)} predicts {html.escape(str(predicted))} for ft = {ft:.2f}, w = {w:.2f}"
         css = re.sub(r"[^a-z]", "", regime.lower()) or "none"
         return (f'<span class="regime-badge regime-{css}" data-regime="{html.escape(regime)}">'
                 f'{html.escape(regime.upper())}</span><div class="regime-note">{note}</div>')
@@ -734,9 +754,11 @@ class Explorer(pn.viewable.Viewer):
         Numerical values are shown only when the run shown is the current inputs' run (else 'solving…')."""
         rows = []
         physical = units == "physical"
-        c = None if contact is None else contact.replace(mu=mu, ft=ft, w=w)
         fresh = not pending and self._shows(result, ft, w)
         wait = None if fresh else ("solving…" if pending or result is None else "release the slider")
+        if isinstance(contact, core.PointContact) or self.state.point:
+            return point_view.cards(ft, w, mu, contact, result, wait, units, cycles, self.state.body)
+        c = None if contact is None else contact.replace(mu=mu, ft=ft, w=w)
         if c is not None:
             rows += [("Ft (tangential force)", _fmt(ft * mu * c.Fn, "N")), ("W (rocking amplitude)", _fmt(w * c.a * 1e6, "µm")),
                      ("a (half-width)", _fmt(c.a * 1e3, "mm")), ("p0 (peak pressure)", _fmt(c.p0 / 1e6, "MPa")),
@@ -765,16 +787,13 @@ class Explorer(pn.viewable.Viewer):
                 rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
             rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., "
                                   f"{result.xc.size} steps"))
-        body = "".join(
-            f"<div><span class='k'>{html.escape(k)}</span><span class='v{' pending' if v == wait else ''}'>"
-            f"{html.escape(v)}</span></div>" for k, v in rows)
-        return f"<div class='cards'>{body}</div>"
+        return point_view.cards_html(rows, wait)
 
     def _warnings(self, ft, w, contact, result):
-        out = [] if contact is None else list(contact.warnings)
+        out = [] if contact is None else list(getattr(contact, "warnings", ()))
         if w > 0.95:
             out.append(f"w = {w:.2f}: b = a − W = {1 - w:.2f} a is tiny; the always-in-contact band spans "
-                       f"{(1 - w) * self.state.resolution * 2:.0f} elements.")
+                       f"{(1 - w) / self.state.dx * 2:.0f} elements.")
         if result is not None:
             n_b = 2 * (1 - float(result.params.get("w", w))) / result.dx
             if n_b < 8:
@@ -842,10 +861,13 @@ class Explorer(pn.viewable.Viewer):
             caption = pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}</div>",
                                    stylesheets=[_CSS], sizing_mode="stretch_width", margin=0)
             return pn.Column(figs[name], caption, *extra, sizing_mode="stretch_width",
+                             visible=pn.bind(point_view.shown, name, self.state.param.body),
                              styles={"flex": "1 1 560px", "min-width": "min(300px, 100%)"})
 
         grid = pn.FlexBox(cell("sketch"), cell("pressure"), cell("traction"), cell("states"), cell("displacement"),
-                          cell("map", self.map_controls()), cell("increments"),
+                          cell("point_pressure"), cell("point_traction"), cell("point_zones"), cell("point_cut"),
+                          cell("point_displacement"), cell("map", self.map_controls()), cell("increments"),
+                          cell("point_increments"),
                           flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)
         return pn.Column(self.player_controls(), self.pins, slides.save_svg(self), grid, sizing_mode="stretch_width",
@@ -865,7 +887,7 @@ class Explorer(pn.viewable.Viewer):
     def sidebar(self) -> list:
         """The input widgets."""
         return [
-            self.preset, self.preset_note,
+            self.preset, self.preset_note, *point_view.body_inputs(self.state),
             pn.pane.Markdown("### Loads"), self.ft_slider, self.w_slider, self.mu_slider,
             pn.pane.Markdown("### Units"), self.units_toggle, self.engineer,
             pn.Card(*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs,

@@ -135,6 +135,8 @@ def _fig14(fig, data):
     layers = [
         _paper(d, line["ft"], line["w_eq35"], "exact limit eq 35", PALETTE[0]),
         _paper(d, line["ft"], line["w_eq36"], "paper's regression eq 36", PALETTE[2], dash="dashed"),
+        _paper(d, line["ft"], line["w_sphere"], "sphere, ellipsoid: exact (1 − w)²(2 + w)/2", PALETTE[3],
+               dash="dotdash"),
         _solver(d, p["ft"], p["w_shakedown"], "solver: last shakedown", PALETTE[1], marker="triangle", size=11),
         _solver(d, p["ft"], p["w_ratcheting"], "solver: first ratcheting", PALETTE[4], marker="inverted_triangle",
                 size=11),
@@ -189,7 +191,9 @@ FIGURES = {
         f"Shakedown limit: the solver's bracket (last shakedown ▲, first ratcheting ▼, transients of "
         f"{f['settings']['periods']} periods, to ±{f['settings']['tol']:g} in w) around the exact eq 35; "
         f"eq 35 inside {f['eq35_in_bracket'][0]} of {f['eq35_in_bracket'][1]} brackets; the paper's regression "
-        f"eq 36 is off by up to {_d(f['max_regression_difference'])}. The sphere's curve is not drawn here.")),
+        f"eq 36 is off by up to {_d(f['max_regression_difference'])}. Dash-dot: the sphere's exact limit (any ellipsoid's), "
+        f"below the cylinder's at every amplitude: the sphere bears the lower tangential force (the paper states the "
+        f"opposite).")),
     "fig15": (_fig15, lambda f: (
         f"u_lim, the largest shakedown displacement, is here u_sd in the limit ft → ft_lim(w): the whole "
         f"contact carries μ p_min (strip model). The paper's eq 37 is unreadable; eq 34 at the limit is shown. "

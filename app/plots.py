@@ -482,7 +482,8 @@ _MAP_DIMS = (hv.Dimension("ft", label="ft = Ft / (μ Fn)"), hv.Dimension("w", la
 
 @lru_cache(maxsize=1)
 def map_base() -> hv.Overlay:
-    """The (ft, w) plane: exact limit (eq 35), the paper's regression (eq 36) and c_sd/a contours of the closure."""
+    """The (ft, w) plane: exact limits (the cylinder's eq 35, the sphere's and ellipsoid's
+    ``(1 - w)^2 (2 + w)/2``, the paper's Fig 14), the paper's regression (eq 36) and c_sd/a contours of the closure."""
     kd = [hv.Dimension("ft", label="ft = Ft / (μ Fn)", range=(0, 1)),
           hv.Dimension("w", label="w = W / a", range=(0, 1))]
     ft = np.linspace(0.0, 1.0, 401)
@@ -498,6 +499,8 @@ def map_base() -> hv.Overlay:
         contours,
         hv.Curve((ft, core.w_limit(ft)), kdims=kd[:1], vdims=kd[1:], label="eq 35 (exact)").opts(
             color="black", line_width=LINE + 1),
+        hv.Curve((ft, core.w_limit(ft, body="sphere")), kdims=kd[:1], vdims=kd[1:],
+                 label="sphere, ellipsoid (exact)").opts(color=_C["purple"], line_dash="dotdash", line_width=LINE),
         hv.Curve((ft, approx.w_limit_regression(ft)), kdims=kd[:1], vdims=kd[1:],
                  label="eq 36 regression").opts(color=_C["orange"], line_dash="dashed",
                                                                        line_width=LINE),
@@ -566,9 +569,19 @@ def map_point(ft: float, w: float, regime: str | None = None) -> Styled:
                                 "marker": REGIME_MARKERS.get(regime, REGIME_MARKERS[None])})
 
 
+def _body_of(run) -> str:
+    """The body of a run or a sweep table (a table without a 'body' column is the cylinder's)."""
+    if isinstance(run, core.PointContactResult):
+        return run.body.name
+    columns = getattr(run, "columns", ())
+    return str(run["body"].iloc[0]) if "body" in columns and len(run) else "cylinder"
+
+
 def _map_layers(i: Inputs) -> tuple:
     regime = None if i.result is None else i.result.regime
-    return (*map_numerical(i.table), *[None] * len(map_base()), map_point(i.ft, i.w, regime))
+    # a sweep of another body than the run's is not drawn (the cylinder's shipped map beside a sphere's run)
+    table = i.table if i.result is None or _body_of(i.result) == _body_of(i.table) else None
+    return (*map_numerical(table), *[None] * len(map_base()), map_point(i.ft, i.w, regime))
 
 
 # --------------------------------------------------------------------------
@@ -598,8 +611,9 @@ FIGURES = {
                 caption="What you see: how far the cylinder walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result", "pinned")),
     "map": dict(opts=dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
-                caption="What you see: below the black curve (eq 35) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
-                specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table")),
+                caption="What you see: below the black curve (eq 35, the cylinder) or the purple one (sphere, ellipsoid) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
+                specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table"),
+                result=(core.CycleResult, core.PointContactResult)),
 }
 
 
@@ -619,8 +633,12 @@ def specs(name: str, units: Units) -> list:
 
 
 def layers(name: str, inputs: Inputs) -> tuple:
-    """The data of each layer of figure ``name``."""
-    return FIGURES[name]["layers"](inputs)
+    """The data of each layer of figure ``name`` (a run of a kind the figure does not draw, see its ``result``
+    entry, is not handed to it: the cylinder's figures draw no sphere run, and the other way round)."""
+    figure_ = FIGURES[name]
+    if inputs.result is not None and not isinstance(inputs.result, figure_.get("result", core.CycleResult)):
+        inputs = inputs._replace(result=None)
+    return figure_["layers"](inputs)
 
 
 def figure(name: str, inputs: Inputs) -> hv.Overlay:

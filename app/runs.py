@@ -26,6 +26,7 @@ install; :func:`readiness` says how far that is (``/liveness`` reports it).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import logging
 import sys
@@ -42,7 +43,7 @@ import core
 from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WORKERS,  # noqa: F401
                      MAX_QUEUED_PER_SESSION, SCHEDULER, SOLVE_BUDGET_S, SOLVER_THREADS)
 
-__all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "run_key", "solve", "submit", "Generation",
+__all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "run_key", "runner", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
            "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend"]
 
@@ -65,7 +66,8 @@ def result_nbytes(result: core.CycleResult) -> int:
     """Approximate memory held by a result [bytes] (its arrays, and the per-step pressure it will cache)."""
     total = sum(getattr(result, f.name).nbytes for f in fields(result)
                 if isinstance(getattr(result, f.name), np.ndarray))
-    return int(total + result.traction.nbytes)  # + the cached per-step pressure
+    per_step = getattr(result, "traction", None)  # a cylinder's run caches its per-step pressure, of this size
+    return int(total + (per_step.nbytes if isinstance(per_step, np.ndarray) else 0))
 
 
 class ResultCache:
@@ -134,13 +136,25 @@ class ResultCache:
 RESULTS = ResultCache(CACHE_ITEMS, CACHE_MB * 2**20)
 
 
-def run_key(contact: core.Contact, options: dict) -> tuple:
-    """A hashable key of everything a run depends on."""
-    return tuple(sorted(contact.summary().items())) + tuple(sorted(options.items()))
+def run_key(contact, options: dict) -> tuple:
+    """A hashable key of everything a run depends on (a cylinder's :class:`core.Contact` or a :class:`core.PointContact`)."""
+    if isinstance(contact, core.PointContact):
+        inputs = {"point_contact": True, **dataclasses.asdict(contact)}
+    else:
+        inputs = contact.summary()
+    return tuple(sorted(inputs.items())) + tuple(sorted(options.items()))
+
+
+def runner(contact):
+    """The run of ``contact`` as one callable of the solver options: :func:`core.simulate_contact` for the
+    cylinder, :meth:`core.PointContact.simulate` for a sphere or an ellipsoid (both need only ``core``)."""
+    if isinstance(contact, core.PointContact):
+        return contact.simulate
+    return functools.partial(core.simulate_contact, contact)
 
 
 def _compute(contact, options, cancel=None, time_budget=SOLVE_BUDGET_S):
-    result = core.simulate_contact(contact, **options, cancel=cancel, time_budget=time_budget)
+    result = runner(contact)(**options, cancel=cancel, time_budget=time_budget)
     result.pressure  # noqa: B018 - computed once here, off the UI thread
     return result
 
@@ -227,8 +241,8 @@ class _Cluster:
         return self._executor
 
     def _remote(self, contact, options, time_budget) -> Future:
-        # core.simulate_contact itself, so that the workers need only ``core``; no cancel() across processes
-        return self.executor().submit(core.simulate_contact, contact, time_budget=time_budget, **options)
+        # core's own run function, so that the workers need only ``core``; no cancel() across processes
+        return self.executor().submit(runner(contact), time_budget=time_budget, **options)
 
     def run(self, contact, options, cancel, time_budget) -> core.CycleResult:
         future = self._remote(contact, options, time_budget)

@@ -12,6 +12,7 @@ in N, moduli in MPa. :meth:`ExplorerState.contact` converts to SI for
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import urllib.parse
 from typing import Mapping
@@ -22,16 +23,23 @@ import core
 
 from .limits import MAX_PERIODS, MAX_RESOLUTION
 
-__all__ = ["ExplorerState", "PRESETS", "PRESET_NOTES", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
+__all__ = ["ExplorerState", "BODIES", "POINT_RESOLUTION", "MAX_POINT_RESOLUTION", "PRESETS", "PRESET_NOTES", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
 
 #: Longest query-string value that is even looked at (longer ones are rejected).
 MAX_QUERY_VALUE_LENGTH = 64
 
 _MM, _MPA = 1e-3, 1e6
+#: The bodies of the body selector: the cylinder (a line contact) and the point contacts of :mod:`core.point_contact`.
+BODIES = ("cylinder", "sphere", "ellipsoid")
+#: Default elements per semi-axis of a point-contact run: coarse, so that a run of 10 periods takes seconds.
+POINT_RESOLUTION = 10
+#: Finest point-contact grid the explorer accepts (elements per semi-axis: up to about 160 x 80 elements at 40).
+MAX_POINT_RESOLUTION = 40
 
 
 class ExplorerState(param.Parameterized):
-    """Inputs of the rocking-cylinder model as shown in the explorer.
+    """Inputs of the rocking-contact model as shown in the explorer: the cylinder (the paper's line contact), or a
+    sphere or an ellipsoid (point contacts, ``body``), with loads, geometry, materials, solver and view settings.
 
     ``bounds`` are the physical validity of each input (or an operator cap on
     the work a served app accepts); ``softbounds`` are the slider ranges.
@@ -46,9 +54,18 @@ class ExplorerState(param.Parameterized):
                      doc="Rocking amplitude of the contact centre over the half-width, W/a [-], in [0, 1).")
     mu = param.Number(0.58, bounds=(0.0, 10.0), inclusive_bounds=(False, True), softbounds=(0.05, 1.5),
                       step=0.01, label="μ (friction)", doc="Coulomb friction coefficient μ [-], in (0, 10].")
+    # ---- the body -------------------------------------------------------------
+    body = param.Selector(default="cylinder", objects=list(BODIES), label="Body",
+                          doc="The rocking body: 'cylinder' (line contact, the paper's), 'sphere' or 'ellipsoid' "
+                              "(point contacts; the ellipsoid's radii ratio is 'ratio').")
+    ratio = param.Number(2.0, bounds=(0.05, 20.0), softbounds=(0.2, 5.0), step=0.1, label="Ry/Rx (ellipsoid)",
+                         doc="The ellipsoid's ratio of principal relative radii Ry/Rx [-] (x: the rocking direction), "
+                             "in [0.05, 20]; used when body = ellipsoid.")
     # ---- geometry and materials --------------------------------------------
     R = param.Number(40.0, bounds=(0.0, 1e5), inclusive_bounds=(False, True), softbounds=(1.0, 200.0),
-                     step=1.0, label="R [mm]", doc="Radius of the cylinder R [mm], in (0, 1e5].")
+                     step=1.0, label="R [mm]",
+                     doc="Radius of the cylinder R [mm] (of a point contact: its relative radius Rx along the "
+                         "rocking direction), in (0, 1e5].")
     L = param.Number(500.0, bounds=(0.0, 1e6), inclusive_bounds=(False, True), softbounds=(1.0, 1000.0),
                      step=1.0, label="L [mm]",
                      doc="Length of the cylinder L [mm], in (0, 1e6]; must exceed the contact width 2a.")
@@ -74,6 +91,11 @@ class ExplorerState(param.Parameterized):
                                label="Elements per a",
                                doc=f"Grid resolution: elements per half-width a [-] (dx = a/resolution), in "
                                    f"[5, {MAX_RESOLUTION}] (SHAKEDOWN_MAX_RESOLUTION).")
+    point_resolution = param.Integer(
+        POINT_RESOLUTION, bounds=(4, MAX_POINT_RESOLUTION), softbounds=(4, MAX_POINT_RESOLUTION), step=1,
+        label="Elements per a (sphere, ellipsoid)",
+        doc=f"Grid of a point contact: elements per semi-axis a (dx = a/point_resolution; the elements of the 2D grid "
+            f"grow as its square, the steps in proportion), in [4, {MAX_POINT_RESOLUTION}]; coarse by default.")
     kernel = param.Selector(default="strip", objects=["strip", "plane"], label="Kernel",
                             doc="Influence kernel: 'strip' (truncated 3D strip of length L, gives U/U0) "
                                 "or 'plane' (plane strain; displacement defined up to a constant).")
@@ -85,17 +107,27 @@ class ExplorerState(param.Parameterized):
                                "or 'physical' (mm, MPa, µm).")
 
     # ---- slider values without float noise ----------------------------------
-    @param.depends("ft", "w", "mu", watch=True, on_init=True)
+    @param.depends("ft", "w", "mu", "ratio", watch=True, on_init=True)
     def _round(self):
         """Round the sliders' values to 1e-6 (a browser's slider steps give 0.44000000000000006, which the URL
         would show)."""
-        noisy = {k: round(v, 6) for k in ("ft", "w", "mu") if (v := getattr(self, k)) != round(v, 6)}
+        noisy = {k: round(v, 6) for k in ("ft", "w", "mu", "ratio") if (v := getattr(self, k)) != round(v, 6)}
         if noisy:
             self.param.update(**noisy)
 
     # ---- derived ------------------------------------------------------------
-    def contact(self) -> core.Contact:
+    @property
+    def point(self) -> bool:
+        """True for a point contact (sphere or ellipsoid)."""
+        return self.body != "cylinder"
+
+    def contact(self) -> core.Contact | core.PointContact:
         """The contact in SI units, with this state's ``ft`` and ``w``.
+
+        A :class:`core.Contact` for the cylinder; a :class:`core.PointContact`
+        for the sphere (``Rx = Ry = R``) and the ellipsoid (``Rx = R``,
+        ``Ry = ratio R``), where ``w`` is ``W`` over the contact's semi-axis
+        along x and ``L`` and the kernel do not apply.
 
         Raises
         ------
@@ -103,6 +135,12 @@ class ExplorerState(param.Parameterized):
             If the inputs do not make a valid contact (the message names the field).
         """
         rigid = self.rigid
+        if self.point:
+            ratio = self.ratio if self.body == "ellipsoid" else 1.0
+            c = core.PointContact(Rx=self.R * _MM, Ry=self.R * ratio * _MM, Fn=self.Fn, mu=self.mu,
+                                  E2=self.E2 * _MPA, nu2=self.nu2, E1=math.inf if rigid else self.E1 * _MPA,
+                                  nu1=0.3 if rigid else self.nu1, Ft=self.ft * self.mu * self.Fn)
+            return dataclasses.replace(c, W=self.w * c.a)
         return core.Contact(
             R1=self.R * _MM, L=self.L * _MM, Fn=self.Fn, mu=self.mu,
             E2=self.E2 * _MPA, nu2=self.nu2,
@@ -112,11 +150,14 @@ class ExplorerState(param.Parameterized):
 
     @property
     def dx(self) -> float:
-        """Element width over the half-width a [-]."""
-        return 1.0 / self.resolution
+        """Element width over the half-width a [-] (of a point contact: ``1/point_resolution``)."""
+        return 1.0 / (self.point_resolution if self.point else self.resolution)
 
     def solver_options(self) -> dict:
-        """Keyword arguments of :func:`core.simulate_contact` (besides the contact)."""
+        """Keyword arguments of the run of :meth:`contact`: :func:`core.simulate_contact` for the cylinder,
+        :meth:`core.PointContact.simulate` for a point contact (no kernel: the half-space's)."""
+        if self.point:
+            return dict(periods=self.periods, dx=self.dx, shape=self.schedule)
         return dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
 
     def values(self) -> dict:
@@ -147,7 +188,7 @@ def _contact_inputs(contact: core.Contact) -> dict:
 
 
 _SIMULATION = _contact_inputs(core.PAPER_SIMULATION)
-_SOLVER_PAPER = dict(kernel="strip", schedule="triangle", periods=10)
+_SOLVER_PAPER = dict(body="cylinder", kernel="strip", schedule="triangle", periods=10)
 
 #: Named sets of inputs: the paper's simulation (eq 17), its experiment
 #: (Table 1) and the cases of its Figs 6 (shakedown) and 7 (ratcheting).

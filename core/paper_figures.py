@@ -46,7 +46,7 @@ from .solver import make_grid, shakedown_state, simulate_cycles, strip_options
 from .sweeps import SweepCancelled, numerical_limit_curve
 
 __all__ = ["FIGURES", "FiguresCancelled", "PAPER_W", "COMMAND", "paper_model", "stick_halfwidth_curves", "traction_profiles",
-           "shakedown_displacement_curves", "limit_curve", "limit_displacement_curve",
+           "shakedown_displacement_curves", "limit_curve", "limit_lines", "limit_displacement_curve",
            "ratchet_increment_curves", "compute", "save", "load", "main"]
 
 #: The amplitudes of the paper's Figs 6, 7, 12, 13 and 16.
@@ -335,7 +335,8 @@ def limit_curve(ft_values=tuple(np.round(np.linspace(0.1, 0.9, 9), 6)), tol=1e-3
     dict
         ``points``: ``ft``, ``w_shakedown``, ``w_ratcheting``, ``w_solver``
         (the bracket's midpoint), ``w_eq35`` and ``w_eq36`` at the same ``ft``;
-        ``line``: eq 35 and eq 36 on a fine grid; ``max_difference`` (solver -
+        ``line``: eq 35, eq 36 and the sphere's exact limit on a fine grid
+        (:func:`limit_lines`); ``max_difference`` (solver -
         eq 35), ``eq35_in_bracket`` (how many brackets contain eq 35, of how
         many) and ``max_regression_difference`` (eq 36 - eq 35 on the line).
     """
@@ -350,8 +351,7 @@ def limit_curve(ft_values=tuple(np.round(np.linspace(0.1, 0.9, 9), 6)), tol=1e-3
     points = {"ft": ft, "w_shakedown": table["w_shakedown"].to_numpy(float),
               "w_ratcheting": table["w_ratcheting"].to_numpy(float), "w_solver": table["w_limit"].to_numpy(float),
               "w_eq35": w_limit(ft), "w_eq36": approximations.w_limit_regression(ft)}
-    line_ft = np.linspace(0.0, 1.0, 101)
-    line = {"ft": line_ft, "w_eq35": w_limit(line_ft), "w_eq36": approximations.w_limit_regression(line_ft)}
+    line = limit_lines()
     return {"settings": {"ft_values": list(map(float, ft_values)), "tol": float(tol), "dx": float(dx),
                          "periods": periods, "k_eq36": approximations.W_LIMIT_REGRESSION_EXPONENT, **model},
             "points": {k: _round(v) for k, v in points.items()}, "line": {k: _round(v) for k, v in line.items()},
@@ -359,6 +359,24 @@ def limit_curve(ft_values=tuple(np.round(np.linspace(0.1, 0.9, 9), 6)), tol=1e-3
             "eq35_in_bracket": [int(np.sum((points["w_shakedown"] <= points["w_eq35"])
                                            & (points["w_eq35"] <= points["w_ratcheting"]))), len(ft)],
             "max_regression_difference": _round(_max_abs((line["w_eq36"], line["w_eq35"])))}
+
+
+def limit_lines(points: int = 101) -> dict:
+    """The limit lines of Fig 14 on ``points`` values of ``ft`` in [0, 1]: the cylinder's exact eq 35, the paper's
+    regression eq 36, and the sphere's exact limit ``ft_lim = (1 - w)^2 (2 + w)/2`` (that of every ellipsoid
+    rocked along a principal axis, :func:`core.point_contact.ft_limit_point`), which the paper's Fig 14 compares
+    with the cylinder's.
+
+    Examples
+    --------
+    >>> line = limit_lines(3)
+    >>> [round(float(v), 4) for v in line["w_sphere"]]
+    [1.0, 0.3473, 0.0]
+    """
+    points = check_int("points", points, 2, 10_001)
+    ft = np.linspace(0.0, 1.0, points)
+    return {"ft": ft, "w_eq35": w_limit(ft), "w_eq36": approximations.w_limit_regression(ft),
+            "w_sphere": w_limit(ft, body="sphere")}
 
 
 # --------------------------------------------------------------------------

@@ -12,7 +12,7 @@ import pytest
 from bokeh.model import Model
 
 import core
-from app import plots
+from app import plots, point_view
 from app.compare import MAX_PINS
 from app.explorer import Explorer
 from app.live import LiveFigure
@@ -240,16 +240,21 @@ def test_live_figures_show_what_a_fresh_render_shows():
     live = {name: LiveFigure(plots.specs(name, steps[0].units), plots.layers(name, steps[0]), plots.group(name))
             for name in plots.FIGURES}
     for inputs in steps:
-        for name, fig in live.items():
-            assert not fig.update(plots.specs(name, inputs.units), plots.layers(name, inputs))
-            fresh = hv.renderer("bokeh").get_plot(plots.figure(name, inputs))
-            for i, (mine, ref) in enumerate(zip(fig._subplots, fresh.subplots.values())):
-                a, b = mine.handles["source"].data, ref.handles["source"].data
-                assert a.keys() == b.keys(), (name, i)
-                for col in a:
-                    assert repr(np.asarray(a[col], dtype=object)) == repr(np.asarray(b[col], dtype=object)), \
-                        (name, i, col)
-                assert _glyph_props(mine.handles["glyph"]) == _glyph_props(ref.handles["glyph"]), (name, i)
+        _assert_live_is_fresh(live, inputs)
+
+
+def _assert_live_is_fresh(live, inputs):
+    """Each live figure, updated to ``inputs``, has the data and glyphs of a fresh render of them."""
+    for name, fig in live.items():
+        assert not fig.update(plots.specs(name, inputs.units), plots.layers(name, inputs))
+        fresh = hv.renderer("bokeh").get_plot(plots.figure(name, inputs))
+        for i, (mine, ref) in enumerate(zip(fig._subplots, fresh.subplots.values())):
+            a, b = mine.handles["source"].data, ref.handles["source"].data
+            assert a.keys() == b.keys(), (name, i)
+            for col in a:
+                assert repr(np.asarray(a[col], dtype=object)) == repr(np.asarray(b[col], dtype=object)), \
+                    (name, i, col)
+            assert _glyph_props(mine.handles["glyph"]) == _glyph_props(ref.handles["glyph"]), (name, i)
 
 
 def test_live_figure_is_rebuilt_for_new_axis_labels_only():
@@ -273,6 +278,7 @@ def test_explorer_pushes_only_what_changed():
     after = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
     changed = {name: [i for i, (a, b) in enumerate(zip(before[name], after[name])) if a is not b] for name in before}
     n_traction = len(before["traction"])
+    assert all(changed.pop(name) == [] for name in point_view.FIGURES)  # the sphere's figures: nothing (no ft)
     assert changed == {"pressure": [], "traction": [n_traction - 2 - MAX_PINS], "states": [], "displacement": [],
                        "increments": [], "map": [len(before["map"]) - 1]}
 
@@ -416,3 +422,175 @@ def test_slider_noise_is_rounded_away():
     s = ExplorerState()
     s.ft = 0.44000000000000006
     assert s.ft == 0.44 and repr(s.ft) == "0.44"
+
+
+# ---- issue 10: point contacts (sphere, ellipsoid) in the explorer --------------------------------------------
+_SPHERE = "?body=sphere&ft=0.6&w=0.3&point_resolution=6&periods=3"  # a coarse, short run (about a second)
+
+
+@pytest.fixture(scope="module")
+def sphere_explorer():
+    return Explorer(query=_SPHERE)
+
+
+def test_the_body_is_a_url_parameter_checked_like_the_others():
+    updates, errors, ignored = parse_query("?body=sphere&ft=0.6&w=0.3")
+    assert updates == {"body": "sphere", "ft": 0.6, "w": 0.3} and errors == [] and ignored == []
+    updates, errors, _ = parse_query("?body=ellipsoid&ratio=2.5&point_resolution=12")
+    assert updates == {"body": "ellipsoid", "ratio": 2.5, "point_resolution": 12} and errors == []
+    for query, name in (("?body=cube", "body"), ("?ratio=0.01", "ratio"), ("?ratio=25", "ratio"),
+                        ("?point_resolution=3", "point_resolution"), ("?point_resolution=41", "point_resolution"),
+                        ("?point_resolution=7.5", "point_resolution")):
+        updates, errors, _ = parse_query(query)
+        assert name not in updates and len(errors) == 1 and errors[0].startswith(name), (query, errors)
+    assert "cylinder, sphere, ellipsoid" in parse_query("?body=cube")[1][0]  # the message lists the bodies
+
+
+def test_a_point_body_makes_a_point_contact_with_its_own_grid():
+    s = ExplorerState(body="sphere", ft=0.6, w=0.3)
+    c = s.contact()
+    assert isinstance(c, core.PointContact) and c.Rx == c.Ry == pytest.approx(s.R * 1e-3)
+    assert c.ft == pytest.approx(0.6, abs=1e-12) and c.w == pytest.approx(0.3, abs=1e-12)
+    assert c.Fn == s.Fn and c.mu == s.mu and c.E2 == pytest.approx(s.E2 * 1e6) and math.isinf(c.E1)
+    assert s.solver_options() == {"periods": s.periods, "dx": 1 / s.point_resolution, "shape": s.schedule}
+    s.param.update(body="ellipsoid", ratio=2.5)
+    c = s.contact()
+    assert c.Ry / c.Rx == pytest.approx(2.5) and c.body.ratio == pytest.approx(2.5) and c.b > c.a
+    s.body = "cylinder"  # the cylinder keeps its own grid and kernel
+    assert isinstance(s.contact(), core.Contact) and s.solver_options()["dx"] == 1 / s.resolution
+    assert "kernel" in s.solver_options()
+
+
+def test_the_paper_presets_bring_back_the_cylinder():
+    s = ExplorerState(body="sphere")
+    s.apply_preset("Fig 6: ft = 0.08, w = 0.26")
+    assert s.body == "cylinder" and isinstance(s.contact(), core.Contact)
+
+
+def test_a_sphere_link_shows_the_spheres_verdict_limit_and_cards(sphere_explorer):
+    ex = sphere_explorer
+    r = ex.result
+    assert isinstance(r, core.PointContactResult) and r.body.name == "sphere" and r.dx == pytest.approx(1 / 6)
+    assert r.params["ft"] == 0.6 and r.params["w"] == 0.3 and r.periods == 3
+    badge = ex._badge(0.6, 0.3, r, "")
+    assert f'data-regime="{r.regime}"' in badge
+    # the sphere's exact limit, (1 - w)^2 (2 + w)/2 = 0.5635 < 0.6, predicts ratcheting (eq 35, 0.624, would not)
+    assert "sphere&#x27;s exact limit" in badge and "predicts ratcheting" in badge
+    cards = ex._cards(0.6, 0.3, ex.state.mu, ex.contact, r)
+    assert "0.5635" in cards and "0.6238" in cards and "b (semi-axis along y)" in cards
+    assert f"{r.increment_per_period[-1]:.3g}" in cards
+    assert "release the slider" in ex._cards(0.5, 0.3, ex.state.mu, ex.contact, r)  # not this run's inputs
+
+
+def test_point_figures_draw_point_runs_and_the_cylinders_figures_do_not(sphere_explorer):
+    ex = sphere_explorer
+    r = ex.result
+    u = plots.make_units("normalised", None, "plane")
+    run, empty = plots.Inputs(0.6, 0.3, u, r, 4), plots.Inputs(0.6, 0.3, u)
+    for name in plots.FIGURES:  # the same layers with and without a run, of either kind
+        assert _layers(plots.figure(name, empty)) == _layers(plots.figure(name, run)), name
+    assert plots.layers("pressure", run) == plots.layers("pressure", empty)  # no sphere run on a cylinder figure
+    assert [point_view.shown(n, "sphere") for n in ("pressure", "map", "point_pressure")] == [False, True, True]
+    assert [point_view.shown(n, "cylinder") for n in ("pressure", "map", "point_pressure")] == [True, True, False]
+    (p, bounds), edge = point_view.pressure_map(u, r, 4)
+    ny, nx = r.y_edges.size - 1, r.x_edges.size - 1
+    assert p.shape == (ny, nx) and bounds == (r.x_edges[0], r.y_edges[0], r.x_edges[-1], r.y_edges[-1])
+    assert np.nanmax(p) <= 1.0 and np.nanmax(np.abs(np.flipud(p) - np.where(r.pressure(4) > 0, r.pressure(4), np.nan))) == 0
+    assert 0.5 * (edge[0].max() + edge[0].min()) == pytest.approx(r.xc[4], abs=1e-9)  # the edge at the step's centre
+    # traction and zones: the last stored full field at or before the step
+    j = point_view.stored_step(r, 4)
+    assert r.snapshot_steps[j] <= 4 < (r.snapshot_steps[j + 1] if j + 1 < r.snapshot_steps.size else 10**9)
+    (q, _), _ = point_view.traction_map(u, r, 4)
+    mag = np.hypot(*r.traction_snapshots[j])
+    assert np.nanmax(np.flipud(q)) == pytest.approx(mag.max()) and np.nanmax(q) <= 1.0 + 1e-9
+    (zones, _), _ = point_view.zone_map(u, r, 4)
+    assert set(np.unique(zones)) <= {0, 1, 2, 3, 4} and (zones >= 2).sum() == (r.state_snapshots[j] > 0).sum()
+    # the cut along y = 0: the numerical traction of the step itself, inside the Hertz bound
+    *_, (xs, up), _, (_, qy), (ex_, qx) = point_view.cut_layers(u, r, 4)
+    assert np.allclose(qx[::2], r.traction_cut[4, 0]) and np.allclose(qy[::2], r.traction_cut[4, 1])
+    assert up.max() == pytest.approx(1.0, abs=1e-3)
+    # displacement per period
+    periods, inc = point_view.increment_layers(u, r)[0]
+    assert list(periods) == [1, 2, 3] and np.allclose(inc, np.abs(r.increment_per_period))
+
+
+def test_point_live_figures_show_what_a_fresh_render_shows(sphere_explorer):
+    """In-place updates of the point-contact figures equal fresh renders, through player steps and runs."""
+    ex = sphere_explorer
+    r1 = ex.result
+    r2 = core.simulate_cycles(0.2, 0.5, periods=2, dx=0.25, body="ellipsoid", ratio=2.0)
+    u = plots.make_units("normalised", None, "plane")
+    steps = [plots.Inputs(0.6, 0.3, u), plots.Inputs(0.6, 0.3, u, r1, None), plots.Inputs(0.6, 0.3, u, r1, 2),
+             plots.Inputs(0.2, 0.5, u, r2, 7), plots.Inputs(0.2, 0.5, u)]
+    names = list(point_view.FIGURES)
+    live = {n: LiveFigure(plots.specs(n, u), plots.layers(n, steps[0]), plots.group(n)) for n in names}
+    for inputs in steps:
+        _assert_live_is_fresh(live, inputs)
+
+
+def test_switching_bodies_solves_the_new_body_and_shows_its_figures():
+    ex = Explorer(query="?ft=0.6&w=0.3&periods=2&point_resolution=5")
+    ex.figures()
+    assert isinstance(ex.result, core.CycleResult) and "eq 35 predicts shakedown" in ex._badge(0.6, 0.3, ex.result, "")
+    ex.state.body = "sphere"
+    assert isinstance(ex.result, core.PointContactResult) and ex.error == ""
+    src = ex._live["point_pressure"].sources()[0]
+    assert np.asarray(src.data["image"][0]).shape == (ex.result.y_edges.size - 1, ex.result.x_edges.size - 1)
+    assert ex._live["traction"].sources()[-1].data["q"].size == 0  # the cylinder's traction figure is empty
+    ex.state.units = "physical"  # physical units from the point contact: a in mm, displacements in µm
+    assert ex.plot_units.x == pytest.approx(ex.contact.a * 1e3) and ex.plot_units.u_label == "U [µm]"
+    ex.state.param.update(body="ellipsoid", ratio=2.0)
+    assert ex.result.body.ratio == 2.0
+    ex.state.body = "cylinder"
+    assert isinstance(ex.result, core.CycleResult)
+
+
+def test_point_runs_are_cached_and_downloaded(sphere_explorer):
+    from app import runs
+
+    ex = sphere_explorer
+    r = ex.result
+    keys = {runs.run_key(ExplorerState(body=b, ratio=2.0).contact(), {}) for b in ("sphere", "ellipsoid", "cylinder")}
+    assert len(keys) == 3
+    assert result_nbytes(r) >= r.traction_snapshots.nbytes
+    ex.csv_table.value = "periods"
+    text = ex._csv().read()
+    rows = [line for line in text.splitlines() if not line.startswith("#")]
+    assert rows[0] == "period,increment" and len(rows) == 1 + r.periods
+    assert float(rows[-1].split(",")[1]) == pytest.approx(r.increment_per_period[-1], rel=1e-9)
+    ex.csv_table.value = "steps"
+    assert len(ex._csv().read().splitlines()) == 2 + r.xc.size
+    import json
+    data = json.loads(ex._json().read())
+    assert data["body"] == "sphere" and data["regime"] == r.regime and len(data["increment_per_period"]) == r.periods
+
+
+def test_fig14_and_the_map_show_both_bodies_exact_limits():
+    from app import paper_figures as apf
+    from core import paper_figures as pf
+
+    line = apf.shipped_data()["figures"]["fig14"]["line"]
+    ft = np.array(line["ft"])
+    np.testing.assert_allclose(line["w_sphere"], core.w_limit(ft, body="sphere"), atol=1e-6)
+    np.testing.assert_allclose(pf.limit_lines(len(ft))["w_sphere"], line["w_sphere"], atol=1e-6)
+    # the sphere's limit lies below the cylinder's (eq 35) at every amplitude
+    inner = (ft > 0) & (ft < 1)
+    assert np.all(np.array(line["w_sphere"])[inner] < np.array(line["w_eq35"])[inner])
+    labels = [e.label for e in apf.figure("fig14", apf.shipped_data())]
+    assert any(lab.startswith("sphere, ellipsoid") for lab in labels) and "exact limit eq 35" in labels
+    curves = {e.label: e for e in plots.map_base() if isinstance(e, hv.Curve)}
+    np.testing.assert_allclose(curves["sphere, ellipsoid (exact)"].dimension_values(1),
+                               core.w_limit(curves["sphere, ellipsoid (exact)"].dimension_values(0), body="sphere"))
+
+
+def test_the_map_draws_only_the_current_bodys_sweep(sphere_explorer):
+    ex = sphere_explorer
+    u = plots.make_units("normalised", None, "plane")
+    n_runs = sum(len(layer.data[0]) for layer in plots.map_numerical(ex.map_table)[:3])
+    assert n_runs == len(ex.map_table) > 0  # the shipped (cylinder) map
+    sphere = plots.layers("map", plots.Inputs(0.6, 0.3, u, ex.result, None, ex.map_table))
+    assert all(len(layer.data[0]) == 0 for layer in sphere[:3])  # not beside a sphere's run
+    assert sphere[-1].data == ([0.6], [0.3])  # the current point is drawn, coloured by the sphere's regime
+    assert sphere[-1].glyph["fill_color"] == plots.REGIME_COLORS[ex.result.regime]
+    # a map computed for the sphere sweeps the sphere on its coarse grid
+    assert ex._map_options() == {"periods": 3, "dx": 1 / 6, "shape": "triangle", "body": "sphere", "ratio": None}

@@ -1,0 +1,457 @@
+"""The explorer's view of point contacts (the rocking sphere and ellipsoid): figures, cards, body inputs.
+
+The figures join :data:`app.plots.FIGURES` (so the explorer renders and
+updates them like its own, :class:`app.live.LiveFigure`): the pressure and
+the traction as maps over the contact plane at the player's step, the
+element zones (stick, slip, released) as a map, the cut along ``y = 0``
+beside the closed forms, the displacement over the run and per period.
+Adding a figure is one layers function under :func:`_figure` (with its
+specs) here and one layout line in :meth:`app.explorer.Explorer.explorer_tab`.
+
+A figure's ``result`` entry names the kind of run it draws
+(:class:`core.CycleResult` for the cylinder's figures, by default,
+:class:`core.PointContactResult` here): :func:`app.plots.layers` hands it no
+run of another kind, and :func:`shown` tells the layout which figures a body
+shows.
+
+Full fields of a point-contact run are stored by :mod:`core.solver3d` at the
+end of the loading, at every turning point and at the last step; the maps of
+the traction and of the zones show the last stored step at or before the
+player's (their title says which), while the pressure map and the cut along
+``y = 0`` are those of the player's step itself.
+
+No physics here: every number comes from :mod:`core`.
+"""
+
+from __future__ import annotations
+
+import functools
+import html
+import io
+import json
+import math
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+
+import core
+from core.point_contact import hertz_pressure_3d
+
+from . import plots
+from .live import Layer, Styled
+from .plots import LINE, OKABE_ITO as _C, ZONE_COLORS, ZONE_HATCH, Units
+from .state import POINT_RESOLUTION
+
+__all__ = ["FIGURES", "shown", "prediction", "limit_name", "cards", "cards_html", "body_inputs", "stored_step", "zone_codes",
+           "pressure_map", "traction_map", "zone_map", "cut_layers", "displacement_layers", "increment_layers",
+           "to_csv", "to_json", "ZONE_NAMES"]
+
+#: Zones of the zone map, by code: never in contact, released (in contact earlier, not now), stick, slip.
+ZONE_NAMES = ("never in contact", "released", "stick", "slip +x", "slip −x")
+_ZONE_PALETTE = ("#ffffff", ZONE_COLORS["zero traction"], ZONE_COLORS["stick"], ZONE_COLORS["slip"], _C["purple"])
+_EMPTY = (np.zeros(0), np.zeros(0))
+_NO_IMAGE = (np.zeros((2, 2)), (-1.0, -1.0, 1.0, 1.0))
+_MAP = {"height": 430}  # maps: a little lower than the curves (they have a colour bar)
+
+#: The figures of point contacts (merged into :data:`app.plots.FIGURES` on import).
+FIGURES: dict = {}
+
+
+def _figure(name, title, caption, inputs, specs, **opts):
+    """Register the decorated layers function as figure ``name`` (drawn for point-contact runs)."""
+    def register(layers):
+        FIGURES[name] = dict(opts=dict(title=title, **opts), caption=caption, specs=specs, layers=layers,
+                             inputs=inputs, result=core.PointContactResult)
+        return layers
+    return register
+
+
+def shown(name: str, body: str) -> bool:
+    """Whether figure ``name`` of :data:`app.plots.FIGURES` applies to ``body`` (its ``result`` kind)."""
+    kinds = plots.FIGURES[name].get("result", core.CycleResult)
+    kinds = kinds if isinstance(kinds, tuple) else (kinds,)
+    return (core.CycleResult if body == "cylinder" else core.PointContactResult) in kinds
+
+
+# --------------------------------------------------------------------------
+# labels and steps
+# --------------------------------------------------------------------------
+def _labels(units: Units) -> dict:
+    """Axis labels of point-contact figures (lengths in a, tractions in mu p0, displacements in mu Fn/(E* a))."""
+    physical = units.system == "physical"
+    return dict(x=units.x_label, y="y [mm]" if physical else "y / a", p=units.p_label, q=units.q_label,
+                u="U along Ft [µm]" if physical else "u along Ft [μ Fn/(E* a)]")
+
+
+def _step(result, frame) -> int:
+    last = result.xc.size - 1
+    return last if frame is None else int(np.clip(frame, 0, last))
+
+
+def stored_step(result: core.PointContactResult, step: int) -> int:
+    """Index into ``result.snapshot_steps`` of the last stored full field at or before ``step``."""
+    return max(0, int(np.searchsorted(result.snapshot_steps, step, side="right")) - 1)
+
+
+def _bounds(result, units: Units) -> tuple:
+    X = units.x
+    return (result.x_edges[0] * X, result.y_edges[0] * X, result.x_edges[-1] * X, result.y_edges[-1] * X)
+
+
+def _outline(result, step, units: Units) -> tuple:
+    """The contact ellipse at ``step`` (semi-axes ``s`` and ``kappa s``, ``s`` the load scale)."""
+    t = np.linspace(0.0, 2.0 * np.pi, 121)
+    s = float(result.P[step]) ** (1.0 / 3.0)
+    return ((float(result.xc[step]) + s * np.cos(t)) * units.x, result.body.kappa * s * np.sin(t) * units.x)
+
+
+def _image_spec(units, name, label, cmap, clim=None, **opts) -> Layer:
+    lab = _labels(units)
+    vd = hv.Dimension(name, label=label, range=clim or (None, None))
+    style = dict(cmap=cmap, colorbar=True, colorbar_opts={"title": label}, **opts)
+    if clim is not None:
+        style["clim"] = clim
+    return Layer(hv.Image, (hv.Dimension("x", label=lab["x"]), hv.Dimension("y", label=lab["y"])), (vd,), "", style)
+
+
+def _outline_spec(units) -> Layer:
+    lab = _labels(units)
+    return Layer(hv.Curve, (hv.Dimension("x", label=lab["x"]),), (hv.Dimension("y", label=lab["y"]),),
+                 "contact edge (this step)", dict(color="black", line_width=2))
+
+
+# --------------------------------------------------------------------------
+# the maps
+# --------------------------------------------------------------------------
+@functools.lru_cache(maxsize=8)
+def pressure_map(units: Units, result=None, frame=None) -> tuple:
+    """The element pressure at the player's step [``units.p``] as an image, and the contact edge."""
+    if result is None:
+        return _NO_IMAGE, _EMPTY
+    k = _step(result, frame)
+    p = np.where(result.pressure(k) > 0, result.pressure(k) * units.p, np.nan)
+    return (np.flipud(p), _bounds(result, units)), _outline(result, k, units)
+
+
+@functools.lru_cache(maxsize=8)
+def traction_map(units: Units, result=None, frame=None) -> tuple:
+    """``|q|`` of the last stored step at or before the player's [``units.q``], and that step's contact edge."""
+    if result is None:
+        return _NO_IMAGE, _EMPTY
+    j = stored_step(result, _step(result, frame))
+    q = result.traction_snapshots[j]
+    mag = np.hypot(q[0], q[1])
+    mag = np.where(result.state_snapshots[j] > 0, mag * units.q, np.nan)
+    return (np.flipud(mag), _bounds(result, units)), _outline(result, int(result.snapshot_steps[j]), units)
+
+
+def zone_codes(result: core.PointContactResult, j: int) -> np.ndarray:
+    """Zone code per element of stored field ``j`` (see :data:`ZONE_NAMES`): 0 never in contact at a stored
+    step, 1 released, 2 stick, 3 slip +x, 4 slip −x."""
+    states = result.state_snapshots
+    ever = (states != 0).any(axis=0)
+    s = states[j]
+    return np.where(s > 0, s + 1, np.where(ever, 1, 0)).astype(np.int8)
+
+
+@functools.lru_cache(maxsize=8)
+def zone_map(units: Units, result=None, frame=None) -> tuple:
+    """Zones of the last stored step at or before the player's, as an image, and that step's contact edge."""
+    if result is None:
+        return (np.zeros((2, 2)), (-1.0, -1.0, 1.0, 1.0)), _EMPTY
+    j = stored_step(result, _step(result, frame))
+    return ((np.flipud(zone_codes(result, j)), _bounds(result, units)),
+            _outline(result, int(result.snapshot_steps[j]), units))
+
+
+def _zone_colorbar(plot, element) -> None:
+    """Name the zones on the colour bar (a hook: a new ticker model in every render, none shared)."""
+    from bokeh.models import FixedTicker
+
+    bar = plot.handles.get("colorbar")
+    if bar is not None:
+        bar.ticker = FixedTicker(ticks=list(range(len(ZONE_NAMES))))
+        bar.major_label_overrides = dict(enumerate(ZONE_NAMES))
+
+
+def _pressure_specs(units):
+    return [_image_spec(units, "p", units.p_label, "viridis", clim=(0.0, units.p)), _outline_spec(units)]
+
+
+def _traction_specs(units):
+    return [_image_spec(units, "q", f"|q|, {units.q_label}", "magma", clim=(0.0, units.q)), _outline_spec(units)]
+
+
+def _zone_specs(units):
+    n = len(ZONE_NAMES)
+    return [_image_spec(units, "zone", "zone", list(_ZONE_PALETTE), clim=(-0.5, n - 0.5), hooks=[_zone_colorbar]),
+            _outline_spec(units)]
+
+
+_COARSE = (f"Point contacts run on a coarse grid by default (dx = a/{POINT_RESOLUTION}, so that a run stays "
+           "short); refine it under 'Body'.")
+
+
+@_figure("point_pressure", "Pressure at the player's step (Hertz, uncoupled)",
+         "What you see: the Hertz pressure over the contact plane at the player's step; the rocking moves it "
+         "along x. " + _COARSE, ("units", "result", "frame"), _pressure_specs, **_MAP)
+def _pressure_layers(i):
+    return pressure_map(i.units, i.result, i.frame)
+
+
+@_figure("point_traction", "Traction |q| (last turning point up to the step)",
+         "What you see: the size of the tangential traction at the last stored step (loading end, turning "
+         "points, last step) at or before the player's; it stays inside μ p.", ("units", "result", "frame"),
+         _traction_specs, **_MAP)
+def _traction_layers(i):
+    return traction_map(i.units, i.result, i.frame)
+
+
+@_figure("point_zones", "Stick, slip and released zones (last turning point up to the step)",
+         "What you see: where the contact sticks, slips (+x or −x) or has been released, at the same stored "
+         "step as the traction map; at shakedown nothing slips any more.", ("units", "result", "frame"),
+         _zone_specs, **_MAP)
+def _zone_layers(i):
+    return zone_map(i.units, i.result, i.frame)
+
+
+# --------------------------------------------------------------------------
+# the cut along y = 0
+# --------------------------------------------------------------------------
+def _cut_specs(units):
+    lab = _labels(units)
+    kd, vd = hv.Dimension("x", label=lab["x"]), hv.Dimension("q", label=f"q on y = 0, {units.q_label}")
+    zones = [Layer(hv.Rectangles, (kd, vd, "x1", "y1"), (), f"zone: {name}",
+                   dict(color=ZONE_COLORS[name], alpha=0.18, line_alpha=0,
+                        hooks=[plots._hatch(ZONE_HATCH[name], ZONE_COLORS[name])]))
+             for name in ("stick", "slip", "zero traction")]
+
+    def line(label, color, dash="solid", width=LINE):
+        return Layer(hv.Curve, (kd,), (vd,), label, dict(color=color, line_dash=dash, line_width=width))
+    return [*zones,
+            line("±μ p (Hertz, this step)", "#555555", "dashed", 2), line("", "#555555", "dashed", 2),
+            line("±μ p_min (exact bound of shakedown)", "black", "dotted", 2), line("", "black", "dotted", 2),
+            line("q_y numerical", _C["sky"], width=2), line("q_x numerical", _C["vermillion"])]
+
+
+@functools.lru_cache(maxsize=8)
+def cut_layers(units: Units, result=None, frame=None) -> tuple:
+    """On ``y = 0`` at the player's step: zones (stick, slip, released), ±μ p (Hertz, closed form), and the
+    numerical ``q_y`` and ``q_x`` as stairs over the elements."""
+    if result is None:
+        return ([], [], [], _EMPTY, _EMPTY, _EMPTY, _EMPTY)
+    k = _step(result, frame)
+    Q, X = units.q, units.x
+    s = result.state_cut[k]
+    ever = (result.state_cut != 0).any(axis=0)
+    codes = np.where(s == 1, 1, np.where(s >= 2, 2, np.where(ever, 3, 0)))
+    zones = plots._zone_rectangles(result.x_edges, codes, 1.15 * Q, X)
+    x = np.linspace(result.x_edges[0], result.x_edges[-1], 401)
+    scale = float(result.P[k]) ** (1.0 / 3.0)
+    p = scale * hertz_pressure_3d(x / scale, 0.0, float(result.xc[k]) / scale, result.body.kappa)
+    edges = np.repeat(result.x_edges * X, 2)[1:-1]
+    q = result.traction_cut[k]
+    return (*zones, (x * X, Q * p), (x * X, -Q * p), (edges, np.repeat(Q * q[1], 2)), (edges, np.repeat(Q * q[0], 2)))
+
+
+@functools.lru_cache(maxsize=8)
+def _pmin_cut(w: float, units: Units, reach: float) -> tuple:
+    """±μ p_min on ``y = 0``: the lower of the Hertz pressures at the turning points ``±w`` (closed form)."""
+    x = np.linspace(-reach, reach, 401)
+    low = units.q * np.minimum(hertz_pressure_3d(x, 0.0, -w), hertz_pressure_3d(x, 0.0, w))
+    return (x * units.x, low), (x * units.x, -low)
+
+
+@_figure("point_cut", "Cut along y = 0 at the player's step",
+         "What you see: the traction on the line y = 0 at the player's step (stairs: elements) inside ±μ p, and "
+         "±μ p_min, the exact bound a shaken-down traction stays within; shaded: stick, slip (hatched), released.",
+         ("w", "units", "result", "frame"), _cut_specs)
+def _cut_layers(i):
+    *zones, up, down, qy, qx = cut_layers(i.units, i.result, i.frame)
+    reach = 1.0 + i.w if i.result is None else float(max(abs(i.result.x_edges[0]), i.result.x_edges[-1]))
+    return (*zones, up, down, *_pmin_cut(float(i.w), i.units, reach), qy, qx)
+
+
+# --------------------------------------------------------------------------
+# displacement and increments
+# --------------------------------------------------------------------------
+def _along(result) -> np.ndarray:
+    """The rigid-body displacement along Ft after each step [mu Fn/(E* a)]."""
+    return result.displacement @ np.array([math.cos(result.angle), math.sin(result.angle)])
+
+
+def _displacement_specs(units):
+    lab = _labels(units)
+    kd, vd = hv.Dimension("t", label="time [periods]"), hv.Dimension("u", label=lab["u"])
+    return [Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=LINE)),
+            Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color=_C["yellow"], size=12, line_color="black"))]
+
+
+@functools.lru_cache(maxsize=8)
+def displacement_layers(units: Units, result=None, frame=None) -> tuple:
+    """The displacement along Ft over the run, and the player's step on it."""
+    if result is None:
+        return _EMPTY, _EMPTY
+    t, u = plots.time_axis(result), _along(result) * units.u
+    k = _step(result, frame)
+    return (t, u), ([t[k]], [u[k]])
+
+
+@_figure("point_displacement", "Displacement of the body along Ft",
+         "What you see: the body's rigid-body displacement along Ft over the periods: it levels off (shakedown) "
+         "or keeps walking (ratcheting).", ("units", "result", "frame"), _displacement_specs)
+def _displacement_layers(i):
+    return displacement_layers(i.units, i.result, i.frame)
+
+
+def _increments_specs(units):
+    lab = _labels(units)
+    kd, vd = hv.Dimension("period", label="period"), hv.Dimension("du", label=f"|Δ{lab['u']}| per period")
+    return [Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=2)),
+            Layer(hv.Scatter, (kd,), (vd,), "", dict(color=_C["vermillion"], size=9))]
+
+
+@functools.lru_cache(maxsize=8)
+def increment_layers(units: Units, result=None) -> tuple:
+    """|Displacement increment per period| along Ft (curve and markers; floored for the log scale)."""
+    if result is None:
+        return _EMPTY, _EMPTY
+    inc = np.abs(result.increment_per_period) * abs(units.u)
+    top = float(inc.max()) if inc.size and inc.max() > 0 else 1.0
+    pts = (np.arange(1, inc.size + 1), np.maximum(inc, top * 1e-12))
+    return pts, pts
+
+
+@_figure("point_increments", "Displacement per period (log scale)",
+         "What you see: how far the body walks along Ft in each period (from 1); it falls to zero at shakedown "
+         "and settles at a constant step when it ratchets.", ("units", "result"), _increments_specs, logy=True)
+def _increment_layers(i):
+    return increment_layers(i.units, i.result)
+
+
+plots.FIGURES.update(FIGURES)
+hv.opts.defaults(*[hv.opts.Overlay(plots.group(name), legend_position="bottom", legend_cols=2, **{
+    **plots._BASE, **f["opts"]}) for name, f in FIGURES.items()])
+
+
+# --------------------------------------------------------------------------
+# the verdict, the cards, the inputs
+# --------------------------------------------------------------------------
+def limit_name(body: str) -> str:
+    """How the exact limit of ``body`` is cited."""
+    return "eq 35" if body == "cylinder" else f"the {body}'s exact limit (1 − w)²(2 + w)/2"
+
+
+def prediction(ft: float, w: float, body: str) -> tuple[str, str]:
+    """The regime the exact limit of ``body`` predicts for ``ft``, ``w``, and how that limit is cited."""
+    if body == "cylinder":
+        return str(core.classify_regime(ft, w)), limit_name(body)
+    lim = float(core.ft_limit(w, body=body))
+    return ("shakedown" if ft <= lim else "ratcheting"), limit_name(body)
+
+
+def _fmt(v, unit="", digits=4) -> str:
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "–"
+    return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
+
+
+def cards(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, body="sphere") -> str:
+    """The summary cards of a point contact (HTML): the inputs in physical units, the exact limits of this
+    body and of the cylinder (eq 35), and the run's numbers (``wait``: why they are not shown, or None)."""
+    rows = []
+    c = None
+    if contact is not None:
+        import dataclasses
+        c = dataclasses.replace(contact, mu=mu, Ft=ft * mu * contact.Fn)
+        c = dataclasses.replace(c, W=w * c.a)
+        rows += [("Ft (tangential force)", _fmt(c.Ft, "N")), ("W (rocking amplitude)", _fmt(c.W * 1e6, "µm")),
+                 ("a (semi-axis along x)", _fmt(c.a * 1e3, "mm")), ("b (semi-axis along y)", _fmt(c.b * 1e3, "mm")),
+                 ("p0 (peak pressure)", _fmt(c.p0 / 1e6, "MPa")), ("ν of the half-space kernel", _fmt(c.nu, "", 3))]
+    lim, wlim = float(core.ft_limit(w, body=body)), float(core.w_limit(ft, body=body))
+    rows += [(f"ft_lim(w), {body} (exact)", _fmt(lim)), (f"w_lim(ft), {body} (exact)", _fmt(wlim)),
+             ("ft_lim(w), cylinder (eq 35)", _fmt(float(core.ft_limit(w)))),
+             ("margin ft / ft_lim", _fmt(ft / lim, "", 3) if lim > 0 else "–"),
+             ("margin w / w_lim", _fmt(w / wlim, "", 3) if wlim > 0 else "–")]
+    if wait:
+        rows += [("c_sd numerical (y = 0)", wait), ("Δu last period", wait), ("solve", wait)]
+    else:
+        physical = units == "physical" and c is not None
+        scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
+        rows.append(("c_sd numerical (y = 0)", _fmt(result.stick_halfwidth * scale, unit, 3)))
+        inc = float(result.increment_per_period[-1])
+        if physical:
+            um = inc * c.displacement_unit * 1e6
+            rows += [("creep per period (last)", _fmt(um, "µm", 3)),
+                     ("creep after 10⁶ periods", _fmt(um * cycles / 1e3, "mm", 3))]
+        else:
+            rows.append(("Δu last period", f"{inc:.3g} μFn/(E*a)"))
+        nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
+        rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{round(1 / result.dx):d}), "
+                              f"{result.xc.size} steps"))
+    return cards_html(rows, wait)
+
+
+def cards_html(rows, wait=None) -> str:
+    """Summary cards (HTML) of ``(name, value)`` rows; values equal to ``wait`` are shown as pending."""
+    body = "".join(
+        f"<div><span class='k'>{html.escape(k)}</span><span class='v{' pending' if v == wait else ''}'>"
+        f"{html.escape(v)}</span></div>" for k, v in rows)
+    return f"<div class='cards'>{body}</div>"
+
+
+def body_inputs(state) -> list:
+    """The body selector, the ellipsoid's ratio and the point-contact grid (widgets over ``state``)."""
+    from .explorer import IntSlider  # the explorer's prompt slider (no 50 ms wait)
+
+    select = pn.widgets.RadioButtonGroup.from_param(state.param.body, button_type="primary", button_style="outline",
+                                                    sizing_mode="stretch_width", css_classes=["body-select"])
+    ratio = pn.widgets.FloatInput.from_param(state.param.ratio, sizing_mode="stretch_width",
+                                             visible=state.param.body.rx() == "ellipsoid")
+    grid = IntSlider.from_param(state.param.point_resolution, sizing_mode="stretch_width", throttled=True,
+                                visible=state.param.body.rx() != "cylinder")
+    note = pn.pane.Markdown(
+        "Sphere and ellipsoid: R is the radius along the rocking direction x; a coarse grid by default "
+        f"(dx = a/{POINT_RESOLUTION}) keeps a run short; refine it for converged numbers.", styles={"font-size": "13px"}, margin=(0, 10),
+        visible=state.param.body.rx() != "cylinder")
+    return [pn.pane.Markdown("### Body"), select, ratio, grid, note]
+
+
+# --------------------------------------------------------------------------
+# downloads
+# --------------------------------------------------------------------------
+def to_csv(result: core.PointContactResult, table: str = "steps") -> str:
+    """A point-contact run as CSV: ``"steps"`` (centre, displacement), ``"periods"`` (increments) or
+    ``"final"`` (the final traction and state on ``y = 0``); normalised units, in the header."""
+    head = (f"# point contact: {result.body.name}, Ry/Rx = {result.body.ratio:g}; lengths in a, tractions in "
+            f"mu p0, displacements in mu Fn/(E* a)\n")
+    buf = io.StringIO()
+    buf.write(head)
+    if table == "periods":
+        buf.write("period,increment\n")
+        for n, inc in enumerate(result.increment_per_period, start=1):
+            buf.write(f"{n},{inc:.10g}\n")
+    elif table == "final":
+        buf.write("x,qx,qy,state\n")
+        q, s = result.traction_cut[-1], result.state_cut[-1]
+        for x, qx, qy, st in zip(result.x, q[0], q[1], s):
+            buf.write(f"{x:.10g},{qx:.10g},{qy:.10g},{int(st)}\n")
+    else:
+        buf.write("step,period,xc,ux,uy,dissipation\n")
+        for k in range(result.xc.size):
+            ux, uy = result.displacement[k]
+            buf.write(f"{k},{int(result.period[k])},{result.xc[k]:.10g},{ux:.10g},{uy:.10g},"
+                      f"{result.dissipation[k]:.10g}\n")
+    return buf.getvalue()
+
+
+def to_json(result: core.PointContactResult) -> str:
+    """A point-contact run's summary and per-period increments as JSON (normalised units)."""
+    def plain(v):
+        if isinstance(v, np.generic):
+            v = v.item()
+        return None if isinstance(v, float) and not math.isfinite(v) else v
+    out = {k: plain(v) for k, v in result.summary().items()}
+    out["increment_per_period"] = [plain(v) for v in result.increment_per_period]
+    return json.dumps(out, indent=1)
