@@ -274,7 +274,8 @@ def test_explorer_pushes_only_what_changed():
     changed = {name: [i for i, (a, b) in enumerate(zip(before[name], after[name])) if a is not b] for name in before}
     n_traction = len(before["traction"])
     assert changed == {"pressure": [], "traction": [n_traction - 2 - MAX_PINS], "states": [], "displacement": [],
-                       "increments": [], "map": [len(before["map"]) - 1]}
+                       "increments": [], "map": [len(before["map"]) - 1],
+                       "sketch": []}
 
 
 def test_a_new_run_pushes_only_the_layers_of_the_run():
