@@ -294,6 +294,9 @@ class Explorer(pn.viewable.Viewer):
             IntSlider.from_param(s.param.resolution, **slider),
             pn.widgets.RadioButtonGroup.from_param(s.param.kernel, sizing_mode="stretch_width"),
             pn.widgets.RadioButtonGroup.from_param(s.param.schedule, sizing_mode="stretch_width"),
+            pn.widgets.RadioButtonGroup.from_param(s.param.loading, sizing_mode="stretch_width"),
+            FloatSlider.from_param(s.param.amplitude, visible=s.param.loading.rx() == "normal", **slider),
+            FloatSlider.from_param(s.param.phase, visible=s.param.loading.rx() == "normal", **slider),
         ]
         self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, visible=False,
                                                     css_classes=["solve-spinner"])
@@ -794,6 +797,10 @@ class Explorer(pn.viewable.Viewer):
         if w > 0.95:
             out.append(f"w = {w:.2f}: b = a − W = {1 - w:.2f} a is tiny; the always-in-contact band spans "
                        f"{(1 - w) / self.state.dx * 2:.0f} elements.")
+        if result is not None and result.params.get("history") == "normal":
+            out.append(f"the normal force oscillates by ±{100 * float(result.params.get('amplitude', 0)):.0f} %: "
+                       "eq 35, the closure and the Hertz curves are those of the mean force; the solver's "
+                       "verdict is the one to trust.")
         if result is not None:
             n_b = 2 * (1 - float(result.params.get("w", w))) / result.dx
             if n_b < 8:

@@ -101,6 +101,17 @@ class ExplorerState(param.Parameterized):
                                 "or 'plane' (plane strain; displacement defined up to a constant).")
     schedule = param.Selector(default="triangle", objects=["triangle", "sine"], label="Rocking waveform",
                               doc="Waveform of the rocking motion of the contact centre: 'triangle' (the paper's) or 'sine'.")
+    loading = param.Selector(default="rocking", objects=["rocking", "normal"], label="Loading (cylinder)",
+                             doc="Loading history of a cylinder: 'rocking' under constant loads (the paper's) or "
+                                 "'normal': the same rocking under an oscillating normal force "
+                                 "Fn (1 + amplitude sin(2 pi t + phase)) (core.histories). Point contacts rock.")
+    amplitude = param.Number(0.2, bounds=(0.0, 1.0), inclusive_bounds=(True, False), softbounds=(0.0, 0.9),
+                             step=0.05, label="Normal-force amplitude ΔFn/Fn",
+                             doc="Amplitude of the oscillating normal force over its mean [-], in [0, 1); "
+                                 "used with loading = 'normal'.")
+    phase = param.Number(0.0, bounds=(-180.0, 180.0), step=15.0, label="Phase of Fn to the rocking [°]",
+                         doc="Phase of the normal force's oscillation to the rocking [deg], in [-180, 180]; "
+                             "used with loading = 'normal'.")
     # ---- view -------------------------------------------------------------
     units = param.Selector(default="normalised", objects=["normalised", "physical"], label="Units",
                            doc="Plot units: 'normalised' (x/a, p/p0, q/(μ p0), u in μP/E* or U/U0) "
@@ -158,7 +169,10 @@ class ExplorerState(param.Parameterized):
         :meth:`core.PointContact.simulate` for a point contact (no kernel: the half-space's)."""
         if self.point:
             return dict(periods=self.periods, dx=self.dx, shape=self.schedule)
-        return dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
+        options = dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
+        if self.loading == "normal":
+            options.update(history="normal", amplitude=self.amplitude, phase=math.radians(self.phase))
+        return options
 
     def values(self) -> dict:
         """The URL-synced parameters and their current values."""

@@ -594,3 +594,26 @@ def test_the_map_draws_only_the_current_bodys_sweep(sphere_explorer):
     assert sphere[-1].glyph["fill_color"] == plots.REGIME_COLORS[ex.result.regime]
     # a map computed for the sphere sweeps the sphere on its coarse grid
     assert ex._map_options() == {"periods": 3, "dx": 1 / 6, "shape": "triangle", "body": "sphere", "ratio": None}
+
+
+def test_the_oscillating_normal_force_is_a_loading_option():
+    """Issue 10, item 6: rocking under an oscillating normal force is among the loading options of the cylinder,
+    kept in the URL, passed to the solver as core.histories' 'normal' history, and flagged beside eq 35."""
+    from app.state import URL_PARAMETERS, parse_query
+
+    assert {"loading", "amplitude", "phase"} <= set(URL_PARAMETERS)
+    values, errors, ignored = parse_query("loading=normal&amplitude=0.3&phase=90")
+    assert values == {"loading": "normal", "amplitude": 0.3, "phase": 90.0} and not errors and not ignored
+    assert "amplitude" in parse_query("amplitude=1.5")[1][0]  # out of [0, 1): rejected, named
+    s = ExplorerState(ft=0.3, w=0.5, periods=3, resolution=20, loading="normal", amplitude=0.3, phase=90.0)
+    opts = s.solver_options()
+    assert opts["history"] == "normal" and opts["amplitude"] == 0.3 and opts["phase"] == pytest.approx(np.pi / 2)
+    r = core.simulate_contact(s.contact(), **opts)
+    assert r.params["history"] == "normal" and r.params["amplitude"] == 0.3
+    rocking = core.simulate_contact(s.contact(), **ExplorerState(ft=0.3, w=0.5, periods=3, resolution=20)
+                                    .solver_options())
+    assert not np.allclose(r.increment_per_period, rocking.increment_per_period)  # the load history matters
+    ex = Explorer(ExplorerState(ft=0.3, w=0.5, periods=3, resolution=20, loading="normal"))
+    assert any("normal force oscillates" in m for m in ex._warnings(0.3, 0.5, ex.contact, r))
+    assert not any("normal force oscillates" in m for m in ex._warnings(0.3, 0.5, ex.contact, rocking))
+    assert ExplorerState(body="sphere", loading="normal").solver_options().get("history") is None  # points rock
