@@ -17,6 +17,7 @@ import functools
 import html
 import io
 import math
+import os
 import re
 import threading
 from pathlib import Path
@@ -710,7 +711,13 @@ class Explorer(pn.viewable.Viewer):
                         self._panes[name].object = self._live[name].figure
 
     def figures(self) -> dict[str, pn.pane.Bokeh]:
-        """The six figures: Bokeh figures rendered once, then updated in place (:class:`~app.live.LiveFigure`)."""
+        """The figures: Bokeh figures rendered once, then updated in place (:class:`~app.live.LiveFigure`)."""
+        if os.environ.get("SHAKEDOWN_FIGURES") == "dynamicmap":  # the idiomatic path, measured by benchmarks/app.py
+            self._live = {}
+            self._panes = {name: pn.pane.HoloViews(plots.dynamic(name, self._inputs, **{
+                i: self.param[_FIGURE_INPUTS[i]] for i in plots.FIGURES[name]["inputs"]}), sizing_mode="stretch_width")
+                for name in plots.FIGURES}
+            return self._panes
         inputs = self._inputs()
         self._live = {name: LiveFigure(plots.specs(name, inputs.units), plots.layers(name, inputs), plots.group(name),
                                        padding=_PADDING.get(name, (0.0, 0.1)))
@@ -844,10 +851,24 @@ class Explorer(pn.viewable.Viewer):
             pn.Column(cards, errors, notices, warnings, sizing_mode="stretch_width",
                       styles={"flex": "1 1 500px", "min-width": "260px"}),
             flex_wrap="wrap", sizing_mode="stretch_width")
-        tabs = pn.Tabs(("Explorer", self.explorer_tab()), ("Paper's figures", paper_figures_tab()),
-                       ("About the model", self.about()),
-                       sizing_mode="stretch_width", dynamic=True)  # a tab's models are sent only when shown
+        tabs = pn.Tabs(("Explorer", self.explorer_tab()), *self._lazy_tabs(), sizing_mode="stretch_width",
+                       dynamic=True)  # a tab's models are sent only when shown
+        tabs.param.watch(lambda e: self._fill_tab(tabs, e.new), "active")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
+
+    #: The tabs built only when first shown (most visitors never open them): title, builder.
+    _LAZY_TABS: ClassVar[dict] = {"Paper's figures": lambda self: paper_figures_tab(),
+                                  "About the model": lambda self: self.about()}
+
+    def _lazy_tabs(self) -> list:
+        self._unbuilt = dict(self._LAZY_TABS)
+        return [(title, pn.Column(name=title, sizing_mode="stretch_width")) for title in self._LAZY_TABS]
+
+    def _fill_tab(self, tabs: pn.Tabs, index: int) -> None:
+        holder = tabs[index]
+        build = self._unbuilt.pop(holder.name, None)
+        if build is not None:
+            holder.objects = [build(self)]
 
     def player_controls(self) -> pn.FlexBox:
         """The cycle player: period, step, step back / play / step forward, speed, and where the cylinder is."""

@@ -14,6 +14,31 @@ a fresh render.
 
 Axes that follow the data are ``DataRange1d``: the browser fits them to the new
 data and, once the user zooms or pans, keeps the user's view until *reset*.
+
+Why this layer and not the idiomatic path (issue 11, item 13). The idiomatic
+path, one ``hv.DynamicMap`` per figure fed by ``pn.bind``
+(:func:`app.plots.dynamic`, served with ``SHAKEDOWN_FIGURES=dynamicmap``), was
+measured against this one with ``python benchmarks/app.py --figures both
+--repeats 8`` (both in one run, on 2 cores shared with other helpers' test
+suites, load average 5.5-8.5, so absolute times are several times a quiet
+machine's; the output is in ``benchmarks/results/app_figures_both.txt``):
+
+==============================  ===============  ====================
+median (n = 8)                  LiveFigure       DynamicMap
+==============================  ===============  ====================
+slider -> plot data             617 ms           2172 ms
+new solve -> plot data          1228 ms          > 7.3 s (3 over 10 s)
+player step -> traction data    418 ms           1939 ms
+server CPU per session          4.55 s           4.10 s
+==============================  ===============  ====================
+
+HoloViews re-renders every element of an overlay, recomputes its ranges and
+restyles its glyphs on each change; this layer writes only the changed
+layers' arrays. Every figure updates on the slider and the solve, so every
+figure misses the 100 ms / 300 ms targets by more without it: all of them
+keep it. Building a session costs about the same either way. Adding a figure
+is one entry of :data:`app.plots.FIGURES` (specs, layers, inputs) and one
+layout line in :meth:`app.explorer.Explorer.explorer_tab`, on both paths.
 """
 
 from __future__ import annotations

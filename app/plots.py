@@ -644,3 +644,28 @@ def layers(name: str, inputs: Inputs) -> tuple:
 def figure(name: str, inputs: Inputs) -> hv.Overlay:
     """Figure ``name`` as a HoloViews overlay (for a notebook, an export, or the first render)."""
     return overlay(specs(name, inputs.units), layers(name, inputs), group(name))
+
+
+def dynamic(name: str, current, **streams) -> hv.DynamicMap:
+    """Figure ``name`` as a ``hv.DynamicMap`` that HoloViews re-renders when one of ``streams`` changes.
+
+    The idiomatic path, kept to be measured against :class:`app.live.LiveFigure`
+    (``benchmarks/app.py --figures dynamicmap``; the explorer uses it when
+    ``SHAKEDOWN_FIGURES=dynamicmap``).
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`FIGURES`.
+    current : callable
+        Returns the current :class:`Inputs` (the fields not in ``streams``).
+    **streams
+        Parameters (``param.Parameter`` of a Parameterized) by :class:`Inputs` field: the figure's inputs.
+    """
+    import panel as pn
+
+    def draw(**values):
+        return figure(name, current()._replace(**values))
+
+    return hv.DynamicMap(pn.bind(draw, **streams))
+

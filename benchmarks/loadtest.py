@@ -136,7 +136,10 @@ class Session:
         asyncio.set_event_loop(asyncio.new_event_loop())  # this thread's loop; the client runs it while it waits
         self.loop = IOLoop.current()
         self.session = pull_session(url=url, arguments=arguments or {}, io_loop=self.loop)
-        self.models = list(self.session.document.models)
+
+    @property
+    def models(self) -> list:
+        return list(self.session.document.models)
 
     def find(self, predicate):
         return next((m for m in self.models if predicate(m)), None)
@@ -157,7 +160,12 @@ class Session:
         ping = PeriodicCallback(lambda: self.loop.add_callback(conn.send_message, conn._protocol.create("SERVER-INFO-REQ")), 100)
         ping.start()
         try:
-            conn._loop_until(lambda: until() or time.monotonic() > deadline or not conn.connected)
+            # in slices of 2 s: the client handles each message one recursion level deeper until it stops
+            for _ in range(int(timeout / 2) + 2):
+                end = min(deadline, time.monotonic() + 2.0)
+                conn._loop_until(lambda: until() or time.monotonic() > end or not conn.connected)
+                if until() or time.monotonic() > deadline or not conn.connected:
+                    break
         finally:
             ping.stop()
         return bool(until())
