@@ -718,13 +718,31 @@ class Explorer(pn.viewable.Viewer):
                 i: self.param[_FIGURE_INPUTS[i]] for i in plots.FIGURES[name]["inputs"]}), sizing_mode="stretch_width")
                 for name in plots.FIGURES}
             return self._panes
-        inputs = self._inputs()
-        self._live = {name: LiveFigure(plots.specs(name, inputs.units), plots.layers(name, inputs), plots.group(name),
-                                       padding=_PADDING.get(name, (0.0, 0.1)))
-                      for name in plots.FIGURES}
-        self._panes = {name: pn.pane.Bokeh(live.figure, sizing_mode="stretch_width")
-                       for name, live in self._live.items()}
+        # only the figures of the current body are drawn: the other body's (hidden) would double a session's
+        # build; they are drawn when the body changes (_show_body)
+        self._live = {}
+        self._panes = {name: pn.pane.Bokeh(None, sizing_mode="stretch_width") for name in plots.FIGURES}
+        self._draw_figures(self._figures_of(self.state.body))
+        self.state.param.watch(self._show_body, "body")
         return self._panes
+
+    @staticmethod
+    def _figures_of(body: str) -> list[str]:
+        return [name for name in plots.FIGURES if point_view.shown(name, body)]
+
+    def _draw_figures(self, names) -> None:
+        """Render the figures ``names`` not rendered yet and show them in their panes."""
+        inputs = self._inputs()
+        for name in names:
+            if name not in self._live:
+                self._live[name] = LiveFigure(plots.specs(name, inputs.units), plots.layers(name, inputs),
+                                              plots.group(name), padding=_PADDING.get(name, (0.0, 0.1)))
+                self._panes[name].object = self._live[name].figure
+
+    def _show_body(self, event) -> None:
+        doc = self._doc
+        with (doc.models.freeze() if doc is not None else contextlib.nullcontext()):
+            self._draw_figures(self._figures_of(event.new))
 
     @functools.cached_property
     def engineer(self) -> EngineerInputs:

@@ -109,7 +109,7 @@ class ExplorerState(param.Parameterized):
                              step=0.05, label="Normal-force amplitude ΔFn/Fn",
                              doc="Amplitude of the oscillating normal force over its mean [-], in [0, 1); "
                                  "used with loading = 'normal'.")
-    phase = param.Number(0.0, bounds=(-180.0, 180.0), step=15.0, label="Phase of Fn to the rocking [°]",
+    phase = param.Number(0.0, bounds=(-180.0, 180.0), softbounds=(-180.0, 180.0), step=15.0, label="Phase of Fn to the rocking [°]",
                          doc="Phase of the normal force's oscillation to the rocking [deg], in [-180, 180]; "
                              "used with loading = 'normal'.")
     # ---- view -------------------------------------------------------------
