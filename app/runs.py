@@ -160,8 +160,11 @@ def _compute(contact, options, cancel=None, time_budget=SOLVE_BUDGET_S):
 
 
 #: The warm-up runs: one small run per kernel loads (or compiles) all the solver's numba code.
-_WARM_RUNS = tuple(functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, kernel=kernel,
-                                     L_over_a=10.0 if kernel == "strip" else None) for kernel in ("plane", "strip"))
+_WARM_RUNS = (*(functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, kernel=kernel,
+                                  L_over_a=10.0 if kernel == "strip" else None) for kernel in ("plane", "strip")),
+              # the point contacts' compiled 3D loop (about a minute to compile cold): warmed before the server
+              # says it is ready, so the first sphere visitor does not freeze the server while numba compiles
+              functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, body="sphere"))
 
 
 class _Local:

@@ -72,7 +72,7 @@ def _alive(url: str, ready: bool = True) -> bool:
 
 
 @contextlib.contextmanager
-def served_app(port: int | None = None, timeout: float = 180.0, env: dict | None = None,
+def served_app(port: int | None = None, timeout: float = 420.0, env: dict | None = None,
                log_path: str | os.PathLike | None = None, info: dict | None = None,
                extra_args: list[str] | tuple[str, ...] = (), extra_apps: list | tuple = (), wait_ready: bool = True,
                script: str | os.PathLike = "app/main.py"):
@@ -84,7 +84,8 @@ def served_app(port: int | None = None, timeout: float = 180.0, env: dict | None
         Port to serve on (default: a free one).
     timeout : float
         Seconds to wait for ``/liveness`` to answer 200 (the solver warm; a
-        fresh numba cache takes 20-30 s to fill on a busy machine).
+        fresh numba cache takes one to two minutes to fill: the cylinder and
+        the point contacts are compiled).
     env : dict, optional
         Extra environment variables for the server (e.g. ``SHAKEDOWN_SCHEDULER``).
     log_path : path, optional
