@@ -37,6 +37,16 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 
 
+#: JavaScript for ``page.evaluate``: ``find(pred)``, the first Bokeh model of the page for which ``pred`` holds
+#: (Panel renders in shadow DOM, where ``document.querySelector`` does not reach; ``Bokeh.documents`` does).
+FIND_MODEL_JS = """
+const find = (pred) => {
+  for (const doc of Bokeh.documents) for (const m of doc.all_models) { if (pred(m)) return m; }
+  return null;
+};
+"""
+
+
 def wait_until(predicate, timeout: float = 30.0, interval: float = 0.05, message: str = "condition"):
     """Poll ``predicate()`` until it returns a truthy value (returned), or raise TimeoutError."""
     deadline = time.monotonic() + timeout

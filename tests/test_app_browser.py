@@ -13,6 +13,7 @@ import pandas as pd
 import pytest
 
 import core
+from app.serving import FIND_MODEL_JS
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
@@ -21,12 +22,7 @@ FT_TITLE = "ft = Ft/(μ Fn)"
 W_TITLE = "w = W/a"
 
 # ---- Bokeh model access (page.evaluate) ------------------------------------
-_FIND = """
-const find = (pred) => {
-  for (const doc of Bokeh.documents) for (const m of doc.all_models) { if (pred(m)) return m; }
-  return null;
-};
-"""
+_FIND = FIND_MODEL_JS
 _GET_SLIDER = "(title) => {" + _FIND + """
   const m = find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
   return m === null ? null : m.value;

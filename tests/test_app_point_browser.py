@@ -13,8 +13,10 @@ import os
 import pytest
 
 import core
+from app.serving import FIND_MODEL_JS
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
+
 
 @pytest.fixture(scope="module")
 def app_url():
@@ -26,12 +28,7 @@ def app_url():
         yield url
 
 
-_FIND = """
-const find = (pred) => {
-  for (const doc of Bokeh.documents) for (const m of doc.all_models) { if (pred(m)) return m; }
-  return null;
-};
-"""
+_FIND = FIND_MODEL_JS
 #: Per figure title: the shapes of its images (rows x columns) and how many of their values are finite and > 0.
 _IMAGES = "(title) => {" + _FIND + """
   const fig = find((m) => m.title != null && m.title.text === title);
