@@ -58,7 +58,7 @@ STATE_COLORS = ("#eeeeee", _C["blue"], _C["orange"], _C["purple"])
 #: Shading of the zones stick / slip / zero traction; slip is also hatched (a cue that needs no colour).
 ZONE_COLORS = {"stick": _C["blue"], "slip": _C["orange"], "zero traction": _C["grey"]}
 ZONE_HATCH = {"stick": " ", "slip": "/", "zero traction": " "}
-_ZONE_CODES = {"stick": 1, "slip": 2, "zero traction": 3}
+_ZONE_CODES = {"stick": core.Zone.STICK, "slip": core.Zone.SLIP, "zero traction": core.Zone.RELEASED}
 #: Colour and marker of a point on the map, by numerical regime (None: not solved yet): shape is the second cue.
 REGIME_COLORS = {"shakedown": _C["blue"], "ratcheting": _C["vermillion"], "undetermined": _C["grey"],
                  None: _C["grey"]}
@@ -214,7 +214,7 @@ def _zone_rectangles(x_edges, codes, ylim, scale) -> tuple:
 
 
 def traction_zones(result: core.CycleResult, frame: int) -> np.ndarray:
-    """Zone code per element at ``frame``: 1 stick, 2 slip, 3 zero traction (lost contact), 0 none.
+    """Zone code per element at ``frame`` (:class:`core.Zone`: stick, slip, zero traction (lost contact), none).
 
     At the last step these are the shaken-down zones of :attr:`core.CycleResult.final_zones`
     (relative to the lowest pressure of the last period); at other steps, the
@@ -222,9 +222,12 @@ def traction_zones(result: core.CycleResult, frame: int) -> np.ndarray:
     """
     if frame >= result.xc.size - 1:
         return result.final_zones
+    State, Zone = core.State, core.Zone
     s = result.state[frame]
-    ever = (result.state != 0).any(axis=0)
-    return np.where(s == 1, 1, np.where(s >= 2, 2, np.where(ever, 3, 0)))
+    ever = (result.state != State.RELEASED).any(axis=0)
+    slipping = (s == State.SLIP_FORWARD) | (s == State.SLIP_BACKWARD)
+    return np.where(s == State.STICK, Zone.STICK, np.where(slipping, Zone.SLIP,
+                                                           np.where(ever, Zone.RELEASED, Zone.NONE))).astype(np.int8)
 
 
 def _hatch(pattern: str, color: str):
