@@ -966,7 +966,7 @@ class Explorer(pn.viewable.Viewer):
             window.dispatchEvent(new Event('resize'));
         """)
         template = pn.template.BootstrapTemplate(
-            title="Shakedown Explorer: a rocking cylinder with Coulomb friction",
+            title="Shakedown Explorer: rocking contacts with Coulomb friction",
             sidebar=self.sidebar(), main=[self.main_area()], header=[present], sidebar_width=340,
             header_background="#1f5f99",
         )
