@@ -20,9 +20,9 @@ Phases, each printed:
    every 0.25 s; its worst latency (goal: under 2 s).
 3. Class: ``--sessions`` sessions open, evenly spread over ``--open-over``
    seconds; each then, until ``--seconds`` after the last opening, drags the
-   ft slider (three values, no release: the analytical layers follow, no
-   solve) and releases it at a value no session has used (a new solve),
-   every third time w too. The *solve round trip* runs from sending the
+   ft slider (every third time the w slider) through three values (no
+   release: the analytical layers follow, no solve) and releases that
+   slider at a value no session has used (a new solve). The *solve round trip* runs from sending the
    release to the run card's text changing in the session's document.
 
 Printed: errors (goal 0: a session that fails to open, a round trip over
@@ -220,18 +220,21 @@ def _work(s: Session, k, deadline, fresh, stats):
     for i in range(MAX_ROUND_TRIPS_PER_SESSION):
         if time.monotonic() > deadline():
             return
-        for j in range(3):  # dragging: the analytical layers follow, nothing is solved
-            s.set(ft, round(0.1 + 0.25 * j + 0.01 * (k % 10), 4), release=False)
+        # as a hand does it: drag one slider (the analytical layers follow, nothing is solved), then release
+        # that same slider at a value no session has used (a new solve). The explorer waits for the release
+        # of a slider being dragged before it solves, so releasing another one would not end the drag.
+        slider, key = (w, "w") if i % 3 == 2 else (ft, "ft")
+        for j in range(3):
+            s.set(slider, round(0.1 + 0.25 * j + 0.01 * (k % 10), 4), release=False)
             s.pump(lambda: False, 0.05)
-        for slider, key in ([(w, "w")] if i % 3 == 2 else []) + [(ft, "ft")]:
-            before = _run_text(s)  # None while the cards wait for a release ('release the slider')
-            t0 = time.monotonic()
-            s.set(slider, _next(fresh, key), release=True)
-            if s.pump(lambda: _run_text(s) not in (None, before), ROUND_TRIP_TIMEOUT_S):
-                stats["latencies"].append((time.monotonic() - t0) * 1e3)
-            else:
-                stats["errors"].append(f"session {k}: a solve round trip did not finish in {ROUND_TRIP_TIMEOUT_S:.0f} s")
-                return
+        before = _run_text(s)  # None while the cards wait for a release ('release the slider')
+        t0 = time.monotonic()
+        s.set(slider, _next(fresh, key), release=True)
+        if s.pump(lambda: _run_text(s) not in (None, before), ROUND_TRIP_TIMEOUT_S):
+            stats["latencies"].append((time.monotonic() - t0) * 1e3)
+        else:
+            stats["errors"].append(f"session {k}: a solve round trip did not finish in {ROUND_TRIP_TIMEOUT_S:.0f} s")
+            return
 
 
 def _session_thread(url, k, start_at, deadline, fresh, stats, up):
