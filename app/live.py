@@ -3,7 +3,10 @@
 Re-rendering a HoloViews overlay on every change rebuilds every element,
 recomputes its ranges, restyles every glyph and axis and sends all of it to the
 browser (about 35 ms a figure on the server, more in the browser). A
-:class:`LiveFigure` renders the overlay once, keeps the Bokeh figure, and on
+:class:`LiveFigure` renders the overlay once per process (the template, which
+no session holds), gives each session a copy of its Bokeh models with new ids
+(decoding a copy costs a quarter of rendering it: the figures of a session
+went from 1.5-1.9 s to 0.5 s of CPU), and on
 :meth:`LiveFigure.update` writes only the layers whose data changed (by
 identity: the layer functions of :mod:`app.plots` are memoised, so an
 unchanged layer is the same object) into their ``ColumnDataSource``, one
@@ -43,12 +46,17 @@ layout line in :meth:`app.explorer.Explorer.explorer_tab`, on both paths.
 
 from __future__ import annotations
 
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import holoviews as hv
 import numpy as np
-from bokeh.models import DataRange1d
+from bokeh.core.property.validation import validate
+from bokeh.core.serialization import Deserializer, Serializer
+from bokeh.models import ColumnDataSource, DataRange1d, GlyphRenderer
+from bokeh.util.serialization import make_id
 
 __all__ = ["Layer", "Styled", "overlay", "LiveFigure"]
 
@@ -127,8 +135,114 @@ def _labels(specs) -> tuple:
     return tuple(s.labels if isinstance(s, Layer) else None for s in specs)
 
 
+class _Render:
+    """A figure rendered by HoloViews once per process: the template its sessions' figures are copied from.
+
+    HoloViews spends most of a session's build on its figures (about 0.2 s
+    each: options, ranges, glyphs, axes, legends, for every layer). What it
+    produces depends on the layers' specs (shared by every session, see
+    :func:`app.plots.specs`), not on their data, which :class:`LiveFigure`
+    writes in anyway. So the figure is rendered once, kept encoded (never
+    shown: no session ever holds it), and each session gets a copy decoded
+    with new model ids: its own models, nothing shared between sessions.
+    """
+
+    def __init__(self, specs, data, group: str, padding):
+        plot = hv.renderer("bokeh").get_plot(overlay(specs, data, group))
+        subplots = list(plot.subplots.values())  # in the overlay's order
+        if len(subplots) != len(specs):  # pragma: no cover - a HoloViews change
+            raise RuntimeError(f"{len(specs)} layers but {len(subplots)} subplots")
+        figure = plot.state
+        if padding is not None:
+            px, py = padding
+            figure.x_range = DataRange1d(range_padding=px)
+            figure.y_range = DataRange1d(range_padding=py)
+        items = [item for legend in figure.legend for item in legend.items]
+        legend = {}
+        for i, sub in enumerate(subplots):
+            renderer = sub.handles.get("glyph_renderer")
+            for item in items:
+                if renderer is not None and renderer in item.renderers:
+                    legend[i] = item.id
+                    item.visible = not _is_empty(data[i])  # empty layers get no legend entry
+        self.specs, self.labels, self.data = specs, _labels(specs), tuple(data)
+        self.subplots = subplots  # their get_data draws images; their models are never shown
+        self.layers = tuple((sub.handles["source"].id, sub.handles["glyph"].id) for sub in subplots)
+        self.legend = legend
+        for renderer in figure.renderers:
+            if isinstance(renderer, GlyphRenderer):
+                # no figure has a selection tool, so HoloViews' selection and non-selection glyphs are never
+                # drawn: Bokeh's automatic ones (the glyph itself) save two models a layer
+                renderer.selection_glyph = renderer.nonselection_glyph = "auto"
+        models = figure.references()
+        self.model_ids = frozenset(m.id for m in models)
+        # the data sources' columns are handed over as they are, not encoded and decoded: decoding a property
+        # formats its value for a trace log, which for arrays costs more than the rest of the copy
+        self._columns = {}
+        for m in models:
+            if isinstance(m, ColumnDataSource):
+                self._columns[m.id] = {k: _read_only(v) for k, v in m.data.items()}
+                m.data = {}
+        self._rep = Serializer().encode(figure)
+
+    def copy(self):
+        """A new figure equal to the template, every model with a new id; and its models by the template's ids."""
+        new = {old: make_id() for old in self.model_ids}
+
+        def renamed(x):
+            if isinstance(x, dict):
+                out = {k: renamed(v) for k, v in x.items()}
+                ident = x.get("id")
+                if isinstance(ident, str) and ident in new and (x.get("type") == "object" or len(x) == 1):
+                    out["id"] = new[ident]
+                return out
+            if isinstance(x, list):
+                return [renamed(v) for v in x]
+            return x
+
+        with validate(False):  # the template's values, validated when it was rendered
+            figure = Deserializer().deserialize(renamed(self._rep))
+        by_new = {m.id: m for m in figure.references()}
+        models = {old: by_new[n] for old, n in new.items()}
+        for source, columns in self._columns.items():
+            models[source].data = {k: list(v) if isinstance(v, tuple) else v for k, v in columns.items()}  # the template's arrays, read-only: replaced, never written
+        return figure, models
+
+
+def _read_only(column):
+    if isinstance(column, np.ndarray):
+        column = column.view()
+        column.flags.writeable = False
+        return column
+    if isinstance(column, (list, tuple)):  # e.g. an image column: a list of 2D arrays
+        return tuple(_read_only(c) for c in column)
+    return column
+
+
+_RENDERS: OrderedDict = OrderedDict()  # (group, padding, id(specs)) -> _Render, the most recent last
+_RENDERS_MAX = 48  # figures x unit systems in use; each holds its specs, so an id is never reused while cached
+_RENDERS_LOCK = threading.Lock()
+
+
+def _render(specs, data, group: str, padding) -> _Render:
+    """The template of a figure of layers ``specs`` (rendered with ``data`` the first time it is asked for)."""
+    key = (group, padding, id(specs))
+    with _RENDERS_LOCK:
+        render = _RENDERS.get(key)
+        if render is None or render.specs is not specs:
+            render = _RENDERS[key] = _Render(specs, data, group, padding)
+        _RENDERS.move_to_end(key)
+        while len(_RENDERS) > _RENDERS_MAX:
+            _RENDERS.popitem(last=False)
+    return render
+
+
 class LiveFigure:
     """A Bokeh figure over a list of layers, updated in place.
+
+    The figure is a copy of a template rendered once per process by
+    HoloViews (:class:`_Render`), with the given data written in; it shares
+    no model with any other :class:`LiveFigure`.
 
     Parameters
     ----------
@@ -148,30 +262,14 @@ class LiveFigure:
         self._build(specs, data)
 
     def _build(self, specs, data) -> None:
-        plot = hv.renderer("bokeh").get_plot(overlay(specs, data, self.group))
-        self._specs, self._labels, self._data = specs, _labels(specs), list(data)
-        self._subplots = list(plot.subplots.values())  # in the overlay's order
-        if len(self._subplots) != len(specs):  # pragma: no cover - a HoloViews change
-            raise RuntimeError(f"{len(specs)} layers but {len(self._subplots)} subplots")
-        self.plot, self.figure = plot, plot.state
-        self._legend = self._legend_items()
-        for i, d in enumerate(self._data):
-            self._show_in_legend(i, d)
-        if self.padding is not None:
-            px, py = self.padding
-            self.figure.x_range = DataRange1d(range_padding=px)
-            self.figure.y_range = DataRange1d(range_padding=py)
-
-    def _legend_items(self) -> dict:
-        """Legend item of each layer (by index) that has one."""
-        items = [item for legend in self.figure.legend for item in legend.items]
-        out = {}
-        for i, sub in enumerate(self._subplots):
-            renderer = sub.handles.get("glyph_renderer")
-            for item in items:
-                if renderer is not None and renderer in item.renderers:
-                    out[i] = item
-        return out
+        render = _render(specs, data, self.group, self.padding)
+        self.figure, models = render.copy()
+        self._render, self._specs, self._labels = render, specs, render.labels
+        self._sources = [models[source] for source, _ in render.layers]
+        self._glyphs = [models[glyph] for _, glyph in render.layers]
+        self._legend = {i: models[item] for i, item in render.legend.items()}
+        self._data = list(render.data)
+        self.update(specs, data)
 
     def _show_in_legend(self, i, data) -> None:
         item = self._legend.get(i)
@@ -203,17 +301,21 @@ class LiveFigure:
         return False
 
     def _write(self, i, spec, new) -> None:
-        sub = self._subplots[i]
         glyph = {}
         if isinstance(new, Styled):
             new, glyph = new.data, new.glyph
         data = _columns(spec, new)
         if data is None:
+            sub = self._render.subplots[i]  # the template's plot computes an image's columns
             data, _, _ = sub.get_data(spec.element(new), sub.current_ranges or {}, sub.style[sub.cyclic_index])
         if glyph:
-            sub.handles["glyph"].update(**glyph)
-        sub.handles["source"].data = data
+            self._glyphs[i].update(**glyph)
+        self._sources[i].data = data
 
     def sources(self) -> list:
         """The ``ColumnDataSource`` of each layer, in order."""
-        return [sub.handles["source"] for sub in self._subplots]
+        return list(self._sources)
+
+    def glyphs(self) -> list:
+        """The glyph of each layer, in order."""
+        return list(self._glyphs)

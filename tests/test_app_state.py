@@ -241,6 +241,12 @@ def test_live_figures_show_what_a_fresh_render_shows():
             for name in plots.FIGURES}
     for inputs in steps:
         _assert_live_is_fresh(live, inputs)
+    # a figure copied from the template rendered above, at other data: its own models, the data of a fresh render
+    again = {name: LiveFigure(plots.specs(name, steps[2].units), plots.layers(name, steps[2]), plots.group(name))
+             for name in plots.FIGURES}
+    _assert_live_is_fresh(again, steps[2])
+    assert not {m.id for f in again.values() for m in f.figure.references()} & {
+        m.id for f in live.values() for m in f.figure.references()}
 
 
 def _assert_live_is_fresh(live, inputs):
@@ -248,13 +254,17 @@ def _assert_live_is_fresh(live, inputs):
     for name, fig in live.items():
         assert not fig.update(plots.specs(name, inputs.units), plots.layers(name, inputs))
         fresh = hv.renderer("bokeh").get_plot(plots.figure(name, inputs))
-        for i, (mine, ref) in enumerate(zip(fig._subplots, fresh.subplots.values())):
-            a, b = mine.handles["source"].data, ref.handles["source"].data
+        for i, (source, glyph, ref) in enumerate(zip(fig.sources(), fig.glyphs(), fresh.subplots.values())):
+            a, b = source.data, ref.handles["source"].data
             assert a.keys() == b.keys(), (name, i)
             for col in a:
                 assert repr(np.asarray(a[col], dtype=object)) == repr(np.asarray(b[col], dtype=object)), \
                     (name, i, col)
-            assert _glyph_props(mine.handles["glyph"]) == _glyph_props(ref.handles["glyph"]), (name, i)
+            assert _glyph_props(glyph) == _glyph_props(ref.handles["glyph"]), (name, i)
+        # a legend entry is shown exactly for the layers that draw something
+        for item in (item for legend in fig.figure.legend for item in legend.items):
+            columns = item.renderers[0].data_source.data.values()
+            assert item.visible == any(np.size(c) for c in columns), (name, item.label)
 
 
 def test_live_figure_is_rebuilt_for_new_axis_labels_only():
