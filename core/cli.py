@@ -51,7 +51,8 @@ _PREFIX = "shakedown: error: "
 _KERNELS = ("plane", "strip")
 _SHAPES = ("triangle", "sine")
 _DEFAULT_DX = 1.0 / 40.0
-_MAX_ELEMENTS = 4000  # core.solver.MAX_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many elements
+_MAX_ELEMENTS = 16384  # core.solver.MAX_FFT_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many
+# elements (the solver picks the dense one up to core.solver.MAX_ELEMENTS and the matrix-free one above)
 _DX_MIN = 1.0 / (_MAX_ELEMENTS // 2 - 1)  # the finest dx the solver accepts (at w = 0)
 _MAX_RUNS, _MAX_CELLS = 20_000, 25_000_000  # core.grid.MAX_RUNS, MAX_CELLS
 # options that pass through to core.simulate_cycles, and the one value each has while the solver lacks it

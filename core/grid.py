@@ -100,7 +100,7 @@ def _option_axes(options: dict) -> dict[str, list]:
 def _cells(w: float, items: tuple) -> tuple[int, int] | None:
     """(steps, elements) of a cylinder run with rocking amplitude ``w`` and these options (None if unknown)."""
     from .schedule import rocking_schedule
-    from .solver import make_grid
+    from .solver import MAX_ELEMENTS, MAX_FFT_ELEMENTS, make_grid
 
     option = dict(items)
     defaults = solver_defaults()
@@ -111,7 +111,8 @@ def _cells(w: float, items: tuple) -> tuple[int, int] | None:
     schedule = rocking_schedule(0.0, w, periods=option.get("periods", defaults["periods"]),
                                 dW=dx if dW is None else dW, shape=option.get("shape", defaults["shape"]),
                                 load_steps=option.get("load_steps", defaults["load_steps"]))
-    return len(schedule), make_grid(schedule.reach, dx).size - 1
+    cap = MAX_ELEMENTS if option.get("solver") == "dense" else MAX_FFT_ELEMENTS  # as the solver's own
+    return len(schedule), make_grid(schedule.reach, dx, cap).size - 1
 
 
 def run_cells(point: dict) -> int | None:

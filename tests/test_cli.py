@@ -162,8 +162,8 @@ LONG = "9" * 5000
     (["run", "--ft", "0.3", "--w", "0.3", "--periods", "1e9"], "periods must be a whole number"),
     (["run", "--ft", "0.3", "--w", "0.3", "--periods", "100000"], "periods must be an integer"),
     (["run", "--ft", "0.3", "--w", "0.9", "--periods", "5000"], "cells"),
-    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "1e-5"], "--dx must be in [0.00050025, 0.5]"),
-    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "5e-4"], "--dx must be in [0.00050025, 0.5]"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "1e-5"], "--dx must be in [0.000122085, 0.5]"),
+    (["run", "--ft", "0.3", "--w", "0.3", "--dx", "1.2e-4"], "--dx must be in [0.000122085, 0.5]"),
     (["run", "--ft", "0.3", "--w", "0.9", "--dx", "6e-4"], "elements"),
     (["run", "--ft", "0.3", "--w", "0.3", "--kernel", "strip"], "--L-over-a is required with --kernel strip"),
     (["run", "--ft", "0.3", "--w", "0.3", "--body", "banana"], "--body must be one of cylinder"),
@@ -278,11 +278,19 @@ def test_the_cli_copies_of_library_constants_agree():
     from core import grid, kernels, schedule, solver
 
     assert cli._KERNELS == tuple(kernels.KERNELS) and cli._SHAPES == schedule.SHAPES
-    assert cli._DEFAULT_DX == solver.DEFAULT_DX and cli._MAX_ELEMENTS == solver.MAX_ELEMENTS
+    assert cli._DEFAULT_DX == solver.DEFAULT_DX and cli._MAX_ELEMENTS == solver.MAX_FFT_ELEMENTS
     assert (cli._MAX_RUNS, cli._MAX_CELLS) == (grid.MAX_RUNS, grid.MAX_CELLS)
-    solver.make_grid(1.0, cli._DX_MIN)  # the finest dx --dx accepts works at w = 0
+    fft = solver.MAX_FFT_ELEMENTS
+    solver.make_grid(1.0, cli._DX_MIN, fft)  # the finest dx --dx accepts works at w = 0
     with pytest.raises(ValueError, match="elements"):
-        solver.make_grid(1.0, cli._DX_MIN * 0.999)
+        solver.make_grid(1.0, cli._DX_MIN * 0.999, fft)
+
+
+def test_run_finer_than_the_dense_solver_takes(capsys):
+    """--dx below the dense solver's cap runs on the matrix-free solver (the CLI stopped at 4000 elements)."""
+    code, out, err = _run(capsys, "run", "--ft", "0.3", "--w", "0.05", "--dx", "0.00045", "--periods", "1")
+    assert code == 0, err
+    assert "dx = 0.00045 a" in out
 
 
 def test_sweep_cap_from_the_environment(capsys, tmp_path, monkeypatch):
