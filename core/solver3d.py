@@ -176,12 +176,11 @@ def _convolve(q, hxx, hyy, hxy, py, px, mirror):
 def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror):
     """``z = P M r``: the inverse continuous symbol on the stick set, ``r/(curv + K_ii)`` on slip corrections."""
     ny, nx = stick.shape
-    w = np.zeros((2, ny, nx))
+    w = np.empty((2, ny, nx))
     for c in range(2):
         for i in range(ny):
             for j in range(nx):
-                if stick[i, j]:
-                    w[c, i, j] = r[c, i, j]
+                w[c, i, j] = r[c, i, j] if stick[i, j] else 0.0
     zs = _convolve(w, spec[5], spec[6], spec[7], spec[8], spec[9], mirror)
     for c in range(2):
         for i in range(ny):
@@ -215,23 +214,42 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     rz = np.sum(r * z)
     rmax = np.abs(r).max()
     its = 0
+    # the vector updates in fused loops (no temporaries): a third of a step's time went to them
     while its < maxiter and rmax > tol:
         its += 1
         Kp = _convolve(p, spec[0], spec[1], spec[2], spec[3], spec[4], mirror)
         for c in range(2):
-            tmp[c] = Kp[c] + curv * p[c]
+            for i in range(ny):
+                for j in range(nx):
+                    tmp[c, i, j] = Kp[c, i, j] + curv[i, j] * p[c, i, j]
         _project(pxx, pyy, pxy, minv, tmp, Ap, mirror)
-        pAp = np.sum(p * Ap)
+        pAp = 0.0
+        for c in range(2):
+            for i in range(ny):
+                for j in range(nx):
+                    pAp += p[c, i, j] * Ap[c, i, j]
         if not pAp > 0.0:
             break
         alpha = rz / pAp
-        x += alpha * p
-        Kdq += alpha * Kp
-        r -= alpha * Ap
-        rmax = np.abs(r).max()
+        rmax = 0.0
+        for c in range(2):
+            for i in range(ny):
+                for j in range(nx):
+                    x[c, i, j] += alpha * p[c, i, j]
+                    Kdq[c, i, j] += alpha * Kp[c, i, j]
+                    r[c, i, j] -= alpha * Ap[c, i, j]
+                    rmax = max(rmax, abs(r[c, i, j]))
         _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror)
-        rz_new = np.sum(r * z)
-        p = z + (rz_new / rz) * p
+        rz_new = 0.0
+        for c in range(2):
+            for i in range(ny):
+                for j in range(nx):
+                    rz_new += r[c, i, j] * z[c, i, j]
+        beta = rz_new / rz
+        for c in range(2):
+            for i in range(ny):
+                for j in range(nx):
+                    p[c, i, j] = z[c, i, j] + beta * p[c, i, j]
         rz = rz_new
     return its, rmax
 
