@@ -36,7 +36,7 @@ x, an ellipsoid with its axes on the grid, ``nu > 0``: ``q_x`` even and
 ``q_y`` odd about ``y = 0``, since the solution is unique), every FFT product
 is taken at half cost (:func:`core.halfspace.convolve_mirror`) and the
 iterates are kept exactly symmetric, which also removes the asymmetric
-round-off directions from CG (a sixth fewer CG iterations); the result equals
+round-off directions from CG (fewer CG iterations per step); the result equals
 the full solver's to its tolerance (``tests/test_solver3d.py``).
 Measured figures and iterations per step: ``benchmarks/solver3d.py``.
 
