@@ -7,6 +7,11 @@ grid convergence.
    iterations per step, so that an algorithmic regression can be told from
    machine noise. The CPU time is printed beside the wall time: on a shared
    machine it is the figure that depends least on the other processes.
+   Measured back to back on 2 shared cores (load average about 3.5), warm:
+   a/20 1.53 s CPU, 1.64 s wall (best of 3; 6.1 active-set and 14.8 CG
+   iterations per step); a/40 18.8 s CPU, 20.5 s wall (9.5 and 27.7). Before
+   the mirror-symmetric products: 2.25 s CPU, 2.58 s wall (6.2 and 16.6) and
+   27.2 s CPU, 28.4 s wall (9.6 and 29.2).
 2. Mindlin's static partial slip (c/a = (1 - ft)^(1/3), exact for nu = 0):
    the solver's stick half-widths along x and y, the traction on y = 0 and
    the displacement against the closed form, for nu = 0 and nu = 0.5 (the

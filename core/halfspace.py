@@ -47,7 +47,7 @@ import scipy.fft as sfft
 from ._jit import jit
 from ._validate import check_int, check_scalar
 
-__all__ = ["HalfSpaceOperator", "rectangle_integrals", "convolve", "MAX_DENSE_SIZE"]
+__all__ = ["HalfSpaceOperator", "rectangle_integrals", "convolve", "convolve_mirror", "MAX_DENSE_SIZE"]
 
 #: Largest number of unknowns for which :meth:`HalfSpaceOperator.matrix` builds a dense matrix.
 MAX_DENSE_SIZE = 6000
@@ -116,6 +116,64 @@ def convolve(q, hxx, hyy, hxy, py, px):
     g[1] = hxy * f[0] + hyy * f[1]
     g = np.fft.ifft(g, axis=1)
     return np.ascontiguousarray(np.fft.irfft(np.ascontiguousarray(g[:, :ny, :]), n=px, axis=2)[:, :, :nx])
+
+
+
+@jit
+def convolve_mirror(q, hxx, hyy, hxy, py, px):
+    """:func:`convolve` for a field mirror-symmetric in y about its centre row: half the FFT work.
+
+    ``q`` has an odd number of rows, ``q_x`` even and ``q_y`` odd about the
+    centre row ``m = ny // 2``; only the rows ``m ..`` are read (the centre
+    row's ``q_y``, zero for such a field, is ignored) and the result has the
+    same symmetry (``u_x`` even, ``u_y`` odd), equal to :func:`convolve` of
+    the mirrored field to round-off (with the xy part of a spectrum dropped on
+    the rows where the y wavenumber is its own mirror, where the spectrum of an
+    odd kernel is zero anyway). The rows are laid out with the centre at
+    index 0 (a translation, which a circular convolution commutes with), so
+    the y-transform of ``q_x`` is even and that of ``q_y`` odd in the
+    wavenumber: one complex transform of ``q_x + q_y`` carries both (split
+    into even and odd parts), and the x-transforms run on the half rows only.
+    The kernels' spectra are even (xx, yy) or odd (xy) in the y wavenumber,
+    so ``u_x + u_y`` comes back from one inverse transform the same way.
+    """
+    ny, nx = q.shape[1], q.shape[2]
+    m = ny // 2
+    nh = m + 1
+    fx = np.fft.rfft(q[:, m:, :], n=px, axis=2)
+    cols = px // 2 + 1
+    f = np.zeros((py, cols), np.complex128)
+    f[0] = fx[0, 0]
+    for k in range(1, nh):
+        f[k] = fx[0, k] + fx[1, k]
+        f[py - k] = fx[0, k] - fx[1, k]
+    f = np.fft.fft(f, axis=0)
+    v = np.empty_like(f)
+    for l in range(py):
+        lm = (py - l) % py
+        for c in range(cols):
+            a = 0.5 * (f[l, c] + f[lm, c])  # the transform of q_x (even in l)
+            b = 0.5 * (f[l, c] - f[lm, c])  # the transform of q_y (odd in l)
+            # an odd spectrum vanishes where l = -l (0 and the Nyquist row of an even grid); there the
+            # preconditioner's symbol (sampled, not transformed) may not, so its xy part is dropped
+            hc = hxy[l, c] if lm != l else 0.0
+            v[l, c] = (hxx[l, c] + hc) * a + (hc + hyy[l, c]) * b
+    v = np.fft.ifft(v, axis=0)
+    h = np.empty((2, nh, cols), np.complex128)
+    h[0, 0] = v[0]
+    h[1, 0] = 0.0
+    for k in range(1, nh):
+        h[0, k] = 0.5 * (v[k] + v[py - k])
+        h[1, k] = 0.5 * (v[k] - v[py - k])
+    u = np.fft.irfft(h, n=px, axis=2)
+    out = np.empty((2, ny, nx))
+    for k in range(nh):
+        for j in range(nx):
+            out[0, m + k, j] = u[0, k, j]
+            out[0, m - k, j] = u[0, k, j]
+            out[1, m + k, j] = u[1, k, j]
+            out[1, m - k, j] = -u[1, k, j]
+    return out
 
 
 class HalfSpaceOperator:
