@@ -916,8 +916,8 @@ class Explorer(pn.viewable.Viewer):
                           cell("point_increments"),
                           flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)
-        return pn.Column(self.player_controls(), self.pins, slides.save_svg(self), grid, sizing_mode="stretch_width",
-                         name="Explorer")
+        svg = slides.save_svg(slides.figure_titles(), run=dict(ft=self.ft_slider, w=self.w_slider))
+        return pn.Column(self.player_controls(), self.pins, svg, grid, sizing_mode="stretch_width", name="Explorer")
 
     def map_controls(self) -> pn.Column:
         """The 'compute the numerical map' action, its progress and its outcome."""

@@ -593,7 +593,7 @@ def _map_layers(i: Inputs) -> tuple:
 #: Each figure: its title and options, a one-line "what you see" caption, its layers' looks (a function of the units), its layers' data (a function
 #: of :class:`Inputs`), and the inputs these depend on.
 FIGURES = {
-    "sketch": dict(opts=dict(title="The cylinder at the player's step", height=340, yaxis=None, show_grid=False,
+    "sketch": dict(opts=dict(title="The cylinder at the player's step", yaxis=None, show_grid=False,
                              legend_position="right", legend_cols=1),
                    caption="What you see: the rocking cylinder (not to scale) at the player's step: its contact 2a, "
                            "the way it rolls and the trailing edge, where the contact lets go.",
