@@ -49,9 +49,12 @@ FONT = {"title": 15, "labels": 14, "xticks": 12, "yticks": 12, "legend": 12}
 #: Wheel zoom stays in the toolbar (one click away) but is not active, so the wheel scrolls the page.
 _TOOLS = dict(default_tools=["pan", "box_zoom", "wheel_zoom", "reset", "save"], active_tools=["pan"],
               backend_opts={"plot.toolbar.active_scroll": None})
-#: Legends in two columns under the plot: three did not fit the width a 1024 px screen leaves (Fig 13's 855 px in 634).
+#: Legends in two columns under the plot: three did not fit the width a 1024 px screen leaves (Fig 13's 855 px in 634);
+#: legend_offset: HoloViews anchors a legend at the bottom of its panel, its margin (10 px) below the canvas, where
+#: the border was cut off; 20 px up centres it in the panel.
 _PLOT = dict(responsive=True, height=HEIGHT, show_grid=True, fontsize=FONT, toolbar="above",
-             legend_position="bottom", legend_cols=2, legend_opts={"spacing": 6, "label_standoff": 6}, **_TOOLS)
+             legend_position="bottom", legend_cols=2, legend_offset=(0, 20),
+             legend_opts={"spacing": 6, "label_standoff": 6, "padding": 6}, **_TOOLS)
 
 # One recompute at a time on the whole server (the solver uses the cores; sessions share them).
 _POOL = ThreadPoolExecutor(max_workers=1, thread_name_prefix="paper-figures")
@@ -255,7 +258,7 @@ class _Block:
         self.caption.object = caption(self.name, data)
 
     def view(self):
-        return pn.Column(self.caption, self.pane, pn.Row(self.button, self.bar, self.status),
+        return pn.Column(self.caption, self.pane, pn.Row(self.button, self.bar, self.status, margin=(8, 0, 0, 0)),
                          sizing_mode="stretch_width", css_classes=["paper-figure"], name=self.name)
 
 

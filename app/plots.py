@@ -66,7 +66,9 @@ REGIME_MARKERS = {"shakedown": "circle", "ratcheting": "triangle", "undetermined
 _NX = 401
 _EMPTY = (np.zeros(0), np.zeros(0))
 
-_BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True,
+# legend_offset: HoloViews puts a legend at the bottom of its panel, its margin below the canvas, where the border
+# was cut off; 20 px up centres it in the panel
+_BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True, legend_offset=(0, 20),
              toolbar="above", default_tools=["pan", "wheel_zoom", "box_zoom", "reset", "save"],
              # no tool active: the wheel scrolls the page and a finger scrolls a phone's page; zoom and pan are
              # one click away in the toolbar

@@ -80,7 +80,9 @@ def save_svg(names: dict[str, str], run: dict | None = None) -> pn.FlexBox:
     """
     if not names:
         raise ValueError("names: at least one figure title is needed")
-    select = pn.widgets.Select(options=list(names), value=next(iter(names)), width=300, margin=(8, 10),
+    # wide enough for the longest title (about 9 px a character at 15 px), so the menu does not cut it
+    width = min(480, max(300, 9 * max(map(len, names)) + 40))
+    select = pn.widgets.Select(options=list(names), value=next(iter(names)), width=width, margin=(8, 10),
                                css_classes=["svg-figure"], stylesheets=[":host select {font-size: 15px;}"])
     button = pn.widgets.Button(label="Save as SVG", width=120, margin=(8, 10), css_classes=["save-svg"],
                                color="light")

@@ -111,8 +111,8 @@ _LEGENDS = "() => {" + FIGURE_VIEWS_JS + r"""
     if (box.width < 2 || box.height < 2) continue;   // not shown (another tab, a hidden figure)
     for (const r of (v.all_renderer_views ?? v.computed_renderer_views ?? [])) {
       if (!is(r.model, 'Legend') || !r.model.visible || !r.model.items.some((i) => i.visible)) continue;
-      const b = r.bbox, m = r.model.margin + 1;   // the box Bokeh lays out includes the legend's margin
-      if (b.left < -m || b.top < -m || b.right > box.width + m || b.bottom > box.height + m)
+      const b = r.bbox;
+      if (b.left < -1 || b.top < -1 || b.right > box.width + 1 || b.bottom > box.height + 1)
         problems.push(`legend cut off: "${v.model.title && v.model.title.text}" (legend ${Math.round(b.left)}..` +
                       `${Math.round(b.right)} x ${Math.round(b.top)}..${Math.round(b.bottom)} in ` +
                       `${Math.round(box.width)} x ${Math.round(box.height)})`);
