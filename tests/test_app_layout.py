@@ -148,6 +148,16 @@ def _settle(page):
     page.wait_for_timeout(300)
 
 
+def _fits_at_every_size(page, tab):
+    """Resize ``page`` to each of :data:`SIZES`: nothing overlaps or is cut off, legends included, no sideways scroll."""
+    for width, height in SIZES:
+        page.set_viewport_size({"width": width, "height": height})
+        _settle(page)
+        problems = page.evaluate(_LAYOUT) + page.evaluate(_LEGENDS)
+        assert problems == [], f"{tab} at {width}x{height}:\n" + "\n".join(problems[:30])
+        assert page.evaluate("() => document.documentElement.scrollWidth") <= width
+
+
 def test_nothing_overlaps_or_is_cut_off(browser, app_url):
     """At 1024x768, 1280x720 and 1920x1080 (one session, resized), in the Explorer tab and in the About tab."""
     page = _open(browser, app_url, SIZES[0])
@@ -157,12 +167,7 @@ def test_nothing_overlaps_or_is_cut_off(browser, app_url):
             page.locator(".katex").first.wait_for(timeout=30_000)
             # the equations are drawn with KaTeX's fonts, declared at document level
             page.wait_for_function("() => document.fonts.check('20px KaTeX_Main')", timeout=30_000)
-        for width, height in SIZES:
-            page.set_viewport_size({"width": width, "height": height})
-            _settle(page)
-            problems = page.evaluate(_LAYOUT) + page.evaluate(_LEGENDS)
-            assert problems == [], f"{tab} at {width}x{height}:\n" + "\n".join(problems[:30])
-            assert page.evaluate("() => document.documentElement.scrollWidth") <= width
+        _fits_at_every_size(page, tab)
     assert page.problems == [], page.problems
     page.close()
 
@@ -362,12 +367,7 @@ def test_the_paper_figures_fit_and_save_as_png_and_svg(browser, app_url):
     paper_views = "figure_views().filter((v) => v.model.title && v.model.title.text.startsWith('Fig '))"
     page.wait_for_function(f"() => {{ {FIGURE_VIEWS_JS} return {paper_views}.length === {len(TITLES)}; }}",
                            timeout=60_000)
-    for width, height in SIZES:
-        page.set_viewport_size({"width": width, "height": height})
-        _settle(page)
-        problems = page.evaluate(_LAYOUT) + page.evaluate(_LEGENDS)
-        assert problems == [], f"Paper's figures at {width}x{height}:\n" + "\n".join(problems[:30])
-        assert page.evaluate("() => document.documentElement.scrollWidth") <= width
+    _fits_at_every_size(page, "Paper's figures")
     # PNG: the toolbar's save tool on every figure
     saves = page.evaluate(f"""() => {{ {FIGURE_VIEWS_JS} return Object.fromEntries({paper_views}.map((v) =>
         [v.model.title.text, v.model.toolbar.tools.some((t) => t.constructor.__name__ === 'SaveTool')])); }}""")
