@@ -74,6 +74,9 @@ _APPLIES = ("*When the model applies:* a long cylinder (L ≫ a) rocking without
 _PAGE_CSS = """
 html.presenting {zoom: 1.25;}
 html.presenting #sidebar {display: none !important;}
+@media (max-width: 1100px) {  /* the full-size title pushed the busy indicator off a 1024 px screen */
+  #header .title {font-size: 1.3em;}
+}
 @media (max-width: 700px) {
   #header .title {font-size: 1.05em; white-space: normal; line-height: 1.3em;}
   #header-items {display: none;}

@@ -156,6 +156,10 @@ def _fits_at_every_size(page, tab):
         problems = page.evaluate(_LAYOUT) + page.evaluate(_LEGENDS)
         assert problems == [], f"{tab} at {width}x{height}:\n" + "\n".join(problems[:30])
         assert page.evaluate("() => document.documentElement.scrollWidth") <= width
+        # the header clips what it cannot fit (the busy indicator, drawn without text, went unseen above)
+        header = page.evaluate("() => Math.max(...[...document.querySelectorAll('#header *')].map((e) => "
+                               "e.getBoundingClientRect().right))")
+        assert header <= width + 1, f"{tab} at {width}x{height}: the header reaches x = {header}"
 
 
 def test_nothing_overlaps_or_is_cut_off(browser, app_url):
