@@ -74,6 +74,9 @@ _APPLIES = ("*When the model applies:* a long cylinder (L ≫ a) rocking without
 _PAGE_CSS = """
 html.presenting {zoom: 1.25;}
 html.presenting #sidebar {display: none !important;}
+@media (max-width: 1100px) {  /* the full-size title pushed the busy indicator off a 1024 px screen */
+  #header .title {font-size: 1.3em;}
+}
 @media (max-width: 700px) {
   #header .title {font-size: 1.05em; white-space: normal; line-height: 1.3em;}
   #header-items {display: none;}
@@ -916,8 +919,8 @@ class Explorer(pn.viewable.Viewer):
                           cell("point_increments"),
                           flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)
-        return pn.Column(self.player_controls(), self.pins, slides.save_svg(self), grid, sizing_mode="stretch_width",
-                         name="Explorer")
+        svg = slides.save_svg(slides.figure_titles(), run=dict(ft=self.ft_slider, w=self.w_slider))
+        return pn.Column(self.player_controls(), self.pins, svg, grid, sizing_mode="stretch_width", name="Explorer")
 
     def map_controls(self) -> pn.Column:
         """The 'compute the numerical map' action, its progress and its outcome."""

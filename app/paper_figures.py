@@ -29,7 +29,9 @@ import panel as pn
 
 from core import paper_figures as pf
 
-__all__ = ["DATA_PATH", "FIGURES", "shipped_data", "figure", "paper_figures_tab"]
+from . import slides
+
+__all__ = ["DATA_PATH", "TITLES", "FIGURES", "shipped_data", "figure", "paper_figures_tab"]
 
 import holoviews.plotting.bokeh  # noqa: E402,F401 - the bokeh backend
 
@@ -41,12 +43,18 @@ hv.plotting.bokeh.BokehRenderer.webgl = False
 DATA_PATH = Path(__file__).resolve().parent / "data" / "paper_figures.json"
 #: Okabe-Ito colours (distinguishable under the common colour-vision deficiencies), one per amplitude or case.
 PALETTE = ("#000000", "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00")
+#: Height of a figure, its legend included.
+HEIGHT = 480
 FONT = {"title": 15, "labels": 14, "xticks": 12, "yticks": 12, "legend": 12}
 #: Wheel zoom stays in the toolbar (one click away) but is not active, so the wheel scrolls the page.
 _TOOLS = dict(default_tools=["pan", "box_zoom", "wheel_zoom", "reset", "save"], active_tools=["pan"],
               backend_opts={"plot.toolbar.active_scroll": None})
-_PLOT = dict(responsive=True, height=400, show_grid=True, fontsize=FONT, toolbar="above",
-             legend_position="bottom", legend_cols=3, legend_opts={"spacing": 6, "label_standoff": 6}, **_TOOLS)
+#: Legends in two columns under the plot: three did not fit the width a 1024 px screen leaves (Fig 13's 855 px in 634);
+#: legend_offset: HoloViews anchors a legend at the bottom of its panel, its margin (10 px) below the canvas, where
+#: the border was cut off; 20 px up centres it in the panel.
+_PLOT = dict(responsive=True, height=HEIGHT, show_grid=True, fontsize=FONT, toolbar="above",
+             legend_position="bottom", legend_cols=2, legend_offset=(0, 20),
+             legend_opts={"spacing": 6, "label_standoff": 6, "padding": 6}, **_TOOLS)
 
 # One recompute at a time on the whole server (the solver uses the cores; sessions share them).
 _POOL = ThreadPoolExecutor(max_workers=1, thread_name_prefix="paper-figures")
@@ -83,6 +91,16 @@ def _axes(overlay: hv.Overlay, title: str, xlabel: str, ylabel: str, **opts) -> 
 
 
 FT_LABEL = "ft = Ft/(μ Fn)  [-]"
+#: Each figure's title (the SVG export finds the drawn figure by it).
+TITLES = {
+    "fig10": "Fig 10: stick half-width after shakedown",
+    "fig11": "Fig 11: traction after shakedown, w = 0.26",
+    "fig12": "Fig 12: traction after shakedown, ft = 0.08",
+    "fig13": "Fig 13: shakedown displacement",
+    "fig14": "Fig 14: shakedown limit",
+    "fig15": "Fig 15: largest shakedown displacement",
+    "fig16": "Fig 16: ratcheting increment per period",
+}
 
 
 # --------------------------------------------------------------------------
@@ -94,7 +112,7 @@ def _fig10(fig, data):
     for color, c in zip(PALETTE, fig["curves"]):
         layers.append(_paper(d, c["ft"], c["eq30"], f"paper's closure eq 30, {_w(c['w'])}", color))
         layers.append(_solver(d, c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
-    return _axes(hv.Overlay(layers), "Fig 10: stick half-width after shakedown", FT_LABEL, "c_sd / a  [-]",
+    return _axes(hv.Overlay(layers), TITLES["fig10"], FT_LABEL, "c_sd / a  [-]",
                  xlim=(0, 1), ylim=(0, 1.05))
 
 
@@ -114,7 +132,7 @@ def _fig13(fig, data):
     for color, c in zip(PALETTE, fig["curves"]):
         layers.append(_paper(d, c["ft"], c["eq34"], f"paper's regression eq 34, {_w(c['w'])}", color))
         if "eq13" in c:
-            layers.append(_paper(d, c["ft"], c["eq13"], "paper's static regression eq 13 (w = 0)", color,
+            layers.append(_paper(d, c["ft"], c["eq13"], "paper's static eq 13 (w = 0)", color,
                                  dash="dotted"))
         layers.append(_solver(d, c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
     checks = [(t, u) for c in fig["curves"] for t, u in zip(c["check_ft"], c["check_transient"])]
@@ -123,9 +141,9 @@ def _fig13(fig, data):
                               size=16).opts(fill_alpha=0.0, line_width=2))
     lim = data["figures"].get("fig15")
     if lim:
-        layers.append(_paper(d, lim["ft_lim"], lim["solver"], "u_lim: solver at the limit (Fig 15)", "#999999",
+        layers.append(_paper(d, lim["ft_lim"], lim["solver"], "u_lim, solver (Fig 15)", "#999999",
                              dash="dashdot"))
-    return _axes(hv.Overlay(layers), "Fig 13: shakedown displacement", FT_LABEL, "u_sd = U_sd / U0  [-]",
+    return _axes(hv.Overlay(layers), TITLES["fig13"], FT_LABEL, "u_sd = U_sd / U0  [-]",
                  xlim=(0, 1), ylim=(0, 1.05))
 
 
@@ -141,7 +159,7 @@ def _fig14(fig, data):
         _solver(d, p["ft"], p["w_ratcheting"], "solver: first ratcheting", PALETTE[4], marker="inverted_triangle",
                 size=11),
     ]
-    return _axes(hv.Overlay(layers), "Fig 14: shakedown limit", "ft_lim = Ft/(μ Fn) at the limit  [-]",
+    return _axes(hv.Overlay(layers), TITLES["fig14"], "ft_lim = Ft/(μ Fn) at the limit  [-]",
                  "w_lim = W/a  [-]", xlim=(0, 1), ylim=(0, 1))
 
 
@@ -151,8 +169,8 @@ def _fig15(fig, data):
                      PALETTE[2], dash="dashed"),
               _paper(d, fig["ft_lim"], fig["solver"], "", PALETTE[1], width=1.5),
               _solver(d, fig["ft_lim"], fig["solver"], "solver: u_sd as ft → ft_lim", PALETTE[1])]
-    return _axes(hv.Overlay(layers), "Fig 15: largest shakedown displacement", "ft_lim = Ft/(μ Fn) at the limit  [-]",
-                 "u_lim = U_lim / U0  [-]", xlim=(0, 1), ylim=(0, 1.05))
+    return _axes(hv.Overlay(layers), TITLES["fig15"], "ft_lim = Ft/(μ Fn) at the limit  [-]",
+                 "u_lim = U_lim / U0  [-]", xlim=(0, 1), ylim=(0, 1.05), legend_cols=1)
 
 
 def _fig16(fig, data):
@@ -161,7 +179,7 @@ def _fig16(fig, data):
     for color, c in zip(PALETTE[1:], fig["curves"]):
         layers.append(_paper(d, c["ft"], c["eq38"], f"paper's regression eq 38, {_w(c['w'])}", color, dash="dashed"))
         layers.append(_solver(d, c["ft"], c["solver"], f"solver, {_w(c['w'])}", color))
-    return _axes(hv.Overlay(layers), "Fig 16: ratcheting increment per period", FT_LABEL,
+    return _axes(hv.Overlay(layers), TITLES["fig16"], FT_LABEL,
                  "Δu per period = ΔU / U0  [-]", xlim=(0, 1))
 
 
@@ -175,11 +193,11 @@ FIGURES = {
         f"Stick half-width after shakedown against the load: solver markers (direct shaken-down state, strip "
         f"model of eq 17, dx = a/{1 / f['settings']['dx']:.0f}) on the paper's closure eq 30; w = 0 is Cattaneo. "
         f"Largest difference {_d(f['max_difference'])} a.")),
-    "fig11": (functools.partial(_traction, title="Fig 11: traction after shakedown, w = 0.26", vary="ft"), lambda f: (
+    "fig11": (functools.partial(_traction, title=TITLES["fig11"], vary="ft"), lambda f: (
         f"Traction after shakedown at w = 0.26 for three loads: solver (solid) against the paper's ansatz "
         f"(dashed, eqs 22-26 with c_sd of eq 30); outside the stick zone both sit at μ p_min. Largest difference "
         f"{_d(f['max_difference'])} μ p0.")),
-    "fig12": (functools.partial(_traction, title="Fig 12: traction after shakedown, ft = 0.08", vary="w"), lambda f: (
+    "fig12": (functools.partial(_traction, title=TITLES["fig12"], vary="w"), lambda f: (
         f"Traction after shakedown at ft = 0.08 for three amplitudes: the stick zone shrinks and the released "
         f"edge grows with w. Solver solid, ansatz dashed; largest difference {_d(f['max_difference'])} μ p0.")),
     "fig13": (_fig13, lambda f: (
@@ -225,7 +243,7 @@ class _Block:
     def __init__(self, name: str, data: dict):
         self.name = name
         # linked_axes=False: each figure keeps its own ranges (Panel links panes' axes of equal names)
-        self.pane = pn.pane.HoloViews(None, sizing_mode="stretch_width", min_height=400, linked_axes=False)
+        self.pane = pn.pane.HoloViews(None, sizing_mode="stretch_width", min_height=HEIGHT, linked_axes=False)
         self.caption = pn.pane.Markdown(caption(name, data), sizing_mode="stretch_width",
                                         css_classes=["paper-figure-caption"])
         self.button = pn.widgets.Button(label=f"Recompute Fig {pf.FIGURES[name][0]} with the solver",
@@ -240,7 +258,7 @@ class _Block:
         self.caption.object = caption(self.name, data)
 
     def view(self):
-        return pn.Column(self.caption, self.pane, pn.Row(self.button, self.bar, self.status),
+        return pn.Column(self.caption, self.pane, pn.Row(self.button, self.bar, self.status, margin=(8, 0, 0, 0)),
                          sizing_mode="stretch_width", css_classes=["paper-figure"], name=self.name)
 
 
@@ -325,5 +343,7 @@ def paper_figures_tab() -> pn.viewable.Viewable:
         "*paper's* are the paper's formulas. Lengths in a, tractions in μ p0, displacements in U0. "
         f"The shipped data was made by `{meta['command']}` ({meta.get('total_seconds', '?')} s, "
         f"{meta['created_utc']}).", sizing_mode="stretch_width")
-    return pn.Column(intro, *(b.view() for b in blocks.values()), sizing_mode="stretch_width",
+    # for slides: each figure as SVG, in a file named after it (the toolbar's save button gives a PNG)
+    svg = slides.save_svg({TITLES[name]: slides.stem(f"paper {TITLES[name].split(':')[0]}") for name in blocks})
+    return pn.Column(intro, svg, *(b.view() for b in blocks.values()), sizing_mode="stretch_width",
                      name="Paper's figures")

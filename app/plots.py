@@ -66,7 +66,9 @@ REGIME_MARKERS = {"shakedown": "circle", "ratcheting": "triangle", "undetermined
 _NX = 401
 _EMPTY = (np.zeros(0), np.zeros(0))
 
-_BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True,
+# legend_offset: HoloViews puts a legend at the bottom of its panel, its margin below the canvas, where the border
+# was cut off; 20 px up centres it in the panel
+_BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True, legend_offset=(0, 20),
              toolbar="above", default_tools=["pan", "wheel_zoom", "box_zoom", "reset", "save"],
              # no tool active: the wheel scrolls the page and a finger scrolls a phone's page; zoom and pan are
              # one click away in the toolbar
@@ -593,7 +595,7 @@ def _map_layers(i: Inputs) -> tuple:
 #: Each figure: its title and options, a one-line "what you see" caption, its layers' looks (a function of the units), its layers' data (a function
 #: of :class:`Inputs`), and the inputs these depend on.
 FIGURES = {
-    "sketch": dict(opts=dict(title="The cylinder at the player's step", height=340, yaxis=None, show_grid=False,
+    "sketch": dict(opts=dict(title="The cylinder at the player's step", yaxis=None, show_grid=False,
                              legend_position="right", legend_cols=1),
                    caption="What you see: the rocking cylinder (not to scale) at the player's step: its contact 2a, "
                            "the way it rolls and the trailing edge, where the contact lets go.",

@@ -3,7 +3,8 @@
 Bokeh's save tool saves what the figure is drawn with, the canvas: a PNG. A figure view can also draw
 itself once into an SVG context (``view.export("svg")``), whatever its output backend, so SVG needs no
 second, slower way of drawing the live figures: :func:`save_svg` is a figure menu and a button that does
-this in the browser and downloads the file, named after the figure and the run's ft and w.
+this in the browser and downloads the file, named after the figure (and, for the explorer's figures, the
+run's ft and w). The explorer's tab and the paper's figures tab each have one, for their own figures.
 """
 
 from __future__ import annotations
@@ -14,47 +15,83 @@ import panel as pn
 
 from . import plots
 
-__all__ = ["SVG_JS", "figure_titles", "save_svg"]
+__all__ = ["FIGURE_VIEWS_JS", "SVG_JS", "stem", "figure_titles", "save_svg"]
 
-#: Finds the figure view titled ``select.value`` in the page and downloads it as SVG.
-SVG_JS = """
-const title = select.value;
-const seen = new Set(), found = [];
-const walk = (v) => {
-  if (!v || seen.has(v)) return;
-  seen.add(v);
-  if (v.model && v.model.title && v.model.title.text === title && v.canvas_view && typeof v.export === 'function')
-    found.push(v);
-  for (const c of (v.child_views ?? [])) walk(c);
-  try { for (const c of v.children()) walk(c); } catch (e) {}
+#: JavaScript: ``figure_views()``, the view of every Bokeh figure drawn in the page (Panel nests them in layouts).
+FIGURE_VIEWS_JS = """
+const figure_views = () => {
+  const seen = new Set(), found = [];
+  const walk = (v) => {
+    if (!v || seen.has(v)) return;
+    seen.add(v);
+    if (v.model && v.canvas_view && typeof v.export === 'function') found.push(v);
+    for (const c of (v.child_views ?? [])) walk(c);
+    try { for (const c of v.children()) walk(c); } catch (e) {}
+  };
+  const idx = Bokeh.index;
+  for (const r of (idx.roots ? [...idx.roots] : (idx.values ? [...idx.values()] : Object.values(idx)))) walk(r);
+  return found;
 };
-const idx = Bokeh.index;
-for (const r of (idx.roots ? [...idx.roots] : (idx.values ? [...idx.values()] : Object.values(idx)))) walk(r);
+"""
+
+#: Finds the figure view titled ``select.value`` in the page and downloads it as SVG, named
+#: ``shakedown_<names[title]>`` and SUFFIX, a JavaScript expression (:func:`save_svg` puts the run's values there).
+SVG_JS = FIGURE_VIEWS_JS + """
+const title = select.value;
+const found = figure_views().filter((v) => v.model.title && v.model.title.text === title);
 if (!found.length) return;
+const get = (d, k) => (d instanceof Map ? d.get(k) : d[k]);
+const suffix = SUFFIX;
 (async () => {
   const blob = await found[0].export('svg').to_blob();
   const link = document.createElement('a');
   link.href = URL.createObjectURL(blob);
-  link.download = `shakedown_${names[title]}_ft${ft.value.toFixed(2)}_w${w.value.toFixed(2)}.svg`;
+  link.download = `shakedown_${get(names, title)}${suffix}.svg`;
   link.dispatchEvent(new MouseEvent('click'));
   setTimeout(() => URL.revokeObjectURL(link.href), 10000);
 })();
 """
 
 
+def stem(text: str) -> str:
+    """``text`` as a file-name part: lower case, runs of anything but letters and digits as one ``_``."""
+    return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_")
+
+
 def figure_titles() -> dict[str, str]:
     """Title of each figure of :data:`app.plots.FIGURES` -> the short name its SVG file is given."""
-    return {f["opts"]["title"]: re.sub(r"[^a-z0-9]+", "_", name.lower()) for name, f in plots.FIGURES.items()}
+    return {f["opts"]["title"]: stem(name) for name, f in plots.FIGURES.items()}
 
 
-def save_svg(explorer) -> pn.FlexBox:
-    """A figure menu and a 'Save as SVG' button for ``explorer``'s figures (drawn in the browser, no server work)."""
-    names = figure_titles()
-    select = pn.widgets.Select(options=list(names), value=next(iter(names)), width=300, margin=(8, 10),
+def save_svg(names: dict[str, str], run: dict | None = None) -> pn.FlexBox:
+    """A figure menu and a 'Save as SVG' button (drawn in the browser, no server work).
+
+    Parameters
+    ----------
+    names : dict
+        Title of each figure offered -> the name its file is given (``shakedown_<name>.svg``).
+    run : dict, optional
+        File-name key -> a widget with a numeric ``value`` (e.g. ``{"ft": slider}``): appended to the
+        name as ``_ft0.30``, so a file says which run it shows.
+
+    Returns
+    -------
+    panel.FlexBox
+    """
+    if not names:
+        raise ValueError("names: at least one figure title is needed")
+    # wide enough for the longest title (about 9 px a character at 15 px), so the menu does not cut it
+    width = min(480, max(300, 9 * max(map(len, names)) + 40))
+    select = pn.widgets.Select(options=list(names), value=next(iter(names)), width=width, margin=(8, 10),
                                css_classes=["svg-figure"], stylesheets=[":host select {font-size: 15px;}"])
     button = pn.widgets.Button(label="Save as SVG", width=120, margin=(8, 10), css_classes=["save-svg"],
                                color="light")
-    button.js_on_click(args=dict(select=select, ft=explorer.ft_slider, w=explorer.w_slider, names=names), code=SVG_JS)
+    run = dict(run or {})
+    if not all(key.isidentifier() and key not in ("select", "names") for key in run):
+        raise ValueError(f"run: keys must be identifiers other than select and names, got {list(run)}")
+    # each widget is an argument of its own (Panel links only top-level arguments to their Bokeh models)
+    suffix = " + ".join(f"'_{key}' + {key}.value.toFixed(2)" for key in run) or "''"
+    button.js_on_click(args=dict(select=select, names=dict(names), **run), code=SVG_JS.replace("SUFFIX", suffix))
     note = pn.pane.HTML("<span style='font-size: 15px'>For slides: the toolbar's ⤓ saves a PNG; as SVG:</span>",
                         margin=(14, 0, 0, 10))
     return pn.FlexBox(note, select, button, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width",

@@ -1,11 +1,12 @@
 """Take a screenshot of the served explorer for the README: docs/screenshot.png.
 
-Usage: python scripts/screenshot.py [--query "?ft=0.3&w=0.5"] [--pin 0.26 --pin 0.77] [--out docs/screenshot.png]
+Usage: python scripts/screenshot.py [--query "?ft=0.3&w=0.5"] [--pin 0.26 --pin 0.77] [--tab "Paper's figures"]
+                                   [--width 1920 --height 1080] [--out docs/screenshot.png]
 
 Serves ``app/main.py`` on a free loopback port, opens it in headless Chromium at a projector's
 1280x720 CSS pixels, waits until the solver's verdict and the figures are drawn, pins the runs at the
-``--pin`` amplitudes w (then returns to the query's w), scrolls the main area to ``--scroll`` pixels, and
-saves a PNG (palette-quantised to stay small).
+``--pin`` amplitudes w (then returns to the query's w), opens ``--tab``, scrolls the main area to ``--scroll``
+pixels, and saves a PNG (palette-quantised to stay small).
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ def main(argv=None) -> int:
     ap.add_argument("--height", type=int, default=720)
     ap.add_argument("--scroll", type=int, default=0, help="scroll the main area by this many CSS pixels")
     ap.add_argument("--full-page", action="store_true", help="capture the whole page, not the viewport")
+    ap.add_argument("--tab", default="Explorer", help="the tab to show, e.g. \"Paper's figures\"")
     ap.add_argument("--pin", type=float, action="append", default=[], help="pin the run at this w first (repeatable)")
     args = ap.parse_args(argv)
     with served_app() as url, chromium() as browser:
@@ -49,6 +51,9 @@ def main(argv=None) -> int:
                 if k < len(args.pin):
                     page.get_by_text("Pin this run", exact=True).first.click()
                     page.locator(f"[data-pin='{k + 1}']").first.wait_for(timeout=20_000)
+        if args.tab != "Explorer":
+            page.get_by_text(args.tab, exact=True).first.click()
+            page.wait_for_timeout(3000)  # the tab is built when first shown, its figures drawn after it loads
         page.evaluate("(y) => { const m = document.getElementById('main'); if (m) m.scrollTop = y; }", args.scroll)
         page.wait_for_timeout(1500)  # let the last figures paint (one-off script, not a test)
         png = page.screenshot(full_page=args.full_page)

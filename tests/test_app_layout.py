@@ -12,7 +12,9 @@ from __future__ import annotations
 import pytest
 
 import core
+from app.paper_figures import TITLES
 from app.serving import served_app, wait_until
+from app.slides import FIGURE_VIEWS_JS
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
 
@@ -99,6 +101,26 @@ _LAYOUT = r"""
 }
 """
 
+#: Returns [problem, ...]: a figure's legend that does not fit in its figure (Bokeh draws legends on the canvas,
+#: where the walker above does not see them).
+_LEGENDS = "() => {" + FIGURE_VIEWS_JS + r"""
+  const problems = [];
+  const is = (m, name) => m && (m.type === name || (m.constructor && m.constructor.__name__ === name));
+  for (const v of figure_views()) {
+    const box = v.el.getBoundingClientRect();
+    if (box.width < 2 || box.height < 2) continue;   // not shown (another tab, a hidden figure)
+    for (const r of (v.all_renderer_views ?? v.computed_renderer_views ?? [])) {
+      if (!is(r.model, 'Legend') || !r.model.visible || !r.model.items.some((i) => i.visible)) continue;
+      const b = r.bbox;
+      if (b.left < -1 || b.top < -1 || b.right > box.width + 1 || b.bottom > box.height + 1)
+        problems.push(`legend cut off: "${v.model.title && v.model.title.text}" (legend ${Math.round(b.left)}..` +
+                      `${Math.round(b.right)} x ${Math.round(b.top)}..${Math.round(b.bottom)} in ` +
+                      `${Math.round(box.width)} x ${Math.round(box.height)})`);
+    }
+  }
+  return problems;
+}"""
+
 
 # app_url and browser: session fixtures in tests/conftest.py (one served app, one Chromium)
 
@@ -126,6 +148,20 @@ def _settle(page):
     page.wait_for_timeout(300)
 
 
+def _fits_at_every_size(page, tab):
+    """Resize ``page`` to each of :data:`SIZES`: nothing overlaps or is cut off, legends included, no sideways scroll."""
+    for width, height in SIZES:
+        page.set_viewport_size({"width": width, "height": height})
+        _settle(page)
+        problems = page.evaluate(_LAYOUT) + page.evaluate(_LEGENDS)
+        assert problems == [], f"{tab} at {width}x{height}:\n" + "\n".join(problems[:30])
+        assert page.evaluate("() => document.documentElement.scrollWidth") <= width
+        # the header clips what it cannot fit (the busy indicator, drawn without text, went unseen above)
+        header = page.evaluate("() => Math.max(...[...document.querySelectorAll('#header *')].map((e) => "
+                               "e.getBoundingClientRect().right))")
+        assert header <= width + 1, f"{tab} at {width}x{height}: the header reaches x = {header}"
+
+
 def test_nothing_overlaps_or_is_cut_off(browser, app_url):
     """At 1024x768, 1280x720 and 1920x1080 (one session, resized), in the Explorer tab and in the About tab."""
     page = _open(browser, app_url, SIZES[0])
@@ -135,12 +171,7 @@ def test_nothing_overlaps_or_is_cut_off(browser, app_url):
             page.locator(".katex").first.wait_for(timeout=30_000)
             # the equations are drawn with KaTeX's fonts, declared at document level
             page.wait_for_function("() => document.fonts.check('20px KaTeX_Main')", timeout=30_000)
-        for width, height in SIZES:
-            page.set_viewport_size({"width": width, "height": height})
-            _settle(page)
-            problems = page.evaluate(_LAYOUT)
-            assert problems == [], f"{tab} at {width}x{height}:\n" + "\n".join(problems[:30])
-            assert page.evaluate("() => document.documentElement.scrollWidth") <= width
+        _fits_at_every_size(page, tab)
     assert page.problems == [], page.problems
     page.close()
 
@@ -329,4 +360,31 @@ def test_the_sketch_follows_the_player(browser, app_url):
     page.wait_for_function(f"(b) => JSON.stringify(({sketch})()) !== JSON.stringify(b)", arg=before, timeout=20_000)
     after = page.evaluate(sketch)
     assert len(after[0]) == 1 and after[1], after
+    page.close()
+
+
+def test_the_paper_figures_fit_and_save_as_png_and_svg(browser, app_url):
+    """The Paper's figures tab at 1024x768, 1280x720 and 1920x1080: nothing overlaps or is cut off, legends
+    included; every figure has the toolbar's save tool (PNG); a chosen figure downloads as SVG named after it."""
+    page = _open(browser, app_url, SIZES[0])
+    page.get_by_text("Paper's figures", exact=True).first.click()
+    paper_views = "figure_views().filter((v) => v.model.title && v.model.title.text.startsWith('Fig '))"
+    page.wait_for_function(f"() => {{ {FIGURE_VIEWS_JS} return {paper_views}.length === {len(TITLES)}; }}",
+                           timeout=60_000)
+    _fits_at_every_size(page, "Paper's figures")
+    # PNG: the toolbar's save tool on every figure
+    saves = page.evaluate(f"""() => {{ {FIGURE_VIEWS_JS} return Object.fromEntries({paper_views}.map((v) =>
+        [v.model.title.text, v.model.toolbar.tools.some((t) => t.constructor.__name__ === 'SaveTool')])); }}""")
+    assert saves == {title: True for title in TITLES.values()}, saves
+    # SVG: choose a figure, save, get its drawing in a file named after it
+    rows = page.locator(".save-svg-row")
+    rows.locator(".svg-figure select").last.select_option(TITLES["fig14"])
+    with page.expect_download(timeout=20_000) as download:
+        rows.get_by_text("Save as SVG", exact=True).last.click()
+    assert download.value.suggested_filename == "shakedown_paper_fig_14.svg"
+    with open(download.value.path(), encoding="utf-8") as f:
+        svg = f.read()
+    assert svg.startswith("<svg") and svg.rstrip().endswith("</svg>") and svg.count("<path") > 5, svg[:300]
+    assert "Fig 14: shakedown limit" in svg and "eq 35" in svg  # the title and the legend, as SVG text
+    assert page.problems == [], page.problems
     page.close()
