@@ -22,18 +22,24 @@ Why this layer and not the idiomatic path (issue 11, item 13). The idiomatic
 path, one ``hv.DynamicMap`` per figure fed by ``pn.bind``
 (:func:`app.plots.dynamic`, served with ``SHAKEDOWN_FIGURES=dynamicmap``), was
 measured against this one with ``python benchmarks/app.py --figures both
---repeats 8`` (both in one run, on 2 cores shared with other helpers' test
-suites, load average 5.5-8.5, so absolute times are several times a quiet
-machine's; the output is in ``benchmarks/results/app_figures_both.txt``):
+--repeats 8`` (both in one run, on a quiet machine, load average about 1; the
+output is in ``benchmarks/results/app_figures_both.txt``):
 
 ==============================  ===============  ====================
 median (n = 8)                  LiveFigure       DynamicMap
 ==============================  ===============  ====================
-slider -> plot data             617 ms           2172 ms
-new solve -> plot data          1228 ms          > 7.3 s (3 over 10 s)
-player step -> traction data    418 ms           1939 ms
-server CPU per session          4.55 s           4.10 s
+slider -> plot data             71 ms            1097 ms
+new solve -> plot data          406 ms           4068 ms
+player step -> traction data    82 ms            1918 ms
+first load (later sessions)     4.0 s            10.0 s
+server CPU per session          1.86 s           6.42 s
+Bokeh models per session        880              1382
 ==============================  ===============  ====================
+
+The slider meets its 100 ms target only on this layer; a new solve misses
+300 ms on both (the solve is 5 ms and the server's update 25-30 ms; the rest
+is the round trip and the browser redrawing seven figures), by ten times
+without it.
 
 HoloViews re-renders every element of an overlay, recomputes its ranges and
 restyles its glyphs on each change; this layer writes only the changed
