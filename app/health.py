@@ -53,6 +53,7 @@ from tornado import ioloop, web  # noqa: E402
 
 from app import runs  # noqa: E402 - after the cache is seeded: this imports the solver
 from app.limits import LOOP_WATCH_MS  # noqa: E402
+from app.loop import take_turns  # noqa: E402
 
 __all__ = ["ROUTES", "LivenessHandler", "LoopWatch", "watch_loop", "seed_numba_cache"]
 
@@ -115,6 +116,8 @@ class LivenessHandler(web.RequestHandler):
         self.set_status(200 if body["ready"] else 503)
         self.write(json.dumps(body))
 
+
+take_turns()  # sessions' builds take turns with the rest of the event loop
 
 #: Routes ``panel serve --plugins app.health`` adds to the server.
 ROUTES = [(r"/liveness", LivenessHandler)]

@@ -49,3 +49,41 @@ def test_server_log_classifier_keeps_app_errors():
     errors, skipped = lt.classify_server_log(noise + app_error)
     assert len(errors) == 1 and "boom" in errors[0]
     assert len(skipped) == 1
+
+
+def _builds(wrap):
+    """What Bokeh does for three pages requested at once: await the session hook, then build synchronously.
+    While each build runs, a request arrives (``/liveness``, another session's slider): the order things ran."""
+    import asyncio
+
+    async def scenario():
+        log, loop = [], asyncio.get_running_loop()
+
+        async def hook(k):
+            log.append(f"hook {k}")
+
+        hooked = wrap(hook)
+
+        async def page(k):
+            await hooked(k)
+            log.append(f"build {k}")
+            loop.call_soon(log.append, f"request during build {k}")
+
+        await asyncio.gather(*(page(k) for k in (1, 2, 3)))
+        await asyncio.sleep(0)
+        return log
+
+    return asyncio.run(scenario())
+
+
+def test_session_builds_take_turns_with_the_event_loop():
+    """Without turns the three builds run back to back before the requests that arrived meanwhile (the loop was
+    blocked for 44-53 s while 60 sessions opened); with them, what arrived during a build runs before the next."""
+    from app.loop import in_turns
+
+    alone = _builds(lambda hook: hook)
+    assert alone.index("build 3") < alone.index("request during build 1")
+    turns = _builds(in_turns)
+    assert turns.index("request during build 1") < turns.index("build 2")
+    assert turns.index("request during build 2") < turns.index("build 3")
+    assert [e for e in turns if e.startswith("build")] == ["build 1", "build 2", "build 3"]
