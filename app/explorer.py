@@ -33,6 +33,7 @@ import core
 from core.export import to_csv, to_json
 
 from . import plots, point_view
+from .point_view import _count, _fmt
 from . import runs
 from . import slides
 from .compare import Pins
@@ -85,22 +86,6 @@ html.presenting #sidebar {display: none !important;}
   #main {flex: 1 0 auto; overflow: visible; padding: 6px;}
 }
 """
-
-
-def _fmt(v, unit="", digits=4) -> str:
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
-        return "–"
-    return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
-
-
-def _count(n: int) -> str:
-    """A number of cycles, short: 1000, 2.5×10⁶."""
-    if n < 10**4:
-        return str(n)
-    e = int(math.floor(math.log10(n)))
-    m = n / 10**e
-    power = "10" + str(e).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
-    return power if abs(m - 1) < 1e-9 else f"{m:.3g}×{power}"
 
 
 def _renumber_periods(text: str) -> str:

@@ -34,10 +34,12 @@ def take_turns() -> bool:
 
 def in_turns(hook):
     """``hook`` (a coroutine function) made to take a lock, released on the event loop's turn after it returns."""
-    turn: dict = {}
+    lock = None  # made in the loop, on the first session
 
     async def wrapped(*args, **kwargs):
-        lock = turn.setdefault("lock", asyncio.Lock())
+        nonlocal lock
+        if lock is None:
+            lock = asyncio.Lock()
         await lock.acquire()
         try:
             return await hook(*args, **kwargs)

@@ -130,7 +130,8 @@ def pressure_map(units: Units, result=None, frame=None) -> tuple:
     if result is None:
         return _NO_IMAGE, _EMPTY
     k = _step(result, frame)
-    p = np.where(result.pressure(k) > 0, result.pressure(k) * units.p, np.nan)
+    p = result.pressure(k)
+    p = np.where(p > 0, p * units.p, np.nan)
     return (np.flipud(p), _bounds(result, units)), _outline(result, k, units)
 
 
@@ -357,6 +358,16 @@ def _fmt(v, unit="", digits=4) -> str:
     return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
 
 
+def _count(n: int) -> str:
+    """A number of cycles, short: 1000, 2.5×10⁶."""
+    if n < 10**4:
+        return str(n)
+    e = int(math.floor(math.log10(n)))
+    m = n / 10**e
+    power = "10" + str(e).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return power if abs(m - 1) < 1e-9 else f"{m:.3g}×{power}"
+
+
 def cards(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, body="sphere") -> str:
     """The summary cards of a point contact (HTML): the inputs in physical units, the exact limits of this
     body and of the cylinder (eq 35), and the run's numbers (``wait``: why they are not shown, or None)."""
@@ -384,7 +395,7 @@ def cards(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, bo
         if physical:
             um = inc * c.displacement_unit * 1e6
             rows += [("creep per period (last)", _fmt(um, "µm", 3)),
-                     ("creep after 10⁶ periods", _fmt(um * cycles / 1e3, "mm", 3))]
+                     (f"creep after {_count(cycles)} periods", _fmt(um * cycles / 1e3, "mm", 3))]
         else:
             rows.append(("Δu last period", f"{inc:.3g} μFn/(E*a)"))
         nx, ny = result.x_edges.size - 1, result.y_edges.size - 1

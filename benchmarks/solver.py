@@ -156,7 +156,7 @@ def solvers(quick: bool = False) -> None:
     reps = 2 if quick else 3
     print("\n=== per-step solvers: dense (interval / stick-set inverses) vs matrix-free (active set + PCG, FFT products) ===")
     # (a) the paper's heaviest case, (b) the same at dx = a/400: "auto" runs the solver it picks
-    # ((b) runs only the solver auto picks, its whole run taking minutes; (d) compares both at that size)
+    # (outside --quick both solvers run both cases, best of `reps`; (d) compares them step by step)
     for label, case, n_reps in (("(a)", HEAVY, reps), ("(b)", {**HEAVY, "dx": 1 / 400}, reps)):
         n = core.solver.make_grid(_heavy_schedule(case["dx"]).reach, case["dx"]).size - 1
         pick = select_solver("auto", n).name
