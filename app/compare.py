@@ -176,7 +176,7 @@ class Pins(pn.viewable.Viewer):
         """Pin the explorer's current run; False (and a message) if there is none, it is pinned, or four are."""
         ex = self.explorer
         r = ex.result
-        if r is None or ex.pending or not ex._shows(r, ex.state.ft, ex.state.w):
+        if r is None or ex.pending or not ex._shows(r, ex.state.ft, ex.state.w, ex.state.point):
             self.message = "No finished run of the current inputs to pin yet."
             return False
         pin = Pin(r, ex.contact, dict(ft=float(r.params.get("ft", ex.state.ft)),

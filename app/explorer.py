@@ -38,7 +38,7 @@ from . import runs
 from . import slides
 from .compare import Pins
 from .engineer import EngineerInputs
-from .live import LiveFigure
+from .live import LiveFigure, WhenShown
 from .paper_figures import paper_figures_tab
 from .runs import RESULTS, Generation, run_key, solve, submit
 from .state import PRESET_NOTES, PRESETS, URL_PARAMETERS, ExplorerState, parse_query
@@ -148,12 +148,19 @@ function label(root) {
   }
 }
 label(document);
-// a phone: the figures' legends in one column (two do not fit in 390 px), and no toolbar (it does not fit)
-if (window.innerWidth <= 700) {
+// a phone: the figures' legends in one column (two do not fit in 390 px), and no toolbar (it does not fit);
+// also for the figures drawn later (each is drawn when the page is scrolled to it)
+function phone() {
+  if (window.innerWidth > 700) return;
   for (const d of Bokeh.documents) for (const m of d.all_models) {
-    if ('ncols' in m && 'items' in m) m.ncols = 1;
-    if ('toolbar_location' in m && 'renderers' in m) m.toolbar_location = null;
+    if ('ncols' in m && 'items' in m && m.ncols !== 1) m.ncols = 1;
+    if ('toolbar_location' in m && 'renderers' in m && m.toolbar_location !== null) m.toolbar_location = null;
   }
+}
+phone();
+if (!window._shakedownPhone) {
+  window._shakedownPhone = true;
+  for (const d of Bokeh.documents) d.on_change(() => setTimeout(phone, 0));
 }
 // the math fonts: Panel's KaTeX stylesheet in the document's head names font files that Panel does not ship
 // (404s, then the system font); it is replaced by one that names the fonts shipped in app/assets/katex
@@ -189,7 +196,23 @@ class IntSlider(_Prompt, pn.widgets.IntSlider):
 _FIGURE_INPUTS = {"ft": "ft_live", "w": "w_live", "units": "plot_units", "result": "result", "frame": "frame",
                   "table": "map_table", "pinned": "pinned"}
 #: Range padding (x, y) of the axes that follow the data; None: the figure's own fixed ranges.
+_CELL_STYLE = {"flex": "1 1 560px", "min-width": "min(300px, 100%)"}
 _PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
+
+
+def _filled_when(holder: pn.layout.ListLike, ready, build) -> pn.layout.ListLike:
+    """``holder``, empty until the reactive boolean ``ready`` first holds, then filled with ``build()``, once.
+
+    What a visitor does not see is not built nor sent with the page (every
+    component costs the server milliseconds per session).
+    """
+    def fill(value):
+        if value and not holder.objects:
+            holder.objects = list(build())
+
+    fill(ready.rx.value)
+    ready.rx.watch(fill)
+    return holder
 
 
 class Explorer(pn.viewable.Viewer):
@@ -237,6 +260,8 @@ class Explorer(pn.viewable.Viewer):
         self.param.watch(self._update_units, "geometry")
         self._live: dict[str, LiveFigure] = {}  # built with the layout (figures())
         self._panes: dict[str, pn.pane.Bokeh] = {}
+        self.sentinels: dict[str, WhenShown] = {}  # the served page's: a figure is drawn when shown
+        self._cells: dict[str, pn.Column] = {}  # the served page's figures with their captions, once drawn
         self.param.watch(self._redraw, list(_FIGURE_INPUTS.values()))
         self._update_contact()
         if self.state.point and self._doc is not None and self._doc.session_context is not None:
@@ -698,20 +723,33 @@ class Explorer(pn.viewable.Viewer):
                     for name in rebuilt:
                         self._panes[name].object = self._live[name].figure
 
-    def figures(self) -> dict[str, pn.pane.Bokeh]:
-        """The figures: Bokeh figures rendered once, then updated in place (:class:`~app.live.LiveFigure`)."""
+    def figures(self, when_shown: bool = False) -> dict[str, pn.pane.Bokeh]:
+        """The figures: Bokeh figures rendered once, then updated in place (:class:`~app.live.LiveFigure`).
+
+        Only the figures of the current body are drawn (the other body's are
+        hidden; they are drawn when the body changes). With ``when_shown``
+        (the served page, :meth:`explorer_tab`) none is drawn here: each is
+        drawn once the browser scrolls near its place (:attr:`sentinels`), so
+        that a visitor who never scrolls down costs the server only the
+        figures at the top, and the page comes sooner. Without it (notebooks,
+        tests of the Python objects) they are drawn here.
+        """
         if os.environ.get("SHAKEDOWN_FIGURES") == "dynamicmap":  # the idiomatic path, measured by benchmarks/app.py
-            self._live = {}
+            self._live, self.sentinels = {}, {}
             self._panes = {name: pn.pane.HoloViews(plots.dynamic(name, self._inputs, **{
                 i: self.param[_FIGURE_INPUTS[i]] for i in plots.FIGURES[name]["inputs"]}), sizing_mode="stretch_width")
                 for name in plots.FIGURES}
             return self._panes
-        # only the figures of the current body are drawn: the other body's (hidden) would double a session's
-        # build; they are drawn when the body changes (_show_body)
         self._live = {}
         self._panes = {name: pn.pane.Bokeh(None, sizing_mode="stretch_width") for name in plots.FIGURES}
-        self._draw_figures(self._figures_of(self.state.body))
-        self.state.param.watch(self._show_body, "body")
+        self.sentinels = {}
+        if when_shown:
+            for name in plots.FIGURES:  # each keeps its figure's place until it is drawn (see _show_figures)
+                self.sentinels[name] = WhenShown(height=plots.HEIGHT + 40, styles=_CELL_STYLE)
+                self.sentinels[name].param.watch(lambda e, name=name: self._show_figures([name]), "shown")
+        else:
+            self._draw_figures(self._figures_of(self.state.body))
+        self.state.param.watch(lambda e: self._show_figures(self._figures_of(e.new)), "body")
         return self._panes
 
     @staticmethod
@@ -727,10 +765,29 @@ class Explorer(pn.viewable.Viewer):
                                               plots.group(name), padding=_PADDING.get(name, (0.0, 0.1)))
                 self._panes[name].object = self._live[name].figure
 
-    def _show_body(self, event) -> None:
+    def _show_figures(self, names) -> None:
+        """Draw the figures ``names`` that the current body shows and, on the served page, that the browser has
+        scrolled near; put each in the page in place of its sentinel (one recomputation of the document's model
+        graph for all)."""
+        body = self.state.body
+        names = [n for n in names if point_view.shown(n, body) and (n not in self.sentinels or self.sentinels[n].shown)]
         doc = self._doc
         with (doc.models.freeze() if doc is not None else contextlib.nullcontext()):
-            self._draw_figures(self._figures_of(event.new))
+            self._draw_figures(names)
+            grid = getattr(self, "_grid", None)
+            if grid is not None and self.sentinels:
+                slots = self._slots()
+                if slots != grid.objects:
+                    grid.objects = slots
+
+    def _slots(self) -> list:
+        """What the figure grid holds: for each figure of the current body, its cell once drawn, else the
+        sentinel that keeps its place (the other body's figures are not in the page)."""
+        for name in self._live:
+            if name not in self._cells:
+                self._cells[name] = self._cell(name)
+        return [self._cells.get(name) or self.sentinels[name]
+                for name in self._GRID if point_view.shown(name, self.state.body)]
 
     @functools.cached_property
     def engineer(self) -> EngineerInputs:
@@ -739,10 +796,12 @@ class Explorer(pn.viewable.Viewer):
 
     # ------------------------------------------------------------------ cards
     @staticmethod
-    def _shows(result, ft, w) -> bool:
-        """Whether ``result`` is the run of the inputs ``ft``, ``w`` the sliders show."""
+    def _shows(result, ft, w, point: bool | None = None) -> bool:
+        """Whether ``result`` is the run of the inputs ``ft``, ``w`` the sliders show and, if ``point`` is given,
+        of a point contact or not (a body switch changes the contact before the new body's run is there)."""
         return (result is not None and abs(float(result.params.get("ft", math.nan)) - ft) < 1e-9
-                and abs(float(result.params.get("w", math.nan)) - w) < 1e-9)
+                and abs(float(result.params.get("w", math.nan)) - w) < 1e-9
+                and (point is None or isinstance(result, core.PointContactResult) == point))
 
     def _badge(self, ft, w, result, error, pending=False):
         body = getattr(getattr(self, "state", None), "body", "cylinder")  # (also called on the class, headless)
@@ -750,7 +809,8 @@ class Explorer(pn.viewable.Viewer):
         if error:
             return ('<span class="regime-badge regime-none" data-regime="invalid">INVALID INPUT</span>'
                     f'<div class="regime-note">{html.escape(error)}</div>')
-        if pending or not self._shows(result, ft, w):
+        point = getattr(getattr(self, "state", None), "point", None)
+        if pending or not self._shows(result, ft, w, point):
             what = "SOLVING…" if pending or result is None else "RELEASE TO SOLVE"
             return (f'<span class="regime-badge regime-none" data-regime="pending">{what}</span>'
                     f'<div class="regime-note">{rule} predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}</div>')
@@ -770,7 +830,7 @@ class Explorer(pn.viewable.Viewer):
         Numerical values are shown only when the run shown is the current inputs' run (else 'solving…')."""
         rows = []
         physical = units == "physical"
-        fresh = not pending and self._shows(result, ft, w)
+        fresh = not pending and self._shows(result, ft, w, self.state.point)
         wait = None if fresh else ("solving…" if pending or result is None else "release the slider")
         if isinstance(contact, core.PointContact) or self.state.point:
             return point_view.cards(ft, w, mu, contact, result, wait, units, cycles, self.state.body)
@@ -779,7 +839,7 @@ class Explorer(pn.viewable.Viewer):
             rows += [("Ft (tangential force)", _fmt(ft * mu * c.Fn, "N")), ("W (rocking amplitude)", _fmt(w * c.a * 1e6, "µm")),
                      ("a (half-width)", _fmt(c.a * 1e3, "mm")), ("p0 (peak pressure)", _fmt(c.p0 / 1e6, "MPa")),
                      ("d (indentation, eq 6)", _fmt(c.d * 1e3, "mm")), ("Dundurs β", _fmt(c.beta, "", 3))]
-        u0 = None if result is None else result.u0
+        u0 = result.u0 if fresh else None  # (after a body switch, the run may still be the other body's)
         if u0 is not None and c is not None and fresh:
             rows.append(("U0 (ft = 1, strip)", _fmt(u0 * c.displacement_unit * 1e6, "µm")))
         csd = float(core.shakedown_stick_halfwidth(ft, w))
@@ -807,6 +867,8 @@ class Explorer(pn.viewable.Viewer):
 
     def _warnings(self, ft, w, contact, result):
         out = [] if contact is None else list(getattr(contact, "warnings", ()))
+        if result is not None and isinstance(result, core.PointContactResult) != self.state.point:
+            result = None  # the other body's run, until the new body's comes (a body switch)
         if w > 0.95:
             out.append(f"w = {w:.2f}: b = a − W = {1 - w:.2f} a is tiny; the always-in-contact band spans "
                        f"{(1 - w) / self.state.dx * 2:.0f} elements.")
@@ -887,25 +949,28 @@ class Explorer(pn.viewable.Viewer):
             self.speed, self.readout,
             flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width", css_classes=["cycle-player"])
 
+    #: The figures in the order they are laid out.
+    _GRID = ("sketch", "pressure", "traction", "states", "displacement", "point_pressure", "point_traction",
+             "point_zones", "point_cut", "point_displacement", "map", "increments", "point_increments")
+
     def explorer_tab(self) -> pn.Column:
-        """The player and the figures, each with a one-line caption; the figures wrap to one column when narrow."""
-        figs = self.figures()
-
-        def cell(name, *extra):
-            caption = pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}</div>",
-                                   stylesheets=[_CSS], sizing_mode="stretch_width", margin=0)
-            return pn.Column(figs[name], caption, *extra, sizing_mode="stretch_width",
-                             visible=pn.bind(point_view.shown, name, self.state.param.body),
-                             styles={"flex": "1 1 560px", "min-width": "min(300px, 100%)"})
-
-        grid = pn.FlexBox(cell("sketch"), cell("pressure"), cell("traction"), cell("states"), cell("displacement"),
-                          cell("point_pressure"), cell("point_traction"), cell("point_zones"), cell("point_cut"),
-                          cell("point_displacement"), cell("map", self.map_controls()), cell("increments"),
-                          cell("point_increments"),
-                          flex_wrap="wrap", sizing_mode="stretch_width")
+        """The player and the figures, each with a one-line caption; the figures wrap to one column when narrow.
+        A figure, its caption and its controls are built when the browser first scrolls near their place."""
+        self.figures(when_shown=True)
+        self._cells = {}
+        self._grid = pn.FlexBox(*(self._slots() if self.sentinels else [self._cell(name) for name in self._GRID]),
+                                flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)
         svg = slides.save_svg(slides.figure_titles(), run=dict(ft=self.ft_slider, w=self.w_slider))
-        return pn.Column(self.player_controls(), self.pins, svg, grid, sizing_mode="stretch_width", name="Explorer")
+        return pn.Column(self.player_controls(), self.pins, svg, self._grid, sizing_mode="stretch_width", name="Explorer")
+
+    def _cell(self, name: str) -> pn.Column:
+        """Figure ``name`` with its caption (and, for the map, its controls), shown while the body shows it."""
+        caption = pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}</div>",
+                               stylesheets=[_CSS], sizing_mode="stretch_width", margin=0)
+        extra = [self.map_controls()] if name == "map" else []
+        return pn.Column(self._panes[name], caption, *extra, sizing_mode="stretch_width", styles=_CELL_STYLE,
+                         visible=pn.bind(point_view.shown, name, self.state.param.body))
 
     def map_controls(self) -> pn.Column:
         """The 'compute the numerical map' action, its progress and its outcome."""
@@ -920,13 +985,19 @@ class Explorer(pn.viewable.Viewer):
 
     def sidebar(self) -> list:
         """The input widgets."""
+        physical = self.state.param.units.rx() == "physical"
+        solver_card = pn.Card(title="Solver", collapsed=True, sizing_mode="stretch_width")
         return [
             self.preset, self.preset_note, *point_view.body_inputs(self.state),
             pn.pane.Markdown("### Loads"), self.ft_slider, self.w_slider, self.mu_slider,
-            pn.pane.Markdown("### Units"), self.units_toggle, self.engineer,
+            pn.pane.Markdown("### Units"), self.units_toggle,
+            # the loads in physical units are shown with the physical units, the solver's options when their
+            # card is opened: both are sent to the browser only then (most visitors never open them)
+            _filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=physical), physical,
+                         lambda: [self.engineer]),
             pn.Card(*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs,
                     title="Geometry and materials", collapsed=False, sizing_mode="stretch_width"),
-            pn.Card(*self.solver_inputs, title="Solver", collapsed=True, sizing_mode="stretch_width"),
+            _filled_when(solver_card, solver_card.param.collapsed.rx.not_(), lambda: self.solver_inputs),
             pn.pane.Markdown("### Download the run"), self.csv_table, self.csv_download, self.json_download,
             pn.pane.Markdown(_APPLIES, styles={"font-size": "14px"}, css_classes=["model-applies"]),
         ]

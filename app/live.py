@@ -59,12 +59,14 @@ from typing import NamedTuple
 
 import holoviews as hv
 import numpy as np
+import param
+from panel.reactive import ReactiveHTML
 from bokeh.core.property.validation import validate
 from bokeh.core.serialization import Deserializer, Serializer
 from bokeh.models import ColumnDataSource, DataRange1d, GlyphRenderer
 from bokeh.util.serialization import make_id
 
-__all__ = ["Layer", "Styled", "overlay", "LiveFigure"]
+__all__ = ["Layer", "Styled", "overlay", "LiveFigure", "WhenShown"]
 
 def _columns(spec: Layer, data) -> dict | None:
     """The data-source columns of a layer whose glyph takes its data as they are (lines, markers, spans,
@@ -325,3 +327,36 @@ class LiveFigure:
     def glyphs(self) -> list:
         """The glyph of each layer, in order."""
         return list(self._glyphs)
+
+
+class WhenShown(ReactiveHTML):
+    """A sentinel that reports, once, when the browser scrolls it near the visible part of the page.
+
+    Put it just above something costly to build (a figure); watch
+    :attr:`shown` and build the thing when it becomes True. The browser's
+    ``IntersectionObserver`` sets it as soon as the sentinel comes within
+    :attr:`ahead` pixels below the view (so the figure is ready when the
+    reader gets there), or is in view when the page opens. A sentinel in a
+    hidden layout is not in view: it reports when its layout is shown and
+    scrolled to. Without a browser (a notebook's kernel alone, a test driving
+    the Python objects) it never reports: build eagerly there.
+    """
+
+    shown = param.Boolean(default=False, doc="The sentinel has come near the view (set by the browser, once).")
+    ahead = param.Integer(default=600, bounds=(0, 10_000), doc="How far below the view it already counts [px].")
+
+    _template = '<div id="sentinel" class="when-shown" style="height: 1px; width: 100%;"></div>'
+    _scripts = {"render": """
+        if (data.shown) { return; }
+        const seen = new IntersectionObserver((entries) => {
+          if (entries.some((e) => e.isIntersecting)) { data.shown = true; seen.disconnect(); }
+        }, {rootMargin: `0px 0px ${data.ahead}px 0px`});
+        seen.observe(sentinel);
+    """}
+
+    def __init__(self, **params):
+        params.setdefault("margin", 0)
+        params.setdefault("height", 1)
+        params.setdefault("sizing_mode", "stretch_width")
+        params["css_classes"] = [*params.get("css_classes", []), "when-shown"]  # (app.serving.scroll_through)
+        super().__init__(**params)

@@ -20,7 +20,7 @@ import urllib.request
 from pathlib import Path
 
 __all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "wait_until", "free_port", "served_app",
-           "chromium", "dask_cluster", "tasks_done"]
+           "chromium", "dask_cluster", "tasks_done", "scroll_through"]
 
 ROOT = Path(__file__).resolve().parent.parent
 #: The ``panel serve`` options the app is served with, here, in the README and in the Dockerfile
@@ -45,6 +45,26 @@ const find = (pred) => {
   return null;
 };
 """
+
+#: JavaScript for ``page.evaluate`` (after app.slides.VIEWS_JS): scrolls the first figure place that is not drawn
+#: yet (an :class:`app.live.WhenShown` still in the page) into view; returns how many such places are left.
+_NEXT_FIGURE_JS = """
+  const waiting = all_views().filter((v) => v.model && (v.model.css_classes ?? []).includes('when-shown')
+                                            && v.el.isConnected && v.el.getClientRects().length > 0);
+  if (waiting.length) waiting[0].el.scrollIntoView({block: 'start'});
+  return waiting.length;
+"""
+
+
+def scroll_through(page, timeout: float = 60.0) -> None:
+    """Scroll a served explorer page, figure by figure, until every figure in it is drawn (what a reader who
+    scrolls to the end does: the page draws a figure once it comes near the view), then back to the top."""
+    from app.slides import VIEWS_JS  # (imports Panel: only where a browser is driven)
+
+    wait_until(lambda: page.evaluate("() => {" + VIEWS_JS + _NEXT_FIGURE_JS + "}") == 0 or None, timeout,
+               interval=0.1, message="every figure of the page drawn")
+    page.evaluate("() => { for (const el of document.querySelectorAll('*')) if (el.scrollTop) el.scrollTop = 0;"
+                  " window.scrollTo(0, 0); }")
 
 
 def wait_until(predicate, timeout: float = 30.0, interval: float = 0.05, message: str = "condition"):

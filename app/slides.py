@@ -15,16 +15,16 @@ import panel as pn
 
 from . import plots
 
-__all__ = ["FIGURE_VIEWS_JS", "SVG_JS", "stem", "figure_titles", "save_svg"]
+__all__ = ["VIEWS_JS", "FIGURE_VIEWS_JS", "SVG_JS", "stem", "figure_titles", "save_svg"]
 
-#: JavaScript: ``figure_views()``, the view of every Bokeh figure drawn in the page (Panel nests them in layouts).
-FIGURE_VIEWS_JS = """
-const figure_views = () => {
+#: JavaScript: ``all_views()``, every Bokeh view of the page (Panel nests them in layouts, in shadow DOM).
+VIEWS_JS = """
+const all_views = () => {
   const seen = new Set(), found = [];
   const walk = (v) => {
     if (!v || seen.has(v)) return;
     seen.add(v);
-    if (v.model && v.canvas_view && typeof v.export === 'function') found.push(v);
+    found.push(v);
     for (const c of (v.child_views ?? [])) walk(c);
     try { for (const c of v.children()) walk(c); } catch (e) {}
   };
@@ -32,6 +32,11 @@ const figure_views = () => {
   for (const r of (idx.roots ? [...idx.roots] : (idx.values ? [...idx.values()] : Object.values(idx)))) walk(r);
   return found;
 };
+"""
+
+#: JavaScript: ``figure_views()``, the view of every Bokeh figure drawn in the page.
+FIGURE_VIEWS_JS = VIEWS_JS + """
+const figure_views = () => all_views().filter((v) => v.model && v.canvas_view && typeof v.export === 'function');
 """
 
 #: Finds the figure view titled ``select.value`` in the page and downloads it as SVG, named

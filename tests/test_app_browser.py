@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 import core
-from app.serving import FIND_MODEL_JS
+from app.serving import FIND_MODEL_JS, scroll_through
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
@@ -78,6 +78,7 @@ def open_app(browser, app_url):
         page.on("pageerror", lambda exc: errors.append(str(exc)))
         page.goto(app_url + query, timeout=180_000)  # the first session pays for imports and compiling
         page.locator(BADGE).first.wait_for(timeout=60_000)
+        scroll_through(page)  # every figure drawn, as for a reader who scrolled to the end
         return page, errors
 
     yield _open
@@ -97,6 +98,31 @@ def test_page_loads_without_errors(open_app):
     assert page.get_by_text("Traceback").count() == 0
     assert regime(page) == "shakedown"  # the default, ft = 0.3, w = 0.5
     assert errors == [], errors
+
+
+_FIGURE_TITLES = "() => [...Bokeh.documents[0].all_models].filter((m) => m.type === 'Figure').map((m) => m.title.text)"
+
+
+def test_figures_are_drawn_as_the_page_is_scrolled_to_them(browser, app_url):
+    """Issue 12: the page comes with the figures at its top only (a visitor who never scrolls costs the server
+    only those); each of the others is drawn when the reader scrolls near it, and then updates like the first."""
+    page = browser.new_page(viewport={"width": 1280, "height": 720})
+    try:
+        page.goto(app_url, timeout=180_000)
+        page.locator(BADGE).first.wait_for(timeout=60_000)
+        page.wait_for_function(f"() => ({_FIGURE_TITLES})().length >= 1", timeout=30_000)
+        page.wait_for_timeout(1000)  # nothing more comes by itself
+        first = page.evaluate(_FIGURE_TITLES)
+        assert first == ["The cylinder at the player's step"], first
+        scroll_through(page)
+        titles = page.evaluate(_FIGURE_TITLES)
+        assert len(titles) == 7 and "Increment per period (log scale)" in titles, titles
+        before = page.evaluate(_TRACTION, "Traction: numerical vs closure")
+        page.evaluate(_SET_SLIDER, [FT_TITLE, 0.2, False])  # a drag: the closure follows
+        page.wait_for_function(f"() => ({_TRACTION})('Traction: numerical vs closure') !== {before!r}",
+                               timeout=30_000)
+    finally:
+        page.close()
 
 
 def test_moving_ft_across_the_limit_flips_the_badge(open_app):

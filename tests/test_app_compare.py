@@ -15,6 +15,8 @@ from app.explorer import Explorer
 def explorer():
     ex = Explorer(query="ft=0.3&w=0.5&periods=3&kernel=plane")
     ex.template()
+    for sentinel in ex.sentinels.values():  # what the browser does when the page is scrolled through
+        sentinel.shown = True
     return ex
 
 

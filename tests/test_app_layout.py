@@ -13,7 +13,7 @@ import pytest
 
 import core
 from app.paper_figures import TITLES
-from app.serving import served_app, wait_until
+from app.serving import scroll_through, served_app, wait_until
 from app.slides import FIGURE_VIEWS_JS
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
@@ -135,6 +135,7 @@ def _open(browser, url, size=(1280, 720), query=""):
     page.on("pageerror", lambda e: page.problems.append(f"page error: {e}"))
     page.goto(url + query, timeout=180_000)
     page.locator(VERDICT).first.wait_for(timeout=180_000)
+    scroll_through(page)  # the figures are drawn as the page is scrolled to them
     page.locator(".bk-Canvas, canvas").nth(5).wait_for(timeout=60_000)
     return page
 

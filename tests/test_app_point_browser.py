@@ -13,7 +13,7 @@ import os
 import pytest
 
 import core
-from app.serving import FIND_MODEL_JS
+from app.serving import FIND_MODEL_JS, scroll_through
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
@@ -72,6 +72,7 @@ def test_a_link_to_a_sphere_shows_its_verdict_and_maps(browser, app_url):
         # the page comes at once (the run is off the event loop), then the sphere's own verdict
         page.locator("[data-regime]").first.wait_for(timeout=60_000)
         page.locator("[data-regime='ratcheting']").first.wait_for(timeout=180_000)
+        scroll_through(page)  # the figures are drawn as the page is scrolled to them
         note = page.locator(".regime-note").first.inner_text()
         assert "sphere's exact limit" in note and "predicts ratcheting" in note, note
         cards = page.locator(".cards").first.inner_text()
