@@ -9,8 +9,8 @@ them on one asyncio loop (one websocket per session, no browser). The
 client opens a session as ``bokeh.client.pull_session`` does but never
 builds Bokeh models: it keeps the document as JSON, applies the server's
 PATCH-DOC events to it and sends slider moves as a browser does
-(PATCH-DOC with ModelChanged events for ``value``, then ``value_throttled``
-on release). Decoding the document into Bokeh models cost a Python client
+(PATCH-DOC with a ModelChanged event for ``value`` while dragged, for
+``value`` and then ``value_throttled`` on release). Decoding the document into Bokeh models cost a Python client
 4-5 s of CPU per session, more than the server spends building it, so that
 the load generator, not the server, limited a 60-session run. What is
 measured is what a session costs the server; the load generator's own CPU
@@ -142,7 +142,7 @@ def _model_ids(value, register=None) -> set:
     ``{"type": "object", "name": ..., "id": ..., "attributes": {...}}``, and
     as a reference ``{"id": ...}`` afterwards. With ``register`` (a dict),
     every inline model met, nested ones too, is also put there as
-    ``id -> {"type": name, "attributes": {...}}``. Buffer references
+    ``id -> {"id": id, "type": name, "attributes": {...}}``. Buffer references
     (``{"id": ...}`` of binary data) come out as ids too: no model has them.
     """
     ids: set = set()
@@ -158,7 +158,7 @@ def _model_ids(value, register=None) -> set:
                     ids.add(v["id"])
                 if register is None:
                     return
-                register[v["id"]] = {"type": v.get("name"), "attributes": v.get("attributes", {})}
+                register[v["id"]] = {"id": v["id"], "type": v.get("name"), "attributes": v.get("attributes", {})}
                 top = False  # what an inline model holds belongs to it
             for x in v.values():
                 walk(x, top)
@@ -231,7 +231,7 @@ class DocumentJSON:
                 new = [c for m in todo if m not in seen for c in self.children(m)]
                 seen.update(todo)
                 todo = [m for m in new if m not in seen]
-            self._reachable = [{"id": m, **self.models[m]} for m in self.models if m in seen]
+            self._reachable = [model for m, model in self.models.items() if m in seen]
         return self._reachable
 
     def apply_patch(self, content: dict) -> None:
@@ -277,13 +277,15 @@ class DocumentJSON:
         return self.find(is_card)
 
 
-def model_changed(model_id: str, attr: str, value):
-    """A PATCH-DOC message with one ModelChanged event: ``attr`` of model ``model_id`` is now ``value``
-    (the JSON of ``bokeh.document.events.ModelChangedEvent.to_serializable``)."""
+def model_changed(model_id: str, changes: dict):
+    """A PATCH-DOC message with a ModelChanged event per item of ``changes`` (attribute -> new value, in order)
+    for model ``model_id``: the JSON of ``bokeh.document.events.ModelChangedEvent.to_serializable``, in one
+    message as BokehJS sends the properties set together by one ``setv``."""
     from bokeh.protocol.messages.patch_doc import patch_doc
 
-    event = {"kind": "ModelChanged", "model": {"id": model_id}, "attr": attr, "new": value}
-    return patch_doc(patch_doc.create_header(), {}, {"events": [event]})
+    events = [{"kind": "ModelChanged", "model": {"id": model_id}, "attr": attr, "new": value}
+              for attr, value in changes.items()]
+    return patch_doc(patch_doc.create_header(), {}, {"events": events})
 
 
 class Session:
@@ -303,7 +305,8 @@ class Session:
         from bokeh.protocol import Protocol
         from bokeh.protocol.receiver import Receiver
 
-        self.socket = WebSocketClientConnectionWrapper(socket)
+        self.ws = socket
+        self.socket = WebSocketClientConnectionWrapper(socket)  # the write lock Bokeh's messages take
         self.protocol = Protocol()
         self.receiver = Receiver(self.protocol)
         self.name, self.errors = name, errors
@@ -320,21 +323,23 @@ class Session:
         """Connect to ``url`` (an app's http URL), wait for the ACK and pull the document.
 
         ``errors`` receives a message per ERROR reply of the server. Raises on
-        failure (TimeoutError after ``timeout`` s, ConnectionError when the
-        server closes the socket first).
+        failure (TimeoutError when not open after ``timeout`` s,
+        ConnectionError when the server closes the socket first).
         """
         from bokeh.util.strings import format_url_query_arguments
         from bokeh.util.token import generate_jwt_token, generate_session_id
         from tornado.httpclient import HTTPRequest
         from tornado.websocket import websocket_connect
 
+        deadline = time.monotonic() + timeout
         ws_url = format_url_query_arguments(url.replace("http", "ws", 1).rstrip("/") + "/ws", arguments or {})
         request = HTTPRequest(ws_url, connect_timeout=timeout, request_timeout=timeout)
-        socket = await asyncio.wait_for(websocket_connect(request, subprotocols=["bokeh", generate_jwt_token(
-            generate_session_id())], max_message_size=20 * 1024 * 1024), timeout)
+        token = generate_jwt_token(generate_session_id())
+        socket = await asyncio.wait_for(websocket_connect(
+            request, subprotocols=["bokeh", token], max_message_size=20 * 1024 * 1024), timeout)
         self = cls(socket, name, [] if errors is None else errors)
         try:
-            await asyncio.wait_for(self._start(), timeout)
+            await asyncio.wait_for(self._start(), max(0.0, deadline - time.monotonic()))
         except BaseException:
             await self.close()
             raise
@@ -364,29 +369,38 @@ class Session:
 
     async def _read(self):
         """Handle the server's messages until the socket closes (as the Bokeh client: patches are applied,
-        replies are noted; the server's websocket pings are answered by Tornado)."""
+        replies are counted, an ERROR is an error of the run; the server's websocket pings are answered by
+        Tornado). The socket is given up after a patch that cannot be applied."""
         try:
             for _ in range(100_000_000):  # bounded by the socket's life
                 message = await self._message()
                 if message is None:
                     break
                 kind, reqid = message.msgtype, message.header.get("reqid")
-                if kind == "PATCH-DOC" and self.doc is not None:
-                    self.doc.apply_patch(message.content)
-                elif kind == "PULL-DOC-REPLY" and reqid == self._pull_id:
-                    self.doc = DocumentJSON(message.content["doc"])
+                if kind == "ERROR":
+                    text = str(message.content.get("text"))[:200]
+                    self.errors.append(f"{self.name}: the server answered ERROR: {text}")
+                    if reqid == self._pull_id:
+                        break  # no document: the opening fails
+                    self.answered += 1
                 elif kind == "OK":
                     self.answered += 1
-                elif kind == "ERROR":
-                    self.answered += 1
-                    self.errors.append(f"{self.name}: the server answered ERROR: {str(message.content.get('text'))[:200]}")
+                elif kind == "PATCH-DOC" and self.doc is not None:
+                    try:
+                        self.doc.apply_patch(message.content)
+                    except Exception as e:  # noqa: BLE001 - a patch this client cannot follow is an error of the run
+                        self.errors.append(f"{self.name}: could not apply a PATCH-DOC: {type(e).__name__}: {e}")
+                        break
+                elif kind == "PULL-DOC-REPLY" and reqid == self._pull_id:
+                    self.doc = DocumentJSON(message.content["doc"])
                 self.changed.set()
         finally:
             self.closed = True
             self.changed.set()
 
     async def wait_until(self, predicate, timeout: float) -> bool:
-        """Wait until ``predicate()`` holds after a message (True) or ``timeout`` s pass or the socket closes (False)."""
+        """Wait until ``predicate()`` holds after a message (True), or ``timeout`` s pass or the socket closes
+        (False)."""
         loop = asyncio.get_running_loop()
         deadline = loop.time() + timeout
         for _ in range(10_000_000):  # one pass per message received; ends at the deadline
@@ -400,18 +414,14 @@ class Session:
                 await asyncio.wait_for(self.changed.wait(), remaining)
         return bool(predicate())
 
-    async def change(self, model: dict, attr: str, value) -> None:
-        """Send what a browser sends when ``model``'s ``attr`` changes to ``value`` (the server answers OK, or
-        ERROR)."""
-        model["attributes"][attr] = value
-        await model_changed(model["id"], attr, value).send(self.socket)
-        self.sent += 1
-
     async def set(self, model: dict, value, release: bool) -> None:
-        """Move slider ``model`` to ``value``: ``value`` while dragged, then ``value_throttled`` on release."""
-        await self.change(model, "value", value)
-        if release:
-            await self.change(model, "value_throttled", value)
+        """Move slider ``model`` to ``value`` as a browser does: while dragged a PATCH-DOC that changes
+        ``value``; on release one that changes ``value`` and then ``value_throttled`` (BokehJS's slider sets
+        both together when the mouse is released). The server answers each with OK, or ERROR."""
+        changes = {"value": value, "value_throttled": value} if release else {"value": value}
+        model["attributes"].update(changes)
+        await model_changed(model["id"], changes).send(self.socket)
+        self.sent += 1
 
     def slider(self, title):
         return self.doc.slider(title)
@@ -421,9 +431,9 @@ class Session:
 
     async def close(self):
         with contextlib.suppress(Exception):
-            self.socket._socket.close(1000, "closed")
+            self.ws.close(1000, "closed")
         if self._reader is not None:
-            with contextlib.suppress(BaseException):
+            with contextlib.suppress(Exception):
                 await asyncio.wait_for(self._reader, 5.0)
             self._reader.cancel()
 
@@ -492,6 +502,8 @@ async def _session(url, k, start_at, deadline, fresh, stats, up):
         stats["errors"].append(f"session {k}: {type(e).__name__}: {str(e)[:200]}")
     finally:
         await s.close()
+        stats["patches_sent"] = stats.get("patches_sent", 0) + s.sent
+        stats["patches_answered"] = stats.get("patches_answered", 0) + s.answered
 
 
 async def _together(coroutines, timeout: float, stats) -> None:
@@ -549,10 +561,12 @@ async def _cpu_per_session(url, pid, n, stats, arguments=None) -> tuple[float, f
 
 
 def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions):
-    stats = {"errors": [], "latencies": [], "liveness": [], "liveness_burst": [], "loads": []}
+    stats = {"errors": [], "latencies": [], "liveness": [], "liveness_burst": [], "loads": [], "patches_sent": 0,
+             "patches_answered": 0}
     yard = url.rsplit("/", 1)[0] + "/yardstick"
     # 1. CPU per session, one after another
-    stats["cpu_explorer_s"], stats["client_cpu_explorer_s"] = asyncio.run(_cpu_per_session(url, pid, cpu_sessions, stats))
+    stats["cpu_explorer_s"], stats["client_cpu_explorer_s"] = asyncio.run(
+        _cpu_per_session(url, pid, cpu_sessions, stats))
     stats["cpu_yardstick_s"], stats["client_cpu_yardstick_s"] = asyncio.run(
         _cpu_per_session(yard, pid, cpu_sessions, stats))
     stats["loop_lag_cpu_ms"] = _lag_ms(base, stats)
@@ -608,7 +622,8 @@ def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0,
         ``cpu_yardstick_s`` (server CPU per session), ``client_cpu_explorer_s``,
         ``client_cpu_yardstick_s`` (this process's CPU per session),
         ``cpu_class_s`` and ``client_cpu_class_s`` (server and this process
-        over the class phase), ``loop_lag_*_ms``,
+        over the class phase), ``patches_sent`` and ``patches_answered``
+        (slider messages, and the server's OK or ERROR replies to them), ``loop_lag_*_ms``,
         ``rss_before_mb``, ``rss_after_mb``, ``cache_mb``, ``cluster_tasks``
         (solves the Dask cluster ran) and the server's ``returncode``.
     """
@@ -671,7 +686,8 @@ def report(stats: dict) -> str:
         f"{stats['sessions']} sessions opening over {stats['open_over']:.0f} s: all up after {stats['all_up_s']:.1f} s; "
         f"opening {_summary([x * 1e3 for x in stats['loads']])}",
         f"  then sliders for {stats['seconds']:.0f} s: {len(stats['latencies'])} solve round trips, "
-        f"{_summary(stats['latencies'])}",
+        f"{_summary(stats['latencies'])}; the server answered {stats['patches_answered']} of the "
+        f"{stats['patches_sent']} slider messages (OK or ERROR)",
         f"  /liveness meanwhile: {len(stats['liveness'])} checks, {_summary(stats['liveness'])}",
         f"  CPU over the whole phase: server {stats['cpu_class_s']:.1f} s, load generator (this process) "
         f"{stats['client_cpu_class_s']:.1f} s, in {stats['wall_s']:.0f} s of wall time",

@@ -1,12 +1,13 @@
 """Issue 12, item 6: the short load test runs in the suite and fails on any error.
 
 ``benchmarks/loadtest.py`` serves the app and the yardstick page on loopback
-and drives sessions through Bokeh's client protocol (no browser): sessions
+and drives sessions through Bokeh's websocket protocol (no browser; the
+documents are kept as JSON, no Bokeh model is built): sessions
 opened one after another for the CPU per session, a burst opened at once
 while ``/liveness`` is timed, then sessions that drag and release sliders
 (every release is a new solve). Any session that fails to open, unfinished
-round trip, failed liveness request, or traceback in the server log is an
-error. The figures' goals are checked by the benchmark at full size, not here.
+round trip, ERROR reply, failed liveness request, or traceback in the server
+log is an error. The figures' goals are checked by the benchmark at full size, not here.
 """
 
 import importlib.util
@@ -33,6 +34,7 @@ def test_a_few_sessions_for_a_few_seconds_without_an_error(fresh_thread):
     assert stats["errors"] == [], lt.report(stats)
     assert len(stats["loads"]) == 3 and len(stats["loads_burst"]) == 2, "every session opened"
     assert len(stats["latencies"]) >= 3, "the sessions solved"
+    assert stats["patches_answered"] == stats["patches_sent"] > 0, "the server answered every slider message"
     assert stats["cpu_explorer_s"] > 0 and stats["cpu_yardstick_s"] > 0, "the server's CPU time was read"
     assert stats["loop_lag_class_ms"] > 0, "the event loop was watched"
     # no growth beyond the bound of the shared result cache (plus the sessions' own state)
@@ -126,9 +128,8 @@ def test_document_json_finds_the_sliders_and_follows_the_cards_patches():
     patched()
     assert d.run_card()["id"] == new.id, "the new card (sent inline) replaced the old one"
     # a release as the client sends it, applied by Bokeh to the document: value, then value_throttled
-    for attr in ("value", "value_throttled"):
-        message = lt.model_changed(ft.id, attr, 0.7)
-        protocol.assemble(message.header_json, message.metadata_json, message.content_json).apply_to_document(doc)
+    message = lt.model_changed(ft.id, {"value": 0.7, "value_throttled": 0.7})
+    protocol.assemble(message.header_json, message.metadata_json, message.content_json).apply_to_document(doc)
     assert ft.value == 0.7 and ft.value_throttled == 0.7
 
     doc.add_root(Div(text="9 steps, 1 el., more"))
