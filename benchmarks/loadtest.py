@@ -424,12 +424,15 @@ class Session:
         self.sent += 1
 
     def slider(self, title):
+        """The slider titled ``title`` in the session's document (see :meth:`DocumentJSON.slider`)."""
         return self.doc.slider(title)
 
     def run_card(self):
+        """The run card of the session's document (see :meth:`DocumentJSON.run_card`)."""
         return self.doc.run_card()
 
     async def close(self):
+        """Close the websocket (the server drops the session) and wait up to 5 s for the reader to end."""
         with contextlib.suppress(Exception):
             self.ws.close(1000, "closed")
         if self._reader is not None:
@@ -446,6 +449,7 @@ def _fresh_values():
 
 
 async def _open(url, k, stats, arguments=None) -> Session | None:
+    """Open session ``k`` of ``url``; its opening time [s] goes to ``stats["loads"]``, a failure to the errors."""
     t0 = time.monotonic()
     try:
         s = await Session.open(url, arguments, name=f"session {k}", errors=stats["errors"])
@@ -490,6 +494,7 @@ async def _work(s: Session, k, deadline, fresh, stats):
 
 
 async def _session(url, k, start_at, deadline, fresh, stats, up):
+    """Session ``k``: open at ``start_at`` (time.monotonic()), move sliders until ``deadline()`` if given, close."""
     await asyncio.sleep(max(0.0, start_at - time.monotonic()))
     s = await _open(url, k, stats, {"ft": "0.3", "w": f"{0.2 + 0.02 * (k % 20):.2f}"})
     up.append(time.monotonic() if s is not None else math.nan)  # a failed session ends its opening too
