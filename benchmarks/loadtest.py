@@ -1,14 +1,22 @@
-"""Load test of the served explorer: many sessions driven through Bokeh's client protocol, not browsers.
+"""Load test of the served explorer: many sessions driven through Bokeh's websocket protocol, not browsers.
 
 Usage: python benchmarks/loadtest.py [--sessions 60] [--open-over 30] [--seconds 60] [--cluster 2]
 
 Serves ``app/main.py`` and the yardstick page (``benchmarks/yardstick.py``: a
 template, four sliders, two HoloViews plots) from one ``panel serve`` on
-127.0.0.1, and drives sessions with ``bokeh.client`` (one websocket and one
-Python document per session, no browser): what is measured is what a
-session costs the server. With ``--cluster N`` the solves go to a loopback
-Dask cluster of N workers (``dask scheduler`` and ``dask worker`` processes
-started here; ``SHAKEDOWN_SCHEDULER`` for the server).
+127.0.0.1, and drives sessions through Bokeh's websocket protocol, all of
+them on one asyncio loop (one websocket per session, no browser). The
+client opens a session as ``bokeh.client.pull_session`` does but never
+builds Bokeh models: it keeps the document as JSON, applies the server's
+PATCH-DOC events to it and sends slider moves as a browser does
+(PATCH-DOC with a ModelChanged event for ``value`` while dragged, for
+``value`` and then ``value_throttled`` on release). Decoding the document into Bokeh models cost a Python client
+4-5 s of CPU per session, more than the server spends building it, so that
+the load generator, not the server, limited a 60-session run. What is
+measured is what a session costs the server; the load generator's own CPU
+time is printed beside the server's. With ``--cluster N`` the solves go to
+a loopback Dask cluster of N workers (``dask scheduler`` and ``dask
+worker`` processes started here; ``SHAKEDOWN_SCHEDULER`` for the server).
 
 Phases, each printed:
 
@@ -22,15 +30,18 @@ Phases, each printed:
    seconds; each then, until ``--seconds`` after the last opening, drags the
    ft slider (every third time the w slider) through three values (no
    release: the analytical layers follow, no solve) and releases that
-   slider at a value no session has used (a new solve). The *solve round trip* runs from sending the
-   release to the run card's text changing in the session's document.
+   slider at a value no session has used (a new solve). The *solve round
+   trip* runs from sending the release to the run card's text changing in
+   the session's document.
 
-Printed: errors (goal 0: a session that fails to open, a round trip over
-60 s, a failed or slow ``/liveness`` (over 30 s), a traceback or ERROR in the
-server's log), time until all sessions are up, median and p95 of the round
-trips, ``/liveness`` latency, the longest time the server's event loop was
+Printed: errors (goal 0: a session that fails to open in 180 s, a round
+trip over 60 s, an ERROR reply to a slider move, a failed or slow
+``/liveness`` (over 30 s), a traceback or ERROR in the server's log), time
+until all sessions are up, median and p95 of the round trips,
+``/liveness`` latency, the longest time the server's event loop was
 blocked (``SHAKEDOWN_LOOP_WATCH_MS``, reported by ``/liveness``; goal
-<= 0.5 s), and the server's memory (VmRSS) before and after.
+<= 0.5 s), the server's memory (VmRSS) before and after, and the CPU time
+of the server and of the load generator (this process).
 
 Every loop is bounded in count and in time.
 """
@@ -40,6 +51,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import functools
 import itertools
 import json
 import math
@@ -123,81 +135,324 @@ def _lag_ms(base: str, stats: dict) -> float:
     return float("nan")
 
 
+def _model_ids(value, register=None) -> set:
+    """Ids of the models ``value`` (decoded JSON of Bokeh's protocol) refers to, not looking inside them.
+
+    Bokeh 3 sends a model inline where a message first mentions it,
+    ``{"type": "object", "name": ..., "id": ..., "attributes": {...}}``, and
+    as a reference ``{"id": ...}`` afterwards. With ``register`` (a dict),
+    every inline model met, nested ones too, is also put there as
+    ``id -> {"id": id, "type": name, "attributes": {...}}``. Buffer references
+    (``{"id": ...}`` of binary data) come out as ids too: no model has them.
+    """
+    ids: set = set()
+
+    def walk(v, top):
+        if isinstance(v, dict):
+            if "id" in v and len(v) == 1:  # a reference
+                if top:
+                    ids.add(v["id"])
+                return
+            if v.get("type") == "object" and "id" in v:  # a model inline
+                if top:
+                    ids.add(v["id"])
+                if register is None:
+                    return
+                register[v["id"]] = {"id": v["id"], "type": v.get("name"), "attributes": v.get("attributes", {})}
+                top = False  # what an inline model holds belongs to it
+            for x in v.values():
+                walk(x, top)
+        elif isinstance(v, list):
+            for x in v:
+                walk(x, top)
+
+    walk(value, True)
+    return ids
+
+
+@functools.lru_cache(maxsize=None)
+def _declares(type_name: str, prop: str) -> bool | None:
+    """Whether Bokeh's model class ``type_name`` has property ``prop`` (None: a type not known here).
+
+    The document's JSON leaves out properties at their defaults (a slider's
+    ``value_throttled``), so the class says what a model has; only the
+    class is looked at, no model is built.
+    """
+    import bokeh.models  # noqa: F401 - registers Bokeh's model classes by name
+    from bokeh.model import Model
+
+    cls = Model.model_class_reverse_map.get(type_name)
+    return None if cls is None else prop in cls.properties()
+
+
+class DocumentJSON:
+    """A served document as plain JSON: its models by id, updated by the server's PATCH-DOC events.
+
+    No Bokeh model is built (decoding the explorer's document into models
+    costs a Python client 4-5 s of CPU, more than the server spends building
+    it). Only models reachable from the roots count, as in a Bokeh
+    document: a card replaced by a new model is found, the old one is not.
+
+    Parameters
+    ----------
+    doc : dict
+        The ``doc`` of a PULL-DOC-REPLY's content (``roots`` with the models inline).
+    """
+
+    def __init__(self, doc: dict):
+        self.models: dict = {}
+        self._children: dict = {}
+        self._reachable: list | None = None
+        self.roots = list(self._register(doc.get("roots", [])))
+
+    def _register(self, value) -> set:
+        """Put the models inline in ``value`` in the document; returns the ids of the models ``value`` refers to."""
+        found: dict = {}
+        ids = _model_ids(value, register=found)
+        self.models.update(found)
+        for model_id in found:  # a model sent again inline comes with all its attributes
+            self._children.pop(model_id, None)
+        return ids & self.models.keys()
+
+    def children(self, model_id) -> set:
+        """Ids of the models that model ``model_id``'s attributes refer to."""
+        if model_id not in self._children:
+            self._children[model_id] = _model_ids(self.models[model_id]["attributes"]) & self.models.keys()
+        return self._children[model_id]
+
+    def reachable(self) -> list:
+        """The models reachable from the roots, as ``{"id", "type", "attributes"}`` dicts (cached until the
+        document's structure changes)."""
+        if self._reachable is None:
+            seen, todo = set(), [r for r in self.roots if r in self.models]
+            for _ in range(len(self.models) + 1):  # each model is expanded once
+                if not todo:
+                    break
+                new = [c for m in todo if m not in seen for c in self.children(m)]
+                seen.update(todo)
+                todo = [m for m in new if m not in seen]
+            self._reachable = [model for m, model in self.models.items() if m in seen]
+        return self._reachable
+
+    def apply_patch(self, content: dict) -> None:
+        """Apply a PATCH-DOC's events: ``ModelChanged`` (new models in its value are registered),
+        ``RootAdded`` and ``RootRemoved``; other kinds (column data, titles, messages) are ignored."""
+        for event in content.get("events", []):
+            kind = event.get("kind")
+            if kind == "ModelChanged":
+                model_id, attr, new = event["model"]["id"], event["attr"], event.get("new")
+                if model_id not in self.models:
+                    continue
+                refs = self._register(new)
+                attributes = self.models[model_id]["attributes"]
+                structural = bool(refs) or bool(_model_ids(attributes.get(attr)) & self.models.keys())
+                attributes[attr] = new
+                if structural:
+                    self._children.pop(model_id, None)
+                    self._reachable = None
+            elif kind == "RootAdded":
+                self.roots += list(self._register(event.get("model")))
+                self._reachable = None
+            elif kind == "RootRemoved":
+                gone = _model_ids(event.get("model"))
+                self.roots = [r for r in self.roots if r not in gone]
+                self._reachable = None
+
+    def find(self, predicate) -> dict | None:
+        """The first model (``{"id", "type", "attributes"}``) of the document for which ``predicate`` holds."""
+        return next((m for m in self.reachable() if predicate(m)), None)
+
+    def slider(self, title: str) -> dict | None:
+        """The slider titled ``title`` (a model with a ``value_throttled`` property)."""
+        def is_slider(m):
+            a = m["attributes"]
+            return a.get("title") == title and (_declares(m["type"], "value_throttled") or "value_throttled" in a)
+        return self.find(is_slider)
+
+    def run_card(self) -> dict | None:
+        """The card that describes the run shown (its text names the steps and the elements)."""
+        def is_card(m):
+            text = m["attributes"].get("text")
+            return isinstance(text, str) and " steps" in text and "el.," in text
+        return self.find(is_card)
+
+
+def model_changed(model_id: str, changes: dict):
+    """A PATCH-DOC message with a ModelChanged event per item of ``changes`` (attribute -> new value, in order)
+    for model ``model_id``: the JSON of ``bokeh.document.events.ModelChangedEvent.to_serializable``, in one
+    message as BokehJS sends the properties set together by one ``setv``."""
+    from bokeh.protocol.messages.patch_doc import patch_doc
+
+    events = [{"kind": "ModelChanged", "model": {"id": model_id}, "attr": attr, "new": value}
+              for attr, value in changes.items()]
+    return patch_doc(patch_doc.create_header(), {}, {"events": events})
+
+
 class Session:
-    """One session of a served page, driven through Bokeh's client protocol in a thread of its own."""
+    """One session of a served page, driven through Bokeh's websocket protocol without Bokeh models.
 
-    def __init__(self, url: str, arguments: dict | None = None):
-        import panel.models  # noqa: F401 - the client must know Panel's model types to read the document
-        import panel.models.katex  # noqa: F401
-        import panel.models.location  # noqa: F401
-        from bokeh.client import pull_session
-        from tornado.ioloop import IOLoop
+    It opens the websocket as ``bokeh.client.pull_session`` does (a new
+    session id, its JWT token as the subprotocol, the ``arguments`` in the
+    query, which the app reads as the page's query), pulls the document as
+    JSON (:class:`DocumentJSON`) and keeps it up to date with the server's
+    PATCH-DOC messages in a task of its own; slider moves go out as the
+    browser sends them. Messages are framed by Bokeh's own ``Protocol`` and
+    ``Receiver``. Use :meth:`open`.
+    """
 
-        asyncio.set_event_loop(asyncio.new_event_loop())  # this thread's loop; the client runs it while it waits
-        self.loop = IOLoop.current()
-        self.session = pull_session(url=url, arguments=arguments or {}, io_loop=self.loop)
+    def __init__(self, socket, name: str, errors: list):
+        from bokeh.client.websocket import WebSocketClientConnectionWrapper
+        from bokeh.protocol import Protocol
+        from bokeh.protocol.receiver import Receiver
 
-    @property
-    def models(self) -> list:
-        return list(self.session.document.models)
+        self.ws = socket
+        self.socket = WebSocketClientConnectionWrapper(socket)  # the write lock Bokeh's messages take
+        self.protocol = Protocol()
+        self.receiver = Receiver(self.protocol)
+        self.name, self.errors = name, errors
+        self.doc: DocumentJSON | None = None
+        self.closed = False
+        self.sent = self.answered = 0
+        self.changed = asyncio.Event()
+        self._pull_id = None
+        self._reader = None
 
-    def find(self, predicate):
-        return next((m for m in self.models if predicate(m)), None)
+    @classmethod
+    async def open(cls, url: str, arguments: dict | None = None, name: str = "session",
+                   errors: list | None = None, timeout: float = OPEN_TIMEOUT_S) -> Session:
+        """Connect to ``url`` (an app's http URL), wait for the ACK and pull the document.
+
+        ``errors`` receives a message per ERROR reply of the server. Raises on
+        failure (TimeoutError when not open after ``timeout`` s,
+        ConnectionError when the server closes the socket first).
+        """
+        from bokeh.util.strings import format_url_query_arguments
+        from bokeh.util.token import generate_jwt_token, generate_session_id
+        from tornado.httpclient import HTTPRequest
+        from tornado.websocket import websocket_connect
+
+        deadline = time.monotonic() + timeout
+        ws_url = format_url_query_arguments(url.replace("http", "ws", 1).rstrip("/") + "/ws", arguments or {})
+        request = HTTPRequest(ws_url, connect_timeout=timeout, request_timeout=timeout)
+        token = generate_jwt_token(generate_session_id())
+        socket = await asyncio.wait_for(websocket_connect(
+            request, subprotocols=["bokeh", token], max_message_size=20 * 1024 * 1024), timeout)
+        self = cls(socket, name, [] if errors is None else errors)
+        try:
+            await asyncio.wait_for(self._start(), max(0.0, deadline - time.monotonic()))
+        except BaseException:
+            await self.close()
+            raise
+        return self
+
+    async def _start(self):
+        ack = await self._message()
+        if ack is None or ack.msgtype != "ACK":
+            raise ConnectionError(f"expected ACK, got {ack and ack.msgtype}")
+        request = self.protocol.create("PULL-DOC-REQ")
+        self._pull_id = request.header["msgid"]
+        await request.send(self.socket)
+        self._reader = asyncio.create_task(self._read())
+        if not await self.wait_until(lambda: self.doc is not None, OPEN_TIMEOUT_S):
+            raise ConnectionError("the socket closed before the document came")
+
+    async def _message(self):
+        """The next whole message from the server, or None when the socket closed."""
+        for _ in range(10_000):  # fragments of one message: header, metadata, content and the buffers
+            fragment = await self.socket.read_message()
+            if fragment is None:
+                return None
+            message = await self.receiver.consume(fragment)
+            if message is not None:
+                return message
+        raise ConnectionError("a message of over 10000 fragments")
+
+    async def _read(self):
+        """Handle the server's messages until the socket closes (as the Bokeh client: patches are applied,
+        replies are counted, an ERROR is an error of the run; the server's websocket pings are answered by
+        Tornado). The socket is given up after a patch that cannot be applied."""
+        try:
+            for _ in range(100_000_000):  # bounded by the socket's life
+                message = await self._message()
+                if message is None:
+                    break
+                kind, reqid = message.msgtype, message.header.get("reqid")
+                if kind == "ERROR":
+                    text = str(message.content.get("text"))[:200]
+                    self.errors.append(f"{self.name}: the server answered ERROR: {text}")
+                    if reqid == self._pull_id:
+                        break  # no document: the opening fails
+                    self.answered += 1
+                elif kind == "OK":
+                    self.answered += 1
+                elif kind == "PATCH-DOC" and self.doc is not None:
+                    try:
+                        self.doc.apply_patch(message.content)
+                    except Exception as e:  # noqa: BLE001 - a patch this client cannot follow is an error of the run
+                        self.errors.append(f"{self.name}: could not apply a PATCH-DOC: {type(e).__name__}: {e}")
+                        break
+                elif kind == "PULL-DOC-REPLY" and reqid == self._pull_id:
+                    self.doc = DocumentJSON(message.content["doc"])
+                self.changed.set()
+        finally:
+            self.closed = True
+            self.changed.set()
+
+    async def wait_until(self, predicate, timeout: float) -> bool:
+        """Wait until ``predicate()`` holds after a message (True), or ``timeout`` s pass or the socket closes
+        (False)."""
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + timeout
+        for _ in range(10_000_000):  # one pass per message received; ends at the deadline
+            self.changed.clear()
+            if predicate():
+                return True
+            remaining = deadline - loop.time()
+            if self.closed or remaining <= 0:
+                return False
+            with contextlib.suppress(asyncio.TimeoutError):
+                await asyncio.wait_for(self.changed.wait(), remaining)
+        return bool(predicate())
+
+    async def set(self, model: dict, value, release: bool) -> None:
+        """Move slider ``model`` to ``value`` as a browser does: while dragged a PATCH-DOC that changes
+        ``value``; on release one that changes ``value`` and then ``value_throttled`` (BokehJS's slider sets
+        both together when the mouse is released). The server answers each with OK, or ERROR."""
+        changes = {"value": value, "value_throttled": value} if release else {"value": value}
+        model["attributes"].update(changes)
+        await model_changed(model["id"], changes).send(self.socket)
+        self.sent += 1
 
     def slider(self, title):
-        return self.find(lambda m: getattr(m, "title", None) == title and "value_throttled" in m.properties())
+        """The slider titled ``title`` in the session's document (see :meth:`DocumentJSON.slider`)."""
+        return self.doc.slider(title)
 
     def run_card(self):
-        return self.find(lambda m: isinstance(getattr(m, "text", None), str) and " steps" in m.text and "el.," in m.text)
+        """The run card of the session's document (see :meth:`DocumentJSON.run_card`)."""
+        return self.doc.run_card()
 
-    def pump(self, until, timeout: float) -> bool:
-        """Let the server's updates in until ``until()`` (True) or ``timeout`` seconds (False)."""
-        from tornado.ioloop import PeriodicCallback
-
-        conn = self.session._connection  # the public API only pumps while it waits for a reply, dropping updates
-        deadline = time.monotonic() + timeout
-        # a no-op request every 100 ms wakes the client's loop so that the deadline is seen without an update
-        ping = PeriodicCallback(lambda: self.loop.add_callback(conn.send_message, conn._protocol.create("SERVER-INFO-REQ")), 100)
-        ping.start()
-        try:
-            # in slices of 2 s: the client handles each message one recursion level deeper until it stops
-            for _ in range(int(timeout / 2) + 2):
-                end = min(deadline, time.monotonic() + 2.0)
-                conn._loop_until(lambda: until() or time.monotonic() > end or not conn.connected)
-                if until() or time.monotonic() > deadline or not conn.connected:
-                    break
-        finally:
-            ping.stop()
-        return bool(until())
-
-    def set(self, model, value, release: bool) -> None:
-        model.value = value
-        if release:
-            model.set_from_json("value_throttled", value)  # read-only in Python: what the browser sends on mouse-up
-
-    def close(self):
+    async def close(self):
+        """Close the websocket (the server drops the session) and wait up to 5 s for the reader to end."""
         with contextlib.suppress(Exception):
-            self.session.close()
-        with contextlib.suppress(Exception):
-            self.loop.close(all_fds=True)
+            self.ws.close(1000, "closed")
+        if self._reader is not None:
+            with contextlib.suppress(Exception):
+                await asyncio.wait_for(self._reader, 5.0)
+            self._reader.cancel()
 
 
 def _fresh_values():
     # values never used before by any session: every release is a new solve
     ft = (round(0.05 + (0.8 * ((i * 0.618034) % 1.0)), 4) for i in itertools.count(1))
     w = (round(0.1 + (0.75 * ((i * 0.414214) % 1.0)), 4) for i in itertools.count(1))
-    return {"ft": ft, "w": w, "lock": threading.Lock()}
+    return {"ft": ft, "w": w}
 
 
-def _next(fresh, key):
-    with fresh["lock"]:
-        return next(fresh[key])
-
-
-def _open(url, k, stats, arguments=None) -> Session | None:
+async def _open(url, k, stats, arguments=None) -> Session | None:
+    """Open session ``k`` of ``url``; its opening time [s] goes to ``stats["loads"]``, a failure to the errors."""
     t0 = time.monotonic()
     try:
-        s = Session(url, arguments)
+        s = await Session.open(url, arguments, name=f"session {k}", errors=stats["errors"])
         stats["loads"].append(time.monotonic() - t0)
         return s
     except Exception as e:  # noqa: BLE001 - a session that did not open is an error of the run
@@ -208,10 +463,10 @@ def _open(url, k, stats, arguments=None) -> Session | None:
 def _run_text(s: Session):
     """The text of the card that describes the run shown, or None while the cards wait for a solve."""
     card = s.run_card()
-    return None if card is None else card.text
+    return None if card is None else card["attributes"]["text"]
 
 
-def _work(s: Session, k, deadline, fresh, stats):
+async def _work(s: Session, k, deadline, fresh, stats):
     """Drag and release sliders on session ``k`` until ``deadline()`` (a time.monotonic() value)."""
     ft, w = s.slider(FT_TITLE), s.slider(W_TITLE)
     if ft is None or w is None or s.run_card() is None:
@@ -225,31 +480,46 @@ def _work(s: Session, k, deadline, fresh, stats):
         # of a slider being dragged before it solves, so releasing another one would not end the drag.
         slider, key = (w, "w") if i % 3 == 2 else (ft, "ft")
         for j in range(3):
-            s.set(slider, round(0.1 + 0.25 * j + 0.01 * (k % 10), 4), release=False)
-            s.pump(lambda: False, 0.05)
+            await s.set(slider, round(0.1 + 0.25 * j + 0.01 * (k % 10), 4), release=False)
+            await asyncio.sleep(0.05)  # the server's updates come in meanwhile
         before = _run_text(s)  # None while the cards wait for a release ('release the slider')
         t0 = time.monotonic()
-        s.set(slider, _next(fresh, key), release=True)
-        if s.pump(lambda: _run_text(s) not in (None, before), ROUND_TRIP_TIMEOUT_S):
+        await s.set(slider, next(fresh[key]), release=True)
+        if await s.wait_until(lambda: _run_text(s) not in (None, before), ROUND_TRIP_TIMEOUT_S):
             stats["latencies"].append((time.monotonic() - t0) * 1e3)
         else:
-            stats["errors"].append(f"session {k}: a solve round trip did not finish in {ROUND_TRIP_TIMEOUT_S:.0f} s")
+            why = "the socket closed" if s.closed else f"it did not finish in {ROUND_TRIP_TIMEOUT_S:.0f} s"
+            stats["errors"].append(f"session {k}: a solve round trip failed: {why}")
             return
 
 
-def _session_thread(url, k, start_at, deadline, fresh, stats, up):
-    time.sleep(max(0.0, start_at - time.monotonic()))
-    s = _open(url, k, stats, {"ft": "0.3", "w": f"{0.2 + 0.02 * (k % 20):.2f}"})
+async def _session(url, k, start_at, deadline, fresh, stats, up):
+    """Session ``k``: open at ``start_at`` (time.monotonic()), move sliders until ``deadline()`` if given, close."""
+    await asyncio.sleep(max(0.0, start_at - time.monotonic()))
+    s = await _open(url, k, stats, {"ft": "0.3", "w": f"{0.2 + 0.02 * (k % 20):.2f}"})
     up.append(time.monotonic() if s is not None else math.nan)  # a failed session ends its opening too
     if s is None:
         return
     try:
         if deadline is not None:
-            _work(s, k, deadline, fresh, stats)
+            await _work(s, k, deadline, fresh, stats)
     except Exception as e:  # noqa: BLE001
         stats["errors"].append(f"session {k}: {type(e).__name__}: {str(e)[:200]}")
     finally:
-        s.close()
+        await s.close()
+        stats["patches_sent"] = stats.get("patches_sent", 0) + s.sent
+        stats["patches_answered"] = stats.get("patches_answered", 0) + s.answered
+
+
+async def _together(coroutines, timeout: float, stats) -> None:
+    """Run ``coroutines`` on this loop at once; those still running after ``timeout`` s are cancelled (an error)."""
+    tasks = [asyncio.ensure_future(c) for c in coroutines]
+    _, pending = await asyncio.wait(tasks, timeout=timeout)
+    for t in pending:
+        t.cancel()
+    if pending:
+        stats["errors"].append(f"{len(pending)} sessions still running after {timeout:.0f} s were cancelled")
+        await asyncio.wait(pending, timeout=10.0)
 
 
 @contextlib.contextmanager
@@ -278,37 +548,38 @@ def _liveness(base, stats, key, period=0.25):
         thread.join(LIVENESS_LIMIT_S + 5)
 
 
-def _cpu_per_session(url, pid, n, stats, arguments=None) -> float:
-    """Server CPU [s] per session of ``url``: ``n`` sessions opened one after another (after one untimed)."""
-    s = _open(url, -1, {"loads": [], "errors": stats["errors"]}, arguments)
+async def _cpu_per_session(url, pid, n, stats, arguments=None) -> tuple[float, float]:
+    """Server CPU [s] per session of ``url``: ``n`` sessions opened one after another (after one untimed);
+    returns it and this process's CPU [s] per session (the load generator's own)."""
+    s = await _open(url, -1, {"loads": [], "errors": stats["errors"]}, arguments)
     if s is not None:
-        s.close()
-    time.sleep(0.5)
-    c0 = _cpu_s(pid)
+        await s.close()
+    await asyncio.sleep(0.5)
+    c0, own0 = _cpu_s(pid), time.process_time()
     for k in range(n):
-        s = _open(url, k, {"loads": [], "errors": stats["errors"]}, arguments)
+        s = await _open(url, k, {"loads": [], "errors": stats["errors"]}, arguments)
         if s is not None:
-            s.close()
-    time.sleep(1.0)  # the server finishes with the closed sessions
-    return (_cpu_s(pid) - c0) / n
+            await s.close()
+    own = time.process_time() - own0
+    await asyncio.sleep(1.0)  # the server finishes with the closed sessions
+    return (_cpu_s(pid) - c0) / n, own / n
 
 
 def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions):
-    stats = {"errors": [], "latencies": [], "liveness": [], "liveness_burst": [], "loads": []}
+    stats = {"errors": [], "latencies": [], "liveness": [], "liveness_burst": [], "loads": [], "patches_sent": 0,
+             "patches_answered": 0}
     yard = url.rsplit("/", 1)[0] + "/yardstick"
     # 1. CPU per session, one after another
-    stats["cpu_explorer_s"] = _cpu_per_session(url, pid, cpu_sessions, stats)
-    stats["cpu_yardstick_s"] = _cpu_per_session(yard, pid, cpu_sessions, stats)
+    stats["cpu_explorer_s"], stats["client_cpu_explorer_s"] = asyncio.run(
+        _cpu_per_session(url, pid, cpu_sessions, stats))
+    stats["cpu_yardstick_s"], stats["client_cpu_yardstick_s"] = asyncio.run(
+        _cpu_per_session(yard, pid, cpu_sessions, stats))
     stats["loop_lag_cpu_ms"] = _lag_ms(base, stats)
     # 2. burst: sessions open at once while /liveness is polled
     up: list = []
-    threads = [threading.Thread(target=_session_thread, args=(url, 1000 + k, 0.0, None, None, stats, up))
-               for k in range(burst)]
     with _liveness(base, stats, "liveness_burst"):
-        for t in threads:
-            t.start()
-        for t in threads:
-            t.join(OPEN_TIMEOUT_S)
+        asyncio.run(_together([_session(url, 1000 + k, 0.0, None, None, stats, up) for k in range(burst)],
+                              OPEN_TIMEOUT_S + 10, stats))
     stats["loop_lag_burst_ms"] = _lag_ms(base, stats)
     stats["loads_burst"], stats["loads"] = stats["loads"], []
     # 3. the class: sessions spread over open_over seconds, each then moves sliders until `seconds` after
@@ -326,20 +597,16 @@ def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions):
         opened = [t for t in up if not math.isnan(t)]
         return min(hard_end, max(opened, default=t0) + seconds)
 
-    threads = [threading.Thread(target=_session_thread,
-                                args=(url, k, t0 + open_over * k / max(1, sessions - 1) if sessions > 1 else t0,
-                                      deadline, fresh, stats, up), daemon=True)
-               for k in range(sessions)]
-    cpu0 = _cpu_s(pid)
+    starts = [t0 + open_over * k / max(1, sessions - 1) if sessions > 1 else t0 for k in range(sessions)]
+    cpu0, own0 = _cpu_s(pid), time.process_time()
     with _liveness(base, stats, "liveness"):
-        for t in threads:
-            t.start()
-        for t in threads:
-            t.join(max(1.0, hard_end + ROUND_TRIP_TIMEOUT_S - time.monotonic()))
+        asyncio.run(_together([_session(url, k, starts[k], deadline, fresh, stats, up) for k in range(sessions)],
+                              max(1.0, hard_end + ROUND_TRIP_TIMEOUT_S + 10 - time.monotonic()), stats))
     opened = [t for t in up if not math.isnan(t)]
     stats["all_up_s"] = (max(opened) - t0) if len(opened) == sessions else float("nan")
     stats["wall_s"] = time.monotonic() - t0
     stats["cpu_class_s"] = _cpu_s(pid) - cpu0
+    stats["client_cpu_class_s"] = time.process_time() - own0
     stats["loop_lag_class_ms"] = _lag_ms(base, stats)
     time.sleep(2.0)  # let the server drop the closed sessions
     stats["rss_after_mb"] = _rss_mb(pid)
@@ -357,7 +624,11 @@ def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0,
         ``errors`` (list of messages), ``latencies`` (solve round trips, ms),
         ``liveness`` and ``liveness_burst`` (ms), ``loads`` and
         ``loads_burst`` (s), ``all_up_s``, ``cpu_explorer_s``,
-        ``cpu_yardstick_s`` (server CPU per session), ``loop_lag_*_ms``,
+        ``cpu_yardstick_s`` (server CPU per session), ``client_cpu_explorer_s``,
+        ``client_cpu_yardstick_s`` (this process's CPU per session),
+        ``cpu_class_s`` and ``client_cpu_class_s`` (server and this process
+        over the class phase), ``patches_sent`` and ``patches_answered``
+        (slider messages, and the server's OK or ERROR replies to them), ``loop_lag_*_ms``,
         ``rss_before_mb``, ``rss_after_mb``, ``cache_mb``, ``cluster_tasks``
         (solves the Dask cluster ran) and the server's ``returncode``.
     """
@@ -413,15 +684,18 @@ def report(stats: dict) -> str:
         f"errors: {len(stats['errors'])} (goal 0)" + "".join(f"\n  - {e}" for e in stats["errors"][:20]),
         f"server CPU per session, opened one after another ({stats['cpu_sessions']} each): explorer "
         f"{stats['cpu_explorer_s']:.2f} s, yardstick {stats['cpu_yardstick_s']:.2f} s, ratio {ratio:.1f} "
-        f"(goal <= 2: {_goal(ratio <= 2)})",
+        f"(goal <= 2: {_goal(ratio <= 2)}); the load generator's own CPU per session: explorer "
+        f"{stats['client_cpu_explorer_s']:.2f} s, yardstick {stats['client_cpu_yardstick_s']:.2f} s",
         f"{stats['burst']} sessions opening at once: /liveness {_summary(stats['liveness_burst'])} "
         f"(goal < 2 s: {_goal(burst_max < 2)}); opening {_summary([x * 1e3 for x in stats['loads_burst']])}",
         f"{stats['sessions']} sessions opening over {stats['open_over']:.0f} s: all up after {stats['all_up_s']:.1f} s; "
         f"opening {_summary([x * 1e3 for x in stats['loads']])}",
         f"  then sliders for {stats['seconds']:.0f} s: {len(stats['latencies'])} solve round trips, "
-        f"{_summary(stats['latencies'])}",
+        f"{_summary(stats['latencies'])}; the server answered {stats['patches_answered']} of the "
+        f"{stats['patches_sent']} slider messages (OK or ERROR)",
         f"  /liveness meanwhile: {len(stats['liveness'])} checks, {_summary(stats['liveness'])}",
-        f"  server CPU over the whole phase: {stats['cpu_class_s']:.1f} s in {stats['wall_s']:.0f} s of wall time",
+        f"  CPU over the whole phase: server {stats['cpu_class_s']:.1f} s, load generator (this process) "
+        f"{stats['client_cpu_class_s']:.1f} s, in {stats['wall_s']:.0f} s of wall time",
         f"event loop blocked at most: {stats['loop_lag_burst_ms'] / 1e3:.2f} s (burst), "
         f"{stats['loop_lag_class_ms'] / 1e3:.2f} s (class), {stats['loop_lag_cpu_ms'] / 1e3:.2f} s (one session "
         f"at a time) (goal <= 0.5 s: {_goal(lag <= 0.5)})",

@@ -1,12 +1,13 @@
 """Issue 12, item 6: the short load test runs in the suite and fails on any error.
 
 ``benchmarks/loadtest.py`` serves the app and the yardstick page on loopback
-and drives sessions through Bokeh's client protocol (no browser): sessions
+and drives sessions through Bokeh's websocket protocol (no browser; the
+documents are kept as JSON, no Bokeh model is built): sessions
 opened one after another for the CPU per session, a burst opened at once
 while ``/liveness`` is timed, then sessions that drag and release sliders
 (every release is a new solve). Any session that fails to open, unfinished
-round trip, failed liveness request, or traceback in the server log is an
-error. The figures' goals are checked by the benchmark at full size, not here.
+round trip, ERROR reply, failed liveness request, or traceback in the server
+log is an error. The figures' goals are checked by the benchmark at full size, not here.
 """
 
 import importlib.util
@@ -33,6 +34,7 @@ def test_a_few_sessions_for_a_few_seconds_without_an_error(fresh_thread):
     assert stats["errors"] == [], lt.report(stats)
     assert len(stats["loads"]) == 3 and len(stats["loads_burst"]) == 2, "every session opened"
     assert len(stats["latencies"]) >= 3, "the sessions solved"
+    assert stats["patches_answered"] == stats["patches_sent"] > 0, "the server answered every slider message"
     assert stats["cpu_explorer_s"] > 0 and stats["cpu_yardstick_s"] > 0, "the server's CPU time was read"
     assert stats["loop_lag_class_ms"] > 0, "the event loop was watched"
     # no growth beyond the bound of the shared result cache (plus the sessions' own state)
@@ -87,3 +89,50 @@ def test_session_builds_take_turns_with_the_event_loop():
     assert turns.index("request during build 1") < turns.index("build 2")
     assert turns.index("request during build 2") < turns.index("build 3")
     assert [e for e in turns if e.startswith("build")] == ["build 1", "build 2", "build 3"]
+
+
+def test_document_json_finds_the_sliders_and_follows_the_cards_patches():
+    """The load test's client keeps the document as JSON: on a real PULL-DOC-REPLY it finds the slider (its
+    ``value_throttled`` is left out of the JSON at its default) and the run card; PATCH-DOC events made by Bokeh
+    update the card's text and put a card that replaces it (a new model, sent inline) in its place; the
+    slider moves it sends are what Bokeh applies to a document."""
+    import json
+
+    from bokeh.document import Document
+    from bokeh.models import Column, Div, Slider
+    from bokeh.protocol import Protocol
+
+    lt = _loadtest()
+    doc, protocol = Document(), Protocol()
+    ft = Slider(title=lt.FT_TITLE, start=0, end=1, value=0.3)
+    card = Div(text="80 steps, 12 el., 3 periods")
+    column = Column(Slider(title="other", start=0, end=1, value=0.5), ft, Div(text=lt.FT_TITLE), card)
+    doc.add_root(column)
+    reply = json.loads(protocol.create("PULL-DOC-REPLY", "q1", doc).content_json)
+    d = lt.DocumentJSON(reply["doc"])
+    assert d.slider(lt.FT_TITLE)["id"] == ft.id and d.slider(lt.W_TITLE) is None
+    assert d.run_card()["id"] == card.id
+
+    events = []
+    doc.on_change(lambda e: events.append(e))
+
+    def patched():
+        d.apply_patch(json.loads(protocol.create("PATCH-DOC", events).content_json))
+        events.clear()
+
+    card.text = "120 steps, 12 el., 4 periods"
+    patched()
+    assert d.run_card()["attributes"]["text"] == card.text
+    new = Div(text="40 steps, 6 el., 1 period")
+    column.children = [*column.children[:3], new]
+    patched()
+    assert d.run_card()["id"] == new.id, "the new card (sent inline) replaced the old one"
+    # a release as the client sends it, applied by Bokeh to the document: value, then value_throttled
+    message = lt.model_changed(ft.id, {"value": 0.7, "value_throttled": 0.7})
+    protocol.assemble(message.header_json, message.metadata_json, message.content_json).apply_to_document(doc)
+    assert ft.value == 0.7 and ft.value_throttled == 0.7
+
+    doc.add_root(Div(text="9 steps, 1 el., more"))
+    doc.remove_root(column)
+    patched()
+    assert d.slider(lt.FT_TITLE) is None and d.run_card()["attributes"]["text"].startswith("9 steps")
