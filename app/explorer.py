@@ -745,7 +745,8 @@ class Explorer(pn.viewable.Viewer):
         self.sentinels = {}
         if when_shown:
             for name in plots.FIGURES:  # each keeps its figure's place until it is drawn (see _show_figures)
-                self.sentinels[name] = WhenShown(height=plots.HEIGHT + 40, styles=_CELL_STYLE)
+                self.sentinels[name] = WhenShown(height=plots.HEIGHT + 40, styles=_CELL_STYLE,
+                                                 css_classes=[f"figure-{name}"])
                 self.sentinels[name].param.watch(lambda e, name=name: self._show_figures([name]), "shown")
         else:
             self._draw_figures(self._figures_of(self.state.body))

@@ -78,6 +78,9 @@ ROUND_TRIP_TIMEOUT_S = 60.0
 OPEN_TIMEOUT_S = 180.0
 LIVENESS_LIMIT_S = 30.0
 MAX_ROUND_TRIPS_PER_SESSION = 500
+#: Figures a browser draws as the page opens, at 1280x720 (the others when scrolled to; measured by
+#: tests/test_app_browser.py::test_figures_are_drawn_as_the_page_is_scrolled_to_them)
+FIGURES_IN_VIEW = 1
 _TICK = os.sysconf("SC_CLK_TCK")
 
 _RECORD = re.compile(r"^\d{4}-\d\d-\d\d \d\d:\d\d:\d\d,\d{3} ", re.M)
@@ -423,6 +426,25 @@ class Session:
         await model_changed(model["id"], changes).send(self.socket)
         self.sent += 1
 
+    async def show_figures(self, count: int, timeout: float = OPEN_TIMEOUT_S) -> None:
+        """Do what a browser does with the first ``count`` figure places of the page when they come into view:
+        report their sentinels (``app.live.WhenShown``) shown; wait until the server has drawn the figures
+        in their place. A browser of 1280x720 pixels shows one at first, a reader who scrolls through all."""
+        from app.explorer import Explorer
+
+        def sentinel(name):
+            return self.doc.find(lambda m: f"figure-{name}" in (m["attributes"].get("css_classes") or ()))
+
+        names = [n for n in Explorer._GRID if sentinel(n) is not None][:count]
+        for name in names:
+            data = sentinel(name)["attributes"].get("data")
+            if not isinstance(data, dict) or "id" not in data:
+                raise ConnectionError(f"the sentinel of figure {name} has no data model")
+            await model_changed(data["id"], {"shown": True}).send(self.socket)
+            self.sent += 1
+        if not await self.wait_until(lambda: all(sentinel(n) is None for n in names), timeout):
+            raise TimeoutError(f"the figures {names} were not drawn in {timeout:.0f} s")
+
     def slider(self, title):
         """The slider titled ``title`` in the session's document (see :meth:`DocumentJSON.slider`)."""
         return self.doc.slider(title)
@@ -449,10 +471,16 @@ def _fresh_values():
 
 
 async def _open(url, k, stats, arguments=None) -> Session | None:
-    """Open session ``k`` of ``url``; its opening time [s] goes to ``stats["loads"]``, a failure to the errors."""
+    """Open session ``k`` of ``url`` and have the figures in view drawn (``stats["figures_in_view"]``, see
+    :meth:`Session.show_figures`); its opening time [s] goes to ``stats["loads"]``, a failure to the errors."""
     t0 = time.monotonic()
     try:
         s = await Session.open(url, arguments, name=f"session {k}", errors=stats["errors"])
+        try:
+            await s.show_figures(stats.get("figures_in_view", FIGURES_IN_VIEW))
+        except BaseException:
+            await s.close()
+            raise
         stats["loads"].append(time.monotonic() - t0)
         return s
     except Exception as e:  # noqa: BLE001 - a session that did not open is an error of the run
@@ -551,13 +579,14 @@ def _liveness(base, stats, key, period=0.25):
 async def _cpu_per_session(url, pid, n, stats, arguments=None) -> tuple[float, float]:
     """Server CPU [s] per session of ``url``: ``n`` sessions opened one after another (after one untimed);
     returns it and this process's CPU [s] per session (the load generator's own)."""
-    s = await _open(url, -1, {"loads": [], "errors": stats["errors"]}, arguments)
+    quiet = {"loads": [], "errors": stats["errors"], "figures_in_view": stats["figures_in_view"]}
+    s = await _open(url, -1, quiet, arguments)
     if s is not None:
         await s.close()
     await asyncio.sleep(0.5)
     c0, own0 = _cpu_s(pid), time.process_time()
     for k in range(n):
-        s = await _open(url, k, {"loads": [], "errors": stats["errors"]}, arguments)
+        s = await _open(url, k, quiet, arguments)
         if s is not None:
             await s.close()
     own = time.process_time() - own0
@@ -565,9 +594,9 @@ async def _cpu_per_session(url, pid, n, stats, arguments=None) -> tuple[float, f
     return (_cpu_s(pid) - c0) / n, own / n
 
 
-def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions):
+def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions, figures_in_view):
     stats = {"errors": [], "latencies": [], "liveness": [], "liveness_burst": [], "loads": [], "patches_sent": 0,
-             "patches_answered": 0}
+             "patches_answered": 0, "figures_in_view": figures_in_view}
     yard = url.rsplit("/", 1)[0] + "/yardstick"
     # 1. CPU per session, one after another
     stats["cpu_explorer_s"], stats["client_cpu_explorer_s"] = asyncio.run(
@@ -615,8 +644,12 @@ def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions):
 
 def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0, burst: int = 10,
              cpu_sessions: int = 5, cluster: int = 0, env: dict | None = None, keep_log: str | None = None,
-             serve_args: tuple[str, ...] = ()) -> dict:
+             serve_args: tuple[str, ...] = (), figures_in_view: int = FIGURES_IN_VIEW) -> dict:
     """Serve the app (and the yardstick), run the three phases; return the figures.
+
+    Each explorer session has its first ``figures_in_view`` figures drawn as it
+    opens (what a browser window shows: 1 at 1280x720; 7 for a reader who
+    scrolls through the cylinder's page).
 
     Returns
     -------
@@ -633,9 +666,9 @@ def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0,
         (solves the Dask cluster ran) and the server's ``returncode``.
     """
     if not (1 <= sessions <= 200 and 0 <= open_over <= 600 and 1 <= seconds <= 3600 and 1 <= burst <= 100
-            and 1 <= cpu_sessions <= 100 and 0 <= cluster <= 8):
+            and 1 <= cpu_sessions <= 100 and 0 <= cluster <= 8 and 0 <= figures_in_view <= 13):
         raise ValueError("sessions in [1, 200], open_over in [0, 600] s, seconds in [1, 3600], burst in [1, 100], "
-                         "cpu_sessions in [1, 100], cluster in [0, 8] workers")
+                         "cpu_sessions in [1, 100], cluster in [0, 8] workers, figures_in_view in [0, 13]")
     env = {**(env or {}), "SHAKEDOWN_LOOP_WATCH_MS": "50"}
     with tempfile.TemporaryDirectory() as tmp, contextlib.ExitStack() as stack:
         if cluster:
@@ -644,7 +677,8 @@ def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0,
         log_path = Path(tmp) / "server.log"
         info: dict = {}
         with served_app(env=env, log_path=log_path, info=info, extra_args=serve_args, extra_apps=[YARDSTICK]) as url:
-            stats = _run(url, info["base"], info["pid"], sessions, open_over, seconds, burst, cpu_sessions)
+            stats = _run(url, info["base"], info["pid"], sessions, open_over, seconds, burst, cpu_sessions,
+                         figures_in_view)
             stats["cluster_tasks"] = tasks_done(env["SHAKEDOWN_SCHEDULER"], "simulate_contact") if cluster else 0
         log = log_path.read_text(errors="replace")
         if keep_log:
@@ -657,7 +691,8 @@ def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0,
     stats["returncode"] = info.get("returncode")
     stats["stop_s"] = info.get("stop_seconds", float("nan"))
     stats["cache_mb"] = limits.CACHE_MB
-    stats.update(sessions=sessions, open_over=open_over, seconds=seconds, burst=burst, cpu_sessions=cpu_sessions,
+    stats.update(figures_in_view=figures_in_view, sessions=sessions, open_over=open_over, seconds=seconds,
+                 burst=burst, cpu_sessions=cpu_sessions,
                  cluster=cluster, serve_args=list(serve_args))
     return stats
 
@@ -680,7 +715,8 @@ def report(stats: dict) -> str:
     where = (f"solves on a loopback Dask cluster of {stats['cluster']} workers ({stats['cluster_tasks']} solves ran there)"
              if stats["cluster"] else "solves in the server's threads")
     lines = [
-        f"server: panel serve {' '.join(stats['serve_args']) or '(default options)'}; {where}",
+        f"server: panel serve {' '.join(stats['serve_args']) or '(default options)'}; {where}; each explorer "
+        f"session has its first {stats['figures_in_view']} figure(s) drawn (a browser draws those in view)",
         f"errors: {len(stats['errors'])} (goal 0)" + "".join(f"\n  - {e}" for e in stats["errors"][:20]),
         f"server CPU per session, opened one after another ({stats['cpu_sessions']} each): explorer "
         f"{stats['cpu_explorer_s']:.2f} s, yardstick {stats['cpu_yardstick_s']:.2f} s, ratio {ratio:.1f} "
@@ -715,6 +751,8 @@ def main(argv=None) -> int:
     ap.add_argument("--burst", type=int, default=10, help="sessions opened at once while /liveness is timed")
     ap.add_argument("--cpu-sessions", type=int, default=5, help="sessions per page for the CPU per session")
     ap.add_argument("--cluster", type=int, default=0, help="solve on a loopback Dask cluster of this many workers")
+    ap.add_argument("--figures-in-view", type=int, default=FIGURES_IN_VIEW,
+                    help="figures each session has drawn (1: a 1280x720 window; 7: scrolled through)")
     ap.add_argument("--json", help="also write the figures to this JSON file")
     ap.add_argument("--log", help="keep the server's log in this file")
     ap.add_argument("--serve-args", default="", help="further 'panel serve' options, e.g. '--num-threads 4'")
@@ -722,7 +760,7 @@ def main(argv=None) -> int:
     # stopped with SIGTERM: unwind, so that the server and the cluster this script started are stopped too
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     stats = run_load(args.sessions, args.open_over, args.seconds, args.burst, args.cpu_sessions, args.cluster,
-                     keep_log=args.log, serve_args=tuple(args.serve_args.split()))
+                     keep_log=args.log, serve_args=tuple(args.serve_args.split()), figures_in_view=args.figures_in_view)
     print(report(stats))
     if args.json:
         Path(args.json).write_text(json.dumps(stats, indent=1))
