@@ -741,7 +741,8 @@ class Explorer(pn.viewable.Viewer):
                 for name in plots.FIGURES}
             return self._panes
         self._live = {}
-        self._panes = {name: pn.pane.Bokeh(None, sizing_mode="stretch_width") for name in plots.FIGURES}
+        self._panes = {} if when_shown else {name: pn.pane.Bokeh(None, sizing_mode="stretch_width")
+                                             for name in plots.FIGURES}  # (served: made when drawn)
         self.sentinels = {}
         if when_shown:
             for name in plots.FIGURES:  # each keeps its figure's place until it is drawn (see _show_figures)
@@ -764,7 +765,10 @@ class Explorer(pn.viewable.Viewer):
             if name not in self._live:
                 self._live[name] = LiveFigure(plots.specs(name, inputs.units), plots.layers(name, inputs),
                                               plots.group(name), padding=_PADDING.get(name, (0.0, 0.1)))
-                self._panes[name].object = self._live[name].figure
+                if name in self._panes:
+                    self._panes[name].object = self._live[name].figure
+                else:
+                    self._panes[name] = pn.pane.Bokeh(self._live[name].figure, sizing_mode="stretch_width")
 
     def _show_figures(self, names) -> None:
         """Draw the figures ``names`` that the current body shows and, on the served page, that the browser has

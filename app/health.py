@@ -26,6 +26,7 @@ is imported, so the solver loads instead of compiling.
 
 from __future__ import annotations
 
+import gc
 import json
 import os
 import shutil
@@ -54,6 +55,9 @@ from tornado import ioloop, web  # noqa: E402
 from app import runs  # noqa: E402 - after the cache is seeded: this imports the solver
 from app.limits import LOOP_WATCH_MS  # noqa: E402
 from app.loop import take_turns  # noqa: E402
+
+#: The garbage collector's thresholds in the server (Python's default: 700, 10, 10), see _freeze_the_heap
+GC_THRESHOLDS = (10_000, 10, 10)
 
 __all__ = ["ROUTES", "LivenessHandler", "LoopWatch", "watch_loop", "seed_numba_cache"]
 
@@ -128,4 +132,16 @@ def _import_the_explorer():
     import app.explorer  # noqa: F401
 
 
-runs.start_warm_up(also=(_import_the_explorer,))
+def _freeze_the_heap():
+    """setting the server's start-up objects aside"""
+    # What the process holds from its start (modules, HoloViews, the compiled solver: about 400 000 objects) is
+    # never garbage: kept out of the collector's passes. A session's page makes some 100 000 objects: with
+    # Python's default thresholds (a young collection every 700 allocations) the collector ran about 150 times
+    # per page and a full pass scanned every live session's objects. Measured in-process, 16 pages kept alive:
+    # 665 ms a page, 57 ms of it collecting; with both changes 565 ms, 12 ms collecting.
+    gc.collect()
+    gc.freeze()
+    gc.set_threshold(*GC_THRESHOLDS)
+
+
+runs.start_warm_up(also=(_import_the_explorer, _freeze_the_heap))

@@ -7,7 +7,11 @@ from __future__ import annotations
 
 import asyncio
 
-__all__ = ["take_turns", "in_turns"]
+__all__ = ["take_turns", "in_turns", "GAP_S"]
+
+#: Seconds the event loop serves other work (documents on their way, slider updates, ``/liveness``) between two
+#: sessions' builds; a build takes about 0.5 s.
+GAP_S = 0.05
 
 
 def take_turns() -> bool:
@@ -19,10 +23,14 @@ def take_turns() -> bool:
     and they run back to back: the loop answered nothing else (``/liveness``,
     the open sessions' slider updates) for 44-53 s while 60 sessions opened
     (``benchmarks/loadtest.py``). Here the builds take a lock, released on
-    the loop's next turn after the build (``call_soon`` from the hook, which
-    runs once the synchronous build has returned), so whatever arrived
-    meanwhile runs between two builds. The builds are not slower: one loop
-    runs them one at a time either way.
+    :data:`GAP_S` after the build (``call_later`` from the hook, which runs
+    once the synchronous build has returned), so whatever arrived meanwhile
+    runs between two builds. One turn of the loop was not enough: a page's
+    document goes to the browser as some 250 awaited websocket writes, one
+    per turn, so the pages opened together all got their documents when the
+    last build was done (``benchmarks/loadtest.py``: ten pages opened at once
+    were all up after 18.8 s). The builds are not slower: one loop runs them
+    one at a time either way.
     """
     from panel.io.application import Application
 
@@ -44,7 +52,7 @@ def in_turns(hook):
         try:
             return await hook(*args, **kwargs)
         finally:
-            asyncio.get_running_loop().call_soon(lock.release)  # after the build that follows the hook
+            asyncio.get_running_loop().call_later(GAP_S, lock.release)  # after the build that follows the hook
 
     wrapped._takes_turns = True
     return wrapped

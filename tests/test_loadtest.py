@@ -66,13 +66,19 @@ def _builds(wrap):
 
         hooked = wrap(hook)
 
+        async def send(k):  # a document goes out as some 250 awaited websocket writes
+            for _ in range(250):
+                await asyncio.sleep(0)
+            log.append(f"document {k} sent")
+
         async def page(k):
             await hooked(k)
             log.append(f"build {k}")
             loop.call_soon(log.append, f"request during build {k}")
+            loop.create_task(send(k))
 
         await asyncio.gather(*(page(k) for k in (1, 2, 3)))
-        await asyncio.sleep(0)
+        await asyncio.sleep(0.5)
         return log
 
     return asyncio.run(scenario())
@@ -80,13 +86,17 @@ def _builds(wrap):
 
 def test_session_builds_take_turns_with_the_event_loop():
     """Without turns the three builds run back to back before the requests that arrived meanwhile (the loop was
-    blocked for 44-53 s while 60 sessions opened); with them, what arrived during a build runs before the next."""
+    blocked for 44-53 s while 60 sessions opened); with them, what arrived during a build runs before the next,
+    and a document's many writes (ten pages opened at once all got theirs when the last build was done)."""
     from app.loop import in_turns
 
     alone = _builds(lambda hook: hook)
     assert alone.index("build 3") < alone.index("request during build 1")
+    assert alone.index("build 3") < alone.index("document 1 sent")
     turns = _builds(in_turns)
     assert turns.index("request during build 1") < turns.index("build 2")
+    # not only what waits for one turn: the first page's document is on its way before the second build
+    assert turns.index("document 1 sent") < turns.index("build 2")
     assert turns.index("request during build 2") < turns.index("build 3")
     assert [e for e in turns if e.startswith("build")] == ["build 1", "build 2", "build 3"]
 
