@@ -374,6 +374,7 @@ class Session:
         """Handle the server's messages until the socket closes (as the Bokeh client: patches are applied,
         replies are counted, an ERROR is an error of the run; the server's websocket pings are answered by
         Tornado). The socket is given up after a patch that cannot be applied."""
+        early: list = []  # patches not applied yet
         try:
             for _ in range(100_000_000):  # bounded by the socket's life
                 message = await self._message()
@@ -388,14 +389,20 @@ class Session:
                     self.answered += 1
                 elif kind == "OK":
                     self.answered += 1
-                elif kind == "PATCH-DOC" and self.doc is not None:
+                elif kind == "PATCH-DOC" or (kind == "PULL-DOC-REPLY" and reqid == self._pull_id):
+                    if kind == "PULL-DOC-REPLY":
+                        self.doc = DocumentJSON(message.content["doc"])
+                    else:
+                        early.append(message.content)
+                    if self.doc is None:  # (the server sends changes made after its reply was built, and
+                        continue          # may send them first: BokehJS keeps them for after the document too)
                     try:
-                        self.doc.apply_patch(message.content)
+                        for content in early:
+                            self.doc.apply_patch(content)
                     except Exception as e:  # noqa: BLE001 - a patch this client cannot follow is an error of the run
                         self.errors.append(f"{self.name}: could not apply a PATCH-DOC: {type(e).__name__}: {e}")
                         break
-                elif kind == "PULL-DOC-REPLY" and reqid == self._pull_id:
-                    self.doc = DocumentJSON(message.content["doc"])
+                    early.clear()
                 self.changed.set()
         finally:
             self.closed = True
@@ -435,6 +442,8 @@ class Session:
         def sentinel(name):
             return self.doc.find(lambda m: f"figure-{name}" in (m["attributes"].get("css_classes") or ()))
 
+        if count == 0 or self.doc.slider(FT_TITLE) is None:  # not the explorer (the yardstick)
+            return
         names = [n for n in Explorer._GRID if sentinel(n) is not None][:count]
         for name in names:
             data = sentinel(name)["attributes"].get("data")
