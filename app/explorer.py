@@ -200,6 +200,13 @@ _CELL_STYLE = {"flex": "1 1 560px", "min-width": "min(300px, 100%)"}
 _PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
 
 
+@functools.lru_cache(maxsize=4096)
+def _closure(ft: float, w: float) -> tuple[float, float, float]:
+    """The cylinder's closed forms the cards show: c_sd (eq 30), ft_lim(w) and w_lim(ft) (eq 35). Memoised:
+    the cards are redrawn several times per slider move, and w_lim is a root search (about 1 ms)."""
+    return (float(core.shakedown_stick_halfwidth(ft, w)), float(core.ft_limit(w)), float(core.w_limit(ft)))
+
+
 def _filled_when(holder: pn.layout.ListLike, ready, build) -> pn.layout.ListLike:
     """``holder``, empty until the reactive boolean ``ready`` first holds, then filled with ``build()``, once.
 
@@ -847,14 +854,14 @@ class Explorer(pn.viewable.Viewer):
         u0 = result.u0 if fresh else None  # (after a body switch, the run may still be the other body's)
         if u0 is not None and c is not None and fresh:
             rows.append(("U0 (ft = 1, strip)", _fmt(u0 * c.displacement_unit * 1e6, "µm")))
-        csd = float(core.shakedown_stick_halfwidth(ft, w))
+        csd, ft_lim, w_lim = _closure(ft, w)
         scale, unit = (c.a * 1e3, "mm") if (physical and c is not None) else (1.0, "a")
         rows += [("c_sd closure (eq 30)", _fmt(csd * scale, unit, 3) if math.isfinite(csd) else "none (ft > ft_lim)"),
                  ("c_sd numerical", wait or _fmt(result.stick_halfwidth * scale, unit, 3)),
-                 ("ft_lim(w) (eq 35)", _fmt(float(core.ft_limit(w)), "", 4)),
-                 ("w_lim(ft) (eq 35)", _fmt(float(core.w_limit(ft)), "", 4)),
-                 ("margin ft / ft_lim", _fmt(ft / float(core.ft_limit(w)), "", 3) if core.ft_limit(w) > 0 else "–"),
-                 ("margin w / w_lim", _fmt(w / float(core.w_limit(ft)), "", 3) if core.w_limit(ft) > 0 else "–")]
+                 ("ft_lim(w) (eq 35)", _fmt(ft_lim, "", 4)),
+                 ("w_lim(ft) (eq 35)", _fmt(w_lim, "", 4)),
+                 ("margin ft / ft_lim", _fmt(ft / ft_lim, "", 3) if ft_lim > 0 else "–"),
+                 ("margin w / w_lim", _fmt(w / w_lim, "", 3) if w_lim > 0 else "–")]
         if wait:
             rows += [("Δu last period", wait), ("solve", wait)]
         else:
@@ -1033,6 +1040,10 @@ class Explorer(pn.viewable.Viewer):
             title="Shakedown Explorer: rocking contacts with Coulomb friction",
             sidebar=self.sidebar(), main=[self.main_area()], header=[present], sidebar_width=340,
             header_background="#1f5f99",
+            # Panel's busy indicator follows the whole process (any session's callback) and is updated in every
+            # session on every event: with 10 sessions sliding it took a third of the server's CPU. The run's
+            # own spinner (beside the verdict) says when this session's solve is running.
+            busy_indicator=None,
         )
         template.config.raw_css.append(_PAGE_CSS)
         doc = self._doc

@@ -18,7 +18,12 @@ a fresh render.
 Axes that follow the data are ``DataRange1d``: the browser fits them to the new
 data and, once the user zooms or pans, keeps the user's view until *reset*.
 
-Why this layer and not the idiomatic path (issue 11, item 13). The idiomatic
+A served page draws a figure only when the browser scrolls near it
+(:class:`WhenShown`, a sentinel that keeps the figure's place): a visitor who
+never scrolls costs the server the figure at the top only.
+
+Why this layer and not the idiomatic path (issue 11, item 13; measured then, with every figure drawn
+as the page opened). The idiomatic
 path, one ``hv.DynamicMap`` per figure fed by ``pn.bind``
 (:func:`app.plots.dynamic`, served with ``SHAKEDOWN_FIGURES=dynamicmap``), was
 measured against this one with ``python benchmarks/app.py --figures both
