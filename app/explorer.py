@@ -268,6 +268,7 @@ class Explorer(pn.viewable.Viewer):
         self._live: dict[str, LiveFigure] = {}  # built with the layout (figures())
         self._panes: dict[str, pn.pane.Bokeh] = {}
         self.sentinels: dict[str, WhenShown] = {}  # the served page's: a figure is drawn when shown
+        self._when_shown = False
         self._cells: dict[str, pn.Column] = {}  # the served page's figures with their captions, once drawn
         self.param.watch(self._redraw, list(_FIGURE_INPUTS.values()))
         self._update_contact()
@@ -742,7 +743,7 @@ class Explorer(pn.viewable.Viewer):
         tests of the Python objects) they are drawn here.
         """
         if os.environ.get("SHAKEDOWN_FIGURES") == "dynamicmap":  # the idiomatic path, measured by benchmarks/app.py
-            self._live, self.sentinels = {}, {}
+            self._live, self.sentinels, self._when_shown = {}, {}, False
             self._panes = {name: pn.pane.HoloViews(plots.dynamic(name, self._inputs, **{
                 i: self.param[_FIGURE_INPUTS[i]] for i in plots.FIGURES[name]["inputs"]}), sizing_mode="stretch_width")
                 for name in plots.FIGURES}
@@ -750,13 +751,8 @@ class Explorer(pn.viewable.Viewer):
         self._live = {}
         self._panes = {} if when_shown else {name: pn.pane.Bokeh(None, sizing_mode="stretch_width")
                                              for name in plots.FIGURES}  # (served: made when drawn)
-        self.sentinels = {}
-        if when_shown:
-            for name in plots.FIGURES:  # each keeps its figure's place until it is drawn (see _show_figures)
-                self.sentinels[name] = WhenShown(height=plots.HEIGHT + 40, styles=_CELL_STYLE,
-                                                 css_classes=[f"figure-{name}"])
-                self.sentinels[name].param.watch(lambda e, name=name: self._show_figures([name]), "shown")
-        else:
+        self.sentinels, self._when_shown = {}, when_shown  # (sentinels: made with the grid, see _slots)
+        if not when_shown:
             self._draw_figures(self._figures_of(self.state.body))
         self.state.param.watch(lambda e: self._show_figures(self._figures_of(e.new)), "body")
         return self._panes
@@ -782,12 +778,13 @@ class Explorer(pn.viewable.Viewer):
         scrolled near; put each in the page in place of its sentinel (one recomputation of the document's model
         graph for all)."""
         body = self.state.body
-        names = [n for n in names if point_view.shown(n, body) and (n not in self.sentinels or self.sentinels[n].shown)]
+        names = [n for n in names if point_view.shown(n, body)
+                 and (not self._when_shown or (n in self.sentinels and self.sentinels[n].shown))]
         doc = self._doc
         with (doc.models.freeze() if doc is not None else contextlib.nullcontext()):
             self._draw_figures(names)
             grid = getattr(self, "_grid", None)
-            if grid is not None and self.sentinels:
+            if grid is not None and self._when_shown:
                 slots = self._slots()
                 if slots != grid.objects:
                     grid.objects = slots
@@ -798,8 +795,16 @@ class Explorer(pn.viewable.Viewer):
         for name in self._live:
             if name not in self._cells:
                 self._cells[name] = self._cell(name)
-        return [self._cells.get(name) or self.sentinels[name]
+        return [self._cells.get(name) or self._sentinel(name)
                 for name in self._GRID if point_view.shown(name, self.state.body)]
+
+    def _sentinel(self, name: str) -> WhenShown:
+        """The sentinel that keeps figure ``name``'s place until the browser scrolls near it (made once)."""
+        if name not in self.sentinels:
+            self.sentinels[name] = WhenShown(height=plots.HEIGHT + 40, styles=_CELL_STYLE,
+                                             css_classes=[f"figure-{name}"])
+            self.sentinels[name].param.watch(lambda e: self._show_figures([name]), "shown")
+        return self.sentinels[name]
 
     @functools.cached_property
     def engineer(self) -> EngineerInputs:
@@ -970,7 +975,7 @@ class Explorer(pn.viewable.Viewer):
         A figure, its caption and its controls are built when the browser first scrolls near their place."""
         self.figures(when_shown=True)
         self._cells = {}
-        self._grid = pn.FlexBox(*(self._slots() if self.sentinels else [self._cell(name) for name in self._GRID]),
+        self._grid = pn.FlexBox(*(self._slots() if self._when_shown else [self._cell(name) for name in self._GRID]),
                                 flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)
         svg = slides.save_svg(slides.figure_titles(), run=dict(ft=self.ft_slider, w=self.w_slider))

@@ -6,8 +6,9 @@ server), so it runs once per server process, before the first session:
 * it starts warming the solver (:func:`app.runs.start_warm_up`): numba loads
   the compiled code from its disk cache, or compiles it on a fresh install
   (about 20 s), in a thread, while the server already answers; then it
-  imports the explorer's modules, which the first session would otherwise
-  import in the event loop;
+  imports the explorer's modules and renders the figures' templates, which
+  the first session would otherwise do in the event loop, and sets the
+  start-up objects aside from the garbage collector;
 * ``GET /liveness`` answers 503 until that is done and 200 after, with a JSON
   body: ``ready``, the warm-up ``stage`` and ``seconds``, the solver
   ``backend`` (local, or the Dask scheduler) and, when
@@ -132,6 +133,25 @@ def _import_the_explorer():
     import app.explorer  # noqa: F401
 
 
+def _draw_the_figures():
+    """drawing the page once"""
+    # the first session would otherwise have HoloViews render each figure's template (about 0.5 s for the
+    # first one, in the event loop; every session then draws a copy, app.live.LiveFigure) and pay for what
+    # Panel and Bokeh do once per process (their models' first use); a page built into a document no one sees
+    from bokeh.document import Document
+    from panel.io.state import set_curdoc
+
+    from app.explorer import Explorer
+
+    Explorer().figures()
+    doc = Document()
+    with set_curdoc(doc):
+        explorer = Explorer()
+        with doc.models.freeze():
+            explorer.template().server_doc(doc)
+        doc.to_json()
+
+
 def _freeze_the_heap():
     """setting the server's start-up objects aside"""
     # What the process holds from its start (modules, HoloViews, the compiled solver: about 400 000 objects) is
@@ -144,4 +164,4 @@ def _freeze_the_heap():
     gc.set_threshold(*GC_THRESHOLDS)
 
 
-runs.start_warm_up(also=(_import_the_explorer, _freeze_the_heap))
+runs.start_warm_up(also=(_import_the_explorer, _draw_the_figures, _freeze_the_heap))

@@ -68,7 +68,7 @@ import param
 from panel.reactive import ReactiveHTML
 from bokeh.core.property.validation import validate
 from bokeh.core.serialization import Deserializer, Serializer
-from bokeh.models import ColumnDataSource, DataRange1d, GlyphRenderer
+from bokeh.models import AllIndices, ColumnDataSource, DataRange1d, GlyphRenderer, UnionRenderers
 from bokeh.util.serialization import make_id
 
 __all__ = ["Layer", "Styled", "overlay", "LiveFigure", "WhenShown"]
@@ -182,11 +182,19 @@ class _Render:
         self.subplots = subplots  # their get_data draws images; their models are never shown
         self.layers = tuple((sub.handles["source"].id, sub.handles["glyph"].id) for sub in subplots)
         self.legend = legend
+        every, union = AllIndices(), UnionRenderers()  # what all layers' views and sources share, see below
         for renderer in figure.renderers:
             if isinstance(renderer, GlyphRenderer):
                 # no figure has a selection tool, so HoloViews' selection and non-selection glyphs are never
                 # drawn: Bokeh's automatic ones (the glyph itself) save two models a layer
                 renderer.selection_glyph = renderer.nonselection_glyph = "auto"
+                # a view's filter "all indices" and a source's selection policy hold no state: one of each for
+                # the figure instead of one per layer (two models a layer less to build, copy and send)
+                if isinstance(renderer.view.filter, AllIndices):
+                    renderer.view.filter = every
+                source = renderer.data_source
+                if isinstance(getattr(source, "selection_policy", None), UnionRenderers):
+                    source.selection_policy = union
         models = figure.references()
         self.model_ids = frozenset(m.id for m in models)
         # the data sources' columns are handed over as they are, not encoded and decoded: decoding a property

@@ -413,8 +413,9 @@ def cards_html(rows, wait=None) -> str:
 
 
 def body_inputs(state) -> list:
-    """The body selector, the ellipsoid's ratio and the point-contact grid (widgets over ``state``)."""
-    from .explorer import IntSlider  # the explorer's prompt slider (no 50 ms wait)
+    """The body selector, the ellipsoid's ratio and the point-contact grid (widgets over ``state``; the last two
+    are put in the page when a point contact is first chosen)."""
+    from .explorer import IntSlider, _filled_when  # the explorer's prompt slider (no 50 ms wait)
 
     select = pn.widgets.RadioButtonGroup.from_param(state.param.body, button_type="primary", button_style="outline",
                                                     sizing_mode="stretch_width", css_classes=["body-select"])
@@ -426,7 +427,10 @@ def body_inputs(state) -> list:
         "Sphere and ellipsoid: R is the radius along the rocking direction x; a coarse grid by default "
         f"(dx = a/{POINT_RESOLUTION}) keeps a run short; refine it for converged numbers.", styles={"font-size": "13px"}, margin=(0, 10),
         visible=state.param.body.rx() != "cylinder")
-    return [pn.pane.Markdown("### Body"), select, ratio, grid, note]
+    point = state.param.body.rx() != "cylinder"  # built when first needed: most pages are a cylinder's
+    return [pn.pane.Markdown("### Body"), select,
+            _filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=point), point,
+                         lambda: [ratio, grid, note])]
 
 
 # --------------------------------------------------------------------------
