@@ -657,7 +657,7 @@ def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions, figu
 
 
 def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0, burst: int = 10,
-             cpu_sessions: int = 5, cluster: int = 0, env: dict | None = None, keep_log: str | None = None,
+             cpu_sessions: int = 10, cluster: int = 0, env: dict | None = None, keep_log: str | None = None,
              serve_args: tuple[str, ...] = (), figures_in_view: int = FIGURES_IN_VIEW) -> dict:
     """Serve the app (and the yardstick), run the three phases; return the figures.
 
@@ -763,7 +763,7 @@ def main(argv=None) -> int:
     ap.add_argument("--open-over", type=float, default=30.0, help="seconds over which the sessions open")
     ap.add_argument("--seconds", type=float, default=60.0, help="seconds of slider activity after the last opening")
     ap.add_argument("--burst", type=int, default=10, help="sessions opened at once while /liveness is timed")
-    ap.add_argument("--cpu-sessions", type=int, default=5, help="sessions per page for the CPU per session")
+    ap.add_argument("--cpu-sessions", type=int, default=10, help="sessions per page for the CPU per session")
     ap.add_argument("--cluster", type=int, default=0, help="solve on a loopback Dask cluster of this many workers")
     ap.add_argument("--figures-in-view", type=int, default=FIGURES_IN_VIEW,
                     help="figures each session has drawn (1: a 1280x720 window; 7: scrolled through)")
