@@ -22,6 +22,7 @@ import param
 
 import core
 
+from . import panes
 from .live import Layer
 
 __all__ = ["MAX_PINS", "PIN_STYLES", "Pin", "Pins", "specs", "layers", "pin_units"]
@@ -167,9 +168,9 @@ class Pins(pn.viewable.Viewer):
         self.pin_button.on_click(lambda e: self.pin())
         self.clear_button.on_click(lambda e: self.clear())
         self.unpin.param.watch(self._unpin_selected, "value")
-        self.table = pn.pane.HTML(table_html([]), stylesheets=[_CSS], sizing_mode="stretch_width",
+        self.table = panes.HTML(table_html([]), stylesheets=[_CSS], sizing_mode="stretch_width",
                                   css_classes=["pins-table"], margin=(0, 10))
-        self.note = pn.pane.HTML("", margin=(0, 10), visible=False, css_classes=["pins-message"])
+        self.note = panes.HTML("", margin=(0, 10), visible=False, css_classes=["pins-message"])
         self._show()
 
     def pin(self) -> bool:

@@ -32,7 +32,7 @@ from panel.models.katex import KaTeX as KaTeXModel
 import core
 from core.export import to_csv, to_json
 
-from . import plots, point_view
+from . import panes, plots, point_view
 from .point_view import _count, _fmt
 from . import runs
 from . import slides
@@ -299,7 +299,7 @@ class Explorer(pn.viewable.Viewer):
         self.preset = pn.widgets.Select(label="Preset", options=["(custom)", *PRESETS], value="(custom)",
                                         sizing_mode="stretch_width")
         self.preset.param.watch(self._apply_preset, "value")
-        self.preset_note = pn.pane.Markdown("", css_classes=["preset-note"], visible=False, margin=(0, 10),
+        self.preset_note = panes.Markdown("", css_classes=["preset-note"], visible=False, margin=(0, 10),
                                             styles={"font-size": "14px"})
         s.param.watch(self._preset_edited, list(URL_PARAMETERS))
         geometry = ["R", "L", "Fn", "E2", "nu2"]
@@ -322,7 +322,7 @@ class Explorer(pn.viewable.Viewer):
         ]
         self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, visible=False,
                                                     css_classes=["solve-spinner"])
-        self.status = pn.pane.HTML("", css_classes=["solve-status"], margin=(8, 4))
+        self.status = panes.HTML("", css_classes=["solve-status"], margin=(8, 4))
         # the cycle player: a period (0 = the loading, then 1, 2, ...), then the steps of that period
         grow = dict(width=250, margin=(5, 12))
         self.period_slider = IntSlider(label="Period (0 = loading)", start=0, end=1, value=1, **grow)
@@ -334,7 +334,7 @@ class Explorer(pn.viewable.Viewer):
         self.speed = pn.widgets.Select(label="Speed", options={"slow (400 ms a step)": 400,
                                                               "normal (150 ms a step)": 150,
                                                               "fast (60 ms a step)": 60}, value=150, width=190)
-        self.readout = pn.pane.HTML("", css_classes=["readout"], sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.readout = panes.HTML("", css_classes=["readout"], sizing_mode="stretch_width", stylesheets=[_CSS])
         self._autoplay = None
         self.period_slider.param.watch(self._period_changed, "value")
         self.step_slider.param.watch(self._update_frame, "value")
@@ -910,23 +910,23 @@ class Explorer(pn.viewable.Viewer):
     def main_area(self) -> pn.viewable.Viewable:
         """The badge, cards, player and figures, without the sidebar (for notebooks)."""
         live = dict(ft=self.param.ft_live, w=self.param.w_live)
-        badge = pn.pane.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error,
+        badge = panes.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error,
                                      pending=self.param.pending),
                              css_classes=["regime"], margin=(6, 10), sizing_mode="stretch_width", stylesheets=[_CSS])
-        cards = pn.pane.HTML(pn.bind(self._cards, **live, mu=self.mu_slider.param.value,
+        cards = panes.HTML(pn.bind(self._cards, **live, mu=self.mu_slider.param.value,
                                      contact=self.param.contact, result=self.param.result,
                                      pending=self.param.pending, units=self.state.param.units,
                                      cycles=self.engineer.param.cycles),
                              css_classes=["summary-cards"], margin=(0, 10), sizing_mode="stretch_width",
                              stylesheets=[_CSS])
         model_warnings = pn.bind(self._warnings, **live, contact=self.param.contact, result=self.param.result)
-        warnings = pn.pane.Alert(pn.bind(lambda m: "\n".join(f"- {html.escape(x)}" for x in m), model_warnings),
+        warnings = panes.Alert(pn.bind(lambda m: "\n".join(f"- {html.escape(x)}" for x in m), model_warnings),
                                  visible=pn.bind(bool, model_warnings), alert_type="warning",
                                  sizing_mode="stretch_width", css_classes=["model-warnings"])
-        errors = pn.pane.Alert(pn.bind(lambda e: f"**Invalid input:** {html.escape(e)}", self.param.error),
+        errors = panes.Alert(pn.bind(lambda e: f"**Invalid input:** {html.escape(e)}", self.param.error),
                                alert_type="danger", visible=self.param.error.rx.bool(),
                                sizing_mode="stretch_width", css_classes=["input-error"])
-        notices = pn.pane.Alert(pn.bind(lambda n: "**Some URL parameters were not applied:**\n\n"
+        notices = panes.Alert(pn.bind(lambda n: "**Some URL parameters were not applied:**\n\n"
                                         + "\n".join(f"- {html.escape(m)}" for m in n), self.param.notices),
                                 alert_type="warning", visible=self.param.notices.rx.bool(),
                                 sizing_mode="stretch_width", css_classes=["url-notice"])
@@ -991,7 +991,7 @@ class Explorer(pn.viewable.Viewer):
 
     def map_controls(self) -> pn.Column:
         """The 'compute the numerical map' action, its progress and its outcome."""
-        status = pn.pane.Markdown(pn.bind(lambda s, l: f"Map shown: **{l}**. {s}", self.param.map_status,
+        status = panes.Markdown(pn.bind(lambda s, l: f"Map shown: **{l}**. {s}", self.param.map_status,
                                           self.param.map_label), css_classes=["map-status"],
                                   sizing_mode="stretch_width")
         self.map_points.param.update(sizing_mode="stretch_width", min_width=200)

@@ -143,13 +143,16 @@ def _draw_the_figures():
 
     from app.explorer import Explorer
 
-    Explorer().figures()
-    doc = Document()
-    with set_curdoc(doc):
-        explorer = Explorer()
-        with doc.models.freeze():
-            explorer.template().server_doc(doc)
-        doc.to_json()
+    try:
+        Explorer().figures()
+        doc = Document()
+        with set_curdoc(doc):
+            explorer = Explorer()
+            with doc.models.freeze():
+                explorer.template().server_doc(doc)
+            doc.to_json()
+    except Exception:  # noqa: BLE001 - only a head start for the first session: the server serves without it
+        runs.log.exception("building a page at start-up failed; the first session will pay for it")
 
 
 def _freeze_the_heap():

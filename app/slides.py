@@ -44,7 +44,10 @@ const figure_views = () => all_views().filter((v) => v.model && v.canvas_view &&
 SVG_JS = FIGURE_VIEWS_JS + """
 const title = select.value;
 const found = figure_views().filter((v) => v.model.title && v.model.title.text === title);
-if (!found.length) return;
+if (!found.length) {  // the explorer draws a figure when the page is scrolled to it
+  window.alert(`"${title}" is not drawn yet: scroll to it, then save it.`);
+  return;
+}
 const get = (d, k) => (d instanceof Map ? d.get(k) : d[k]);
 const suffix = SUFFIX;
 (async () => {
