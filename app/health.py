@@ -13,7 +13,8 @@ server), so it runs once per server process, before the first session:
   body: ``ready``, the warm-up ``stage`` and ``seconds``, the solver
   ``backend`` (local, or the Dask scheduler) and, when
   ``SHAKEDOWN_LOOP_WATCH_MS`` is set, ``loop_max_lag_ms``: the longest the
-  server's event loop was busy (blocked) since the last ``?reset=1``.
+  server's event loop was busy (blocked) since the last ``?reset=1``, and
+  ``loop_max_callback_ms``: the longest single callback it ran meanwhile.
 
 Panel's own ``--liveness`` answers 200 as soon as the process listens, which
 says nothing about the solver; this endpoint replaces it (do not pass both).
@@ -67,17 +68,44 @@ class LoopWatch:
     """Measures how long the event loop is blocked: a thread asks it to run a no-op every ``interval_ms``.
 
     The time from asking to running is how long the loop was busy with
-    something else (a session's build, a callback). Keeps the largest since
-    :meth:`reset`.
+    something else (one session's build or callback, or several queued one
+    after another: when many arrive together the loop runs them all before
+    the no-op). Also times each callback the loop runs (``max_callback``):
+    the longest single one. Keeps the largest of both since :meth:`reset`.
     """
 
     def __init__(self, loop: ioloop.IOLoop, interval_ms: int):
         self.loop, self.interval = loop, interval_ms / 1e3
-        self.max_lag = 0.0
+        self.max_lag = self.max_callback = 0.0
         self.samples = 0
         self._lock = threading.Lock()
+        self._time_callbacks()
         self._thread = threading.Thread(target=self._run, name="loop-watch", daemon=True)
         self._thread.start()
+
+    def _time_callbacks(self) -> None:
+        """Time every callback the server's asyncio loop runs (a handle's run; a session's build is one step of
+        its task, one handle)."""
+        import asyncio.events
+
+        handle = asyncio.events.Handle
+        if getattr(handle._run, "_timed", False):
+            return
+        run = handle._run
+
+        server = threading.get_ident()  # (made on the server's loop: other threads' loops are not timed)
+
+        def timed(h, _run=run, _clock=time.perf_counter, _thread=threading.get_ident):
+            t0 = _clock()
+            try:
+                return _run(h)
+            finally:
+                spent = _clock() - t0
+                if spent > self.max_callback and _thread() == server:
+                    self.max_callback = spent
+
+        timed._timed = True
+        handle._run = timed
 
     def _mark(self, sent: float) -> None:
         lag = time.perf_counter() - sent
@@ -90,10 +118,11 @@ class LoopWatch:
             self.loop.add_callback(self._mark, time.perf_counter())
             time.sleep(self.interval)
 
-    def reset(self) -> float:
-        """Start a new window; returns the largest lag of the old one [s]."""
+    def reset(self) -> tuple[float, float]:
+        """Start a new window; returns the largest lag and the longest callback of the old one [s]."""
         with self._lock:
-            old, self.max_lag = self.max_lag, 0.0
+            old, self.max_lag = (self.max_lag, self.max_callback), 0.0
+            self.max_callback = 0.0
             return old
 
 
@@ -114,7 +143,8 @@ class LivenessHandler(web.RequestHandler):
         watch = watch_loop()
         body = runs.readiness()
         if watch is not None:
-            body["loop_max_lag_ms"] = round(1e3 * (watch.reset() if self.get_argument("reset", "") else watch.max_lag), 1)
+            lag, callback = watch.reset() if self.get_argument("reset", "") else (watch.max_lag, watch.max_callback)
+            body["loop_max_lag_ms"], body["loop_max_callback_ms"] = round(1e3 * lag, 1), round(1e3 * callback, 1)
             body["loop_samples"] = watch.samples
         self.set_header("Content-Type", "application/json")
         self.set_header("Cache-Control", "no-store")
@@ -123,6 +153,14 @@ class LivenessHandler(web.RequestHandler):
 
 
 take_turns()  # sessions' builds take turns with the rest of the event loop
+
+if "BOKEH_VALIDATE_DOC" not in os.environ:
+    # Bokeh checks every page's model graph for layout mistakes (warnings in the log) when it is sent: 30 ms of
+    # a page's 0.58 s of server CPU. The pages are the same every time, so the server skips it; the test suite
+    # sets BOKEH_VALIDATE_DOC=true (tests/conftest.py) and keeps the checks.
+    from bokeh.settings import settings as _bokeh_settings
+
+    _bokeh_settings.perform_document_validation.set_value(False)
 
 #: Routes ``panel serve --plugins app.health`` adds to the server.
 ROUTES = [(r"/liveness", LivenessHandler)]

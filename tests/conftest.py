@@ -1,7 +1,13 @@
 """Shared test helpers (fixtures, so they work under --import-mode=importlib)."""
 
+import os
+
 import numpy as np
 import pytest
+
+# the servers the tests start check every page's Bokeh model graph (errors in their log fail the load test);
+# a production server skips it (app/health.py)
+os.environ.setdefault("BOKEH_VALIDATE_DOC", "true")
 
 
 def _check_invariants(result, tol=1e-9):

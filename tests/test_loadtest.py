@@ -36,7 +36,8 @@ def test_a_few_sessions_for_a_few_seconds_without_an_error(fresh_thread):
     assert len(stats["latencies"]) >= 3, "the sessions solved"
     assert stats["patches_answered"] == stats["patches_sent"] > 0, "the server answered every slider message"
     assert stats["cpu_explorer_s"] > 0 and stats["cpu_yardstick_s"] > 0, "the server's CPU time was read"
-    assert stats["loop_lag_class_ms"] > 0, "the event loop was watched"
+    assert stats["loop_lag_class_ms"] > 0 and stats["loop_callback_class_ms"] > 0, "the event loop was watched"
+    assert stats["loop_callback_cpu_ms"] <= stats["loop_lag_cpu_ms"] + 100, "a callback blocks the loop, at most"
     # no growth beyond the bound of the shared result cache (plus the sessions' own state)
     assert stats["rss_after_mb"] - stats["rss_before_mb"] < stats["cache_mb"] + 200
     assert stats["returncode"] == 0, "the server shut down cleanly on SIGTERM"
