@@ -14,7 +14,8 @@ server), so it runs once per server process, before the first session:
   ``backend`` (local, or the Dask scheduler) and, when
   ``SHAKEDOWN_LOOP_WATCH_MS`` is set, ``loop_max_lag_ms``: the longest the
   server's event loop was busy (blocked) since the last ``?reset=1``, and
-  ``loop_max_callback_ms``: the longest single callback it ran meanwhile.
+  ``loop_max_callback_ms``: the longest single callback it ran meanwhile, and
+  ``gc_max_ms``: the longest pass of the garbage collector.
 
 Panel's own ``--liveness`` answers 200 as soon as the process listens, which
 says nothing about the solver; this endpoint replaces it (do not pass both).
@@ -76,10 +77,12 @@ class LoopWatch:
 
     def __init__(self, loop: ioloop.IOLoop, interval_ms: int):
         self.loop, self.interval = loop, interval_ms / 1e3
-        self.max_lag = self.max_callback = 0.0
+        self.max_lag = self.max_callback = self.max_collection = 0.0
         self.samples = 0
         self._lock = threading.Lock()
         self._time_callbacks()
+        self._collecting = 0.0
+        gc.callbacks.append(self._collection)
         self._thread = threading.Thread(target=self._run, name="loop-watch", daemon=True)
         self._thread.start()
 
@@ -107,6 +110,13 @@ class LoopWatch:
         timed._timed = True
         handle._run = timed
 
+    def _collection(self, phase: str, info: dict) -> None:
+        """Time the garbage collector's passes (it stops every thread, the loop's too)."""
+        if phase == "start":
+            self._collecting = time.perf_counter()
+        elif self._collecting:
+            self.max_collection = max(self.max_collection, time.perf_counter() - self._collecting)
+
     def _mark(self, sent: float) -> None:
         lag = time.perf_counter() - sent
         with self._lock:
@@ -118,11 +128,12 @@ class LoopWatch:
             self.loop.add_callback(self._mark, time.perf_counter())
             time.sleep(self.interval)
 
-    def reset(self) -> tuple[float, float]:
-        """Start a new window; returns the largest lag and the longest callback of the old one [s]."""
+    def reset(self) -> tuple[float, float, float]:
+        """Start a new window; returns the largest lag, the longest callback and the longest garbage collection
+        of the old one [s]."""
         with self._lock:
-            old, self.max_lag = (self.max_lag, self.max_callback), 0.0
-            self.max_callback = 0.0
+            old = (self.max_lag, self.max_callback, self.max_collection)
+            self.max_lag = self.max_callback = self.max_collection = 0.0
             return old
 
 
@@ -143,8 +154,10 @@ class LivenessHandler(web.RequestHandler):
         watch = watch_loop()
         body = runs.readiness()
         if watch is not None:
-            lag, callback = watch.reset() if self.get_argument("reset", "") else (watch.max_lag, watch.max_callback)
-            body["loop_max_lag_ms"], body["loop_max_callback_ms"] = round(1e3 * lag, 1), round(1e3 * callback, 1)
+            times = watch.reset() if self.get_argument("reset", "") else (watch.max_lag, watch.max_callback,
+                                                                          watch.max_collection)
+            for key, seconds in zip(("loop_max_lag_ms", "loop_max_callback_ms", "gc_max_ms"), times):
+                body[key] = round(1e3 * seconds, 1)
             body["loop_samples"] = watch.samples
         self.set_header("Content-Type", "application/json")
         self.set_header("Cache-Control", "no-store")

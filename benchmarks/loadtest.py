@@ -134,18 +134,21 @@ def _health(base: str, reset: bool = False, timeout: float = LIVENESS_LIMIT_S) -
 
 def _loop_ms(base: str, stats: dict, phase: str) -> None:
     """Since the last call (a new window starts): the longest the server's event loop was blocked, and the
-    longest single callback it ran [ms], into ``stats["loop_lag_<phase>_ms"]`` and ``["loop_callback_<phase>_ms"]``."""
-    lag = callback = float("nan")
+    longest single callback it ran, and the garbage collector's longest pass [ms], into
+    ``stats["loop_lag_<phase>_ms"]``, ``["loop_callback_<phase>_ms"]`` and ``["gc_<phase>_ms"]``."""
+    lag = callback = collection = float("nan")
     for attempt in range(3):  # the loop may still be busy with sessions that are being built
         try:
             health = _health(base, reset=True, timeout=120)
             lag, callback = health.get("loop_max_lag_ms", lag), health.get("loop_max_callback_ms", callback)
+            collection = health.get("gc_max_ms", collection)
             break
         except OSError as e:
             error = e
     else:
         stats["errors"].append(f"/liveness did not answer in 3 x 120 s: {type(error).__name__}")
     stats[f"loop_lag_{phase}_ms"], stats[f"loop_callback_{phase}_ms"] = lag, callback
+    stats[f"gc_{phase}_ms"] = collection
 
 
 def _model_ids(value, register=None) -> set:
@@ -756,6 +759,8 @@ def report(stats: dict) -> str:
         f"{stats['loop_callback_cpu_ms'] / 1e3:.2f} s (one session at a time), "
         f"{stats['loop_callback_burst_ms'] / 1e3:.2f} s (burst), {stats['loop_callback_class_ms'] / 1e3:.2f} s "
         f"(class) (goal <= 0.5 s: {_goal(longest <= 0.5)})",
+        f"  the garbage collector's longest pass (it stops every thread, the loop's too): "
+        f"{stats['gc_cpu_ms'] / 1e3:.2f} s, {stats['gc_burst_ms'] / 1e3:.2f} s, {stats['gc_class_ms'] / 1e3:.2f} s",
         f"event loop busy without a break at most (callbacks queued together run back to back): "
         f"{stats['loop_lag_cpu_ms'] / 1e3:.2f} s (one session at a time), {stats['loop_lag_burst_ms'] / 1e3:.2f} s "
         f"(burst), {stats['loop_lag_class_ms'] / 1e3:.2f} s (class)",
