@@ -974,7 +974,6 @@ class Explorer(pn.viewable.Viewer):
         """The player and the figures, each with a one-line caption; the figures wrap to one column when narrow.
         A figure, its caption and its controls are built when the browser first scrolls near their place."""
         self.figures(when_shown=True)
-        self._cells = {}
         self._grid = pn.FlexBox(*(self._slots() if self._when_shown else [self._cell(name) for name in self._GRID]),
                                 flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)

@@ -345,8 +345,9 @@ class LiveFigure:
 class WhenShown(ReactiveHTML):
     """A sentinel that reports, once, when the browser scrolls it near the visible part of the page.
 
-    Put it just above something costly to build (a figure); watch
-    :attr:`shown` and build the thing when it becomes True. The browser's
+    Put it where something costly to build goes (a figure), as tall as that
+    thing, so that what is below keeps its place; watch :attr:`shown` and put
+    the thing in its place when it becomes True. The browser's
     ``IntersectionObserver`` sets it as soon as the sentinel comes within
     :attr:`ahead` pixels below the view (so the figure is ready when the
     reader gets there), or is in view when the page opens. A sentinel in a

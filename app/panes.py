@@ -5,9 +5,10 @@ of their Bokeh model on each update, the style sheets included, and the style
 sheets they compute then are not those of the first render (the design's come
 in another order). So each update of a card's text sent a new list of
 style-sheet models: Bokeh recomputed the session document's whole model graph
-(twice per slider move, about 35 ms of a round trip with 30 sessions open) and
-the browser restyled the pane. These panes leave the style sheets as they were
-first rendered (the explorer never changes them).
+(twice per slider move; 37 ms each under the profiler with 30 sessions open)
+and the browser restyled the pane. These panes leave the style sheets as they
+were first rendered (the explorer never changes them); with them, 30 sessions
+sliding at once cost the server 0.076 s of CPU per round trip.
 """
 
 from __future__ import annotations

@@ -38,6 +38,19 @@ def check_invariants():
     return _check_invariants
 
 
+def _scroll_through(explorer):
+    """What a browser does when the explorer's page is scrolled to its end: every figure's sentinel
+    (app.live.WhenShown) in the page reports, and its figure is drawn."""
+    for sentinel in list(explorer.sentinels.values()):
+        sentinel.shown = True
+    return explorer
+
+
+@pytest.fixture(scope="session")
+def scroll_through():
+    return _scroll_through
+
+
 def _run_in_fresh_thread(fn, *args, **kwargs):
     """Run ``fn`` in a thread of its own and return its result (or raise its exception).
 

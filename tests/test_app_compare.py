@@ -12,12 +12,10 @@ from app.explorer import Explorer
 
 
 @pytest.fixture(scope="module")
-def explorer():
+def explorer(scroll_through):
     ex = Explorer(query="ft=0.3&w=0.5&periods=3&kernel=plane")
     ex.template()
-    for sentinel in ex.sentinels.values():  # what the browser does when the page is scrolled through
-        sentinel.shown = True
-    return ex
+    return scroll_through(ex)
 
 
 def test_pins_overlay_the_runs_and_keep_at_most_four(explorer):

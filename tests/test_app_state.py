@@ -279,13 +279,6 @@ def test_live_figure_is_rebuilt_for_new_axis_labels_only():
     assert fig.figure is not first and fig.figure.xaxis[0].axis_label == "x [mm]"
 
 
-def scrolled_through(page, ex):
-    """What a browser does when the page is scrolled to its end: every sentinel reports (app.live.WhenShown)."""
-    for sentinel in ex.sentinels.values():
-        sentinel.shown = True
-    return page
-
-
 def test_figures_are_drawn_when_the_browser_scrolls_near_them():
     """Issue 12: the served page is sent without its figures; each is drawn, and put in place of its sentinel,
     once the browser reports the sentinel near the view. The sphere's figures are not in a cylinder's page."""
@@ -310,10 +303,11 @@ def test_figures_are_drawn_when_the_browser_scrolls_near_them():
     assert grid.objects[1] is cell, "a drawn figure keeps its cell"
 
 
-def test_explorer_pushes_only_what_changed():
+def test_explorer_pushes_only_what_changed(scroll_through):
     """Moving ft replaces the closure and the map point, and nothing of the run."""
     ex = Explorer()
-    scrolled_through(ex.main_area(), ex)
+    ex.main_area()
+    scroll_through(ex)
     before = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
     ex.ft_live = 0.25
     after = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
@@ -324,11 +318,12 @@ def test_explorer_pushes_only_what_changed():
                        "displacement": [], "increments": [], "map": [len(before["map"]) - 1]}
 
 
-def test_a_new_run_pushes_only_the_layers_of_the_run():
+def test_a_new_run_pushes_only_the_layers_of_the_run(scroll_through):
     """A solver result replaces the run's layers; the analytical ones (pressure curves, closure, bounds ±μ p_min)
     and the map's static and numerical layers are not sent again (nor, by Bokeh, data equal to what is shown)."""
     ex = Explorer()
-    scrolled_through(ex.main_area(), ex)
+    ex.main_area()
+    scroll_through(ex)
     before = {name: [s.data for s in fig.sources()] for name, fig in ex._live.items()}
     new = core.simulate_contact(ex.contact.replace(ft=0.31), **ex.state.solver_options())
     ex._finish(ex._generation.next(), ex.contact, ex.state.solver_options(), new)
