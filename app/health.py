@@ -8,14 +8,17 @@ server), so it runs once per server process, before the first session:
   (about 20 s), in a thread, while the server already answers; then it
   imports the explorer's modules and renders the figures' templates, which
   the first session would otherwise do in the event loop, and sets the
-  start-up objects aside from the garbage collector;
+  start-up objects aside from the garbage collector (then each session's,
+  :mod:`app.heap`);
 * ``GET /liveness`` answers 503 until that is done and 200 after, with a JSON
   body: ``ready``, the warm-up ``stage`` and ``seconds``, the solver
   ``backend`` (local, or the Dask scheduler) and, when
   ``SHAKEDOWN_LOOP_WATCH_MS`` is set, ``loop_max_lag_ms``: the longest the
   server's event loop was busy (blocked) since the last ``?reset=1``, and
   ``loop_max_callback_ms``: the longest single callback it ran meanwhile, and
-  ``gc_max_ms``: the longest pass of the garbage collector.
+  ``gc_max_ms``: the longest pass of the garbage collector, and the heap's
+  counts (:meth:`app.heap.Heap.report`: sessions open, objects frozen,
+  reclaims of ended sessions' objects and the longest).
 
 Panel's own ``--liveness`` answers 200 as soon as the process listens, which
 says nothing about the solver; this endpoint replaces it (do not pass both).
@@ -56,6 +59,7 @@ seed_numba_cache()
 from tornado import ioloop, web  # noqa: E402
 
 from app import runs  # noqa: E402 - after the cache is seeded: this imports the solver
+from app.heap import HEAP, set_aside_sessions  # noqa: E402
 from app.limits import LOOP_WATCH_MS  # noqa: E402
 from app.loop import take_turns  # noqa: E402
 
@@ -159,13 +163,15 @@ class LivenessHandler(web.RequestHandler):
             for key, seconds in zip(("loop_max_lag_ms", "loop_max_callback_ms", "gc_max_ms"), times):
                 body[key] = round(1e3 * seconds, 1)
             body["loop_samples"] = watch.samples
+            body.update(HEAP.report())
         self.set_header("Content-Type", "application/json")
         self.set_header("Cache-Control", "no-store")
         self.set_status(200 if body["ready"] else 503)
         self.write(json.dumps(body))
 
 
-take_turns()  # sessions' builds take turns with the rest of the event loop
+take_turns(after=HEAP.built)  # sessions' builds take turns with the rest of the event loop, and are frozen
+set_aside_sessions()  # ended sessions' frozen objects are reclaimed
 
 if "BOKEH_VALIDATE_DOC" not in os.environ:
     # Bokeh checks every page's model graph for layout mistakes (warnings in the log) when it is sent: 30 ms of
@@ -216,6 +222,7 @@ def _freeze_the_heap():
     # changes 545 ms, 10 ms collecting.
     gc.collect()
     gc.freeze()
+    HEAP.frozen = gc.get_freeze_count()
     gc.set_threshold(*GC_THRESHOLDS)
 
 

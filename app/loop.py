@@ -14,7 +14,7 @@ __all__ = ["take_turns", "in_turns", "GAP_S"]
 GAP_S = 0.05
 
 
-def take_turns() -> bool:
+def take_turns(after=None) -> bool:
     """Let the event loop serve what waits between two sessions' builds (once per process; True if installed).
 
     Bokeh builds a session's document synchronously on the event loop, right
@@ -31,18 +31,29 @@ def take_turns() -> bool:
     last build was done (``benchmarks/loadtest.py``: ten pages opened at once
     were all up after 18.8 s). The builds are not slower: one loop runs them
     one at a time either way.
+
+    ``after``, if given, is called after each build, before the lock is
+    released (:meth:`app.heap.Heap.built`).
     """
     from panel.io.application import Application
 
     if getattr(Application.on_session_created, "_takes_turns", False):
         return False
-    Application.on_session_created = in_turns(Application.on_session_created)
+    Application.on_session_created = in_turns(Application.on_session_created, after)
     return True
 
 
-def in_turns(hook):
-    """``hook`` (a coroutine function) made to take a lock, released on the event loop's turn after it returns."""
+def in_turns(hook, after=None):
+    """``hook`` (a coroutine function) made to take a lock, released :data:`GAP_S` after it returns (``after()``
+    called first)."""
     lock = None  # made in the loop, on the first session
+
+    def built():
+        try:
+            if after is not None:
+                after()
+        finally:
+            lock.release()
 
     async def wrapped(*args, **kwargs):
         nonlocal lock
@@ -52,7 +63,7 @@ def in_turns(hook):
         try:
             return await hook(*args, **kwargs)
         finally:
-            asyncio.get_running_loop().call_later(GAP_S, lock.release)  # after the build that follows the hook
+            asyncio.get_running_loop().call_later(GAP_S, built)  # after the build that follows the hook
 
     wrapped._takes_turns = True
     return wrapped
