@@ -137,6 +137,7 @@ def _loop_ms(base: str, stats: dict, phase: str) -> None:
     longest single callback it ran, and the garbage collector's longest pass [ms], into
     ``stats["loop_lag_<phase>_ms"]``, ``["loop_callback_<phase>_ms"]`` and ``["gc_<phase>_ms"]``."""
     lag = callback = collection = float("nan")
+    health: dict = {}
     for attempt in range(3):  # the loop may still be busy with sessions that are being built
         try:
             health = _health(base, reset=True, timeout=120)
@@ -149,6 +150,8 @@ def _loop_ms(base: str, stats: dict, phase: str) -> None:
         stats["errors"].append(f"/liveness did not answer in 3 x 120 s: {type(error).__name__}")
     stats[f"loop_lag_{phase}_ms"], stats[f"loop_callback_{phase}_ms"] = lag, callback
     stats[f"gc_{phase}_ms"] = collection
+    if phase == "class":  # the heap's counts (app/heap.py): reclaims of ended sessions' objects so far
+        stats["heap"] = {k: health.get(k) for k in ("sessions_open", "gc_reclaims", "gc_reclaim_max_ms")}
 
 
 def _model_ids(value, register=None) -> set:
@@ -760,7 +763,9 @@ def report(stats: dict) -> str:
         f"{stats['loop_callback_burst_ms'] / 1e3:.2f} s (burst), {stats['loop_callback_class_ms'] / 1e3:.2f} s "
         f"(class) (goal <= 0.5 s: {_goal(longest <= 0.5)})",
         f"  the garbage collector's longest pass (it stops every thread, the loop's too): "
-        f"{stats['gc_cpu_ms'] / 1e3:.2f} s, {stats['gc_burst_ms'] / 1e3:.2f} s, {stats['gc_class_ms'] / 1e3:.2f} s",
+        f"{stats['gc_cpu_ms'] / 1e3:.2f} s, {stats['gc_burst_ms'] / 1e3:.2f} s, {stats['gc_class_ms'] / 1e3:.2f} s; "
+        f"after the class: {stats['heap'].get('sessions_open')} sessions open, {stats['heap'].get('gc_reclaims')} "
+        f"reclaims of ended sessions' objects (longest {stats['heap'].get('gc_reclaim_max_ms')} ms)",
         f"event loop busy without a break at most (callbacks queued together run back to back): "
         f"{stats['loop_lag_cpu_ms'] / 1e3:.2f} s (one session at a time), {stats['loop_lag_burst_ms'] / 1e3:.2f} s "
         f"(burst), {stats['loop_lag_class_ms'] / 1e3:.2f} s (class)",
