@@ -12,7 +12,6 @@ only the arrays of the layers that depend on it, in one held document patch.
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import functools
 import html
 import io
@@ -430,8 +429,7 @@ class Explorer(pn.viewable.Viewer):
         except ValueError as e:
             self.param.update(contact=None, error=str(e))
             return
-        geometry = (contact.replace(ft=0.0, w=0.0) if isinstance(contact, core.Contact)
-                    else dataclasses.replace(contact, Ft=0.0, W=0.0))
+        geometry = contact.replace(ft=0.0, w=0.0)
         self.param.update(contact=contact, error="",
                           **({} if geometry == self.geometry else {"geometry": geometry}))
 
@@ -702,8 +700,7 @@ class Explorer(pn.viewable.Viewer):
     def _compute_units(self, result=None) -> plots.Units:
         result = self.result if result is None else result
         g = self.geometry
-        geometry = (None if g is None else g.replace(mu=self.mu_slider.value) if isinstance(g, core.Contact)
-                    else dataclasses.replace(g, mu=self.mu_slider.value))
+        geometry = None if g is None else g.replace(mu=self.mu_slider.value)
         kernel = getattr(result, "kernel", self.state.kernel)
         return plots.make_units(self.state.units, geometry, kernel, getattr(result, "u0", None))
 

@@ -374,9 +374,7 @@ def cards(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, bo
     rows = []
     c = None
     if contact is not None:
-        import dataclasses
-        c = dataclasses.replace(contact, mu=mu, Ft=ft * mu * contact.Fn)
-        c = dataclasses.replace(c, W=w * c.a)
+        c = contact.replace(mu=mu, ft=ft, w=w)
         rows += [("Ft (tangential force)", _fmt(c.Ft, "N")), ("W (rocking amplitude)", _fmt(c.W * 1e6, "µm")),
                  ("a (semi-axis along x)", _fmt(c.a * 1e3, "mm")), ("b (semi-axis along y)", _fmt(c.b * 1e3, "mm")),
                  ("p0 (peak pressure)", _fmt(c.p0 / 1e6, "MPa")), ("ν of the half-space kernel", _fmt(c.nu, "", 3))]

@@ -12,7 +12,6 @@ in N, moduli in MPa. :meth:`ExplorerState.contact` converts to SI for
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import urllib.parse
 from typing import Mapping
@@ -151,7 +150,7 @@ class ExplorerState(param.Parameterized):
             c = core.PointContact(Rx=self.R * _MM, Ry=self.R * ratio * _MM, Fn=self.Fn, mu=self.mu,
                                   E2=self.E2 * _MPA, nu2=self.nu2, E1=math.inf if rigid else self.E1 * _MPA,
                                   nu1=0.3 if rigid else self.nu1, Ft=self.ft * self.mu * self.Fn)
-            return dataclasses.replace(c, W=self.w * c.a)
+            return c.replace(w=self.w)
         return core.Contact(
             R1=self.R * _MM, L=self.L * _MM, Fn=self.Fn, mu=self.mu,
             E2=self.E2 * _MPA, nu2=self.nu2,

@@ -38,7 +38,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import cached_property
 
 import numpy as np
@@ -409,6 +409,29 @@ class PointContact:
     def displacement_unit(self) -> float:
         """``mu Fn / (E* a)`` [m]."""
         return self.mu * self.Fn / (self.E_star * self.a)
+
+    def replace(self, **changes) -> "PointContact":
+        """A copy with some inputs changed, as :meth:`core.Contact.replace`: the normalised loads ``ft`` and
+        ``w`` stay as they are unless ``ft``/``Ft`` or ``w``/``W`` is given (``ft`` and ``w`` may be given in
+        place of ``Ft`` and ``W``; ``W = w a`` with the new contact's ``a``).
+
+        >>> c = PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
+        >>> d = c.replace(mu=0.8)
+        >>> round(d.ft, 3) == round(c.ft, 3), round(d.Ft, 3)
+        (True, 3.2)
+        """
+        names = {f.name for f in fields(self)}
+        for load, normalised in (("Ft", "ft"), ("W", "w")):
+            if load in changes and normalised in changes:
+                raise ValueError(f"{load}: give {load} or {normalised}, not both")
+        unknown = sorted(set(changes) - names - {"ft", "w"})
+        if unknown:
+            raise ValueError(f"{unknown[0]}: not an input of PointContact (inputs: {', '.join(sorted(names))}, ft, w)")
+        ft, w = changes.pop("ft", self.ft), changes.pop("w", self.w)
+        geometry = PointContact(**{**{n: getattr(self, n) for n in names}, **changes, "Ft": 0.0, "W": 0.0})
+        Ft = changes["Ft"] if "Ft" in changes else ft * geometry.mu * geometry.Fn
+        W = changes["W"] if "W" in changes else w * geometry.a
+        return PointContact(**{**{n: getattr(geometry, n) for n in names}, "Ft": Ft, "W": W})
 
     def simulate(self, periods=10, dx=None, **options):
         """Run :func:`core.solver3d.simulate_point_contact` with this contact's ``ft``, ``w``, body, angle and ``nu``.

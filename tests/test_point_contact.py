@@ -123,3 +123,30 @@ def test_physical_contact_runs_normalised():
     r = c.simulate(periods=1, dx=0.25)
     assert r.params["ft"] == pytest.approx(c.ft) and r.params["w"] == pytest.approx(c.w)
     assert r.body.ratio == pytest.approx(2.0) and r.nu == pytest.approx(0.4)
+
+
+def test_replace_keeps_the_normalised_loads_as_contact_replace_does():
+    c = PointContact(Rx=0.01, Ry=0.02, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4, angle=0.3)
+    stiffer = c.replace(E2=6e6, mu=0.8)
+    assert stiffer.E2 == 6e6 and stiffer.angle == c.angle and stiffer.Ry == c.Ry
+    assert stiffer.ft == pytest.approx(c.ft, rel=1e-12) and stiffer.w == pytest.approx(c.w, rel=1e-12)
+    assert stiffer.a < c.a and stiffer.W < c.W, "W follows the new, smaller a"
+    loads = c.replace(ft=0.25, w=0.5)
+    assert loads.Ft == pytest.approx(0.25 * 0.5 * 10.0) and loads.W == pytest.approx(0.5 * c.a)
+    assert c.replace(Ft=1.0).Ft == 1.0 and c.replace(W=2e-5).W == 2e-5
+    assert c.replace() == c
+    geometry = c.replace(ft=0.0, w=0.0)
+    assert (geometry.Ft, geometry.W) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("changes, match", [
+    (dict(Ft=1.0, ft=0.2), "Ft: give Ft or ft"),
+    (dict(W=1e-5, w=0.2), "W: give W or w"),
+    (dict(radius=0.1), "radius: not an input"),
+    (dict(mu=-1.0), "mu"),
+    (dict(ft=1.5), "Ft"),
+])
+def test_replace_refuses_what_is_not_a_point_contact(changes, match):
+    c = PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
+    with pytest.raises(ValueError, match=match):
+        c.replace(**changes)
