@@ -1039,7 +1039,10 @@ class Explorer(pn.viewable.Viewer):
         """)
         template = pn.template.BootstrapTemplate(
             title="Shakedown Explorer: rocking contacts with Coulomb friction",
-            sidebar=self.sidebar(), main=[self.main_area()], header=[present], sidebar_width=340,
+            # the sidebar is one root, not one per input: the template renders each root in a `config.set`
+            # block that reads and restores every Panel setting (15% of a page's build with 20 roots)
+            sidebar=[pn.Column(*self.sidebar(), sizing_mode="stretch_width", margin=0)], main=[self.main_area()],
+            header=[present], sidebar_width=340,
             header_background="#1f5f99",
             # Panel's busy indicator follows the whole process (any session's callback) and is updated in every
             # session on every event: with 10 sessions sliding it took a third of the server's CPU. The run's
