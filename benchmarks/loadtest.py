@@ -623,6 +623,9 @@ def _run(url, base, pid, sessions, open_over, seconds, burst, cpu_sessions, figu
     stats = {"errors": [], "latencies": [], "liveness": [], "liveness_burst": [], "loads": [], "patches_sent": 0,
              "patches_answered": 0, "figures_in_view": figures_in_view}
     yard = url.rsplit("/", 1)[0] + "/yardstick"
+    # the loop watch's window starts here, not at the server's start: the warm-up's collector passes (0.13-0.2 s,
+    # in its own thread, before /liveness says ready) stretched whatever the loop ran meanwhile
+    _health(base, reset=True)
     # 1. CPU per session, one after another
     stats["cpu_explorer_s"], stats["client_cpu_explorer_s"] = asyncio.run(
         _cpu_per_session(url, pid, cpu_sessions, stats))
