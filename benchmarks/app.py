@@ -19,6 +19,10 @@ app/main.py --liveness`` on loopback, both on this machine):
   ft never solved before (no cache hit), and wait the same way for the
   displacement figure's data: solve + render + round trip. The solver's own
   time for the same run (``CycleResult.runtime``) is printed beside it.
+  Setting both at once is a click on the slider's track: the drag's
+  analytical update and the run arrive together. Also timed: a release
+  after a drag, as a hand does it (``value`` first, its update drawn, then
+  ``value_throttled`` alone).
 * player step: set the cycle player's step and wait the same way for the
   traction figure's data (pressure, zones, state map and displacement follow).
 
@@ -140,6 +144,12 @@ def measure(n: int, figures: str = "live") -> dict:
         out["fts"] = [0.2013 + 0.0107 * i for i in range(n)]  # never solved before (a fresh server): no cache hits
         out["resolve"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Displacement of the cylinder", ft, True])
                           for ft in out["fts"]]
+        out["released"] = []  # a drag to a new ft (its analytical update drawn), then the release alone
+        for i in range(n):
+            ft = 0.6013 + 0.0107 * i  # never solved before either
+            page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction: numerical vs closure", ft, False])
+            page.wait_for_timeout(300)  # the drag's update is drawn, as a hand pauses before letting go
+            out["released"].append(page.evaluate(_ROUND_TRIP, [FT_TITLE, "Displacement of the cylinder", ft, True]))
         out["steps"] = [page.evaluate(_ROUND_TRIP, [PLAYER, "Traction: numerical vs closure", i % 40, False])
                         for i in range(1, n + 1)]
         out["models"] = page.evaluate("() => Bokeh.documents[0].all_models.size")
@@ -163,6 +173,7 @@ def report(r: dict) -> str:
         f"  scrolled through, every figure drawn    : {r['cpu_scrolled']:6.2f} s",
         f"analytical slider -> plot data            : {_stats(r['analytical'])}   target < 100 ms",
         f"numerical re-solve -> plot data (default) : {_stats(r['resolve'])}   target < 300 ms",
+        f"  released after a drag (release alone)   : {_stats(r['released'])}",
         f"  of which the solver alone (same runs)   : {_stats(solver)}",
         f"  default run: {state.resolution} elements per a, {state.periods} periods, kernel {state.kernel}",
         f"player step -> traction data              : {_stats(r['steps'])}   (the player steps every 150 ms)",
