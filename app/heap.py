@@ -26,7 +26,7 @@ with a pass of 0.83 s). Here:
   1.4 s after 60 sessions ended together (``tests/test_heap.py`` checks the
   objects are gone). About half of an ended page's objects survive one pass
   (the cause is not known; the second pass frees them): they go at the next
-  reclaim, or a few seconds later if no session is open.
+  reclaim, or a second later if no session is open.
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ class Heap:
         self.open = self.ended = 0  # sessions built and not ended; ended since the last reclaim
         self.reclaims = self.reclaimed = 0  # reclaims, and objects the last one collected
         self.frozen = 0  # objects frozen after the start-up's freeze or the last reclaim (counting them is a scan)
-        self.reclaim_max_s = self.reclaim_last_s = 0.0
+        self.reclaim_max_s = 0.0
         self._due = False
         self._lock = threading.Lock()
 
@@ -72,8 +72,8 @@ class Heap:
     def reclaim(self) -> int:
         """Unfreeze, collect, freeze again; returns the number of objects collected.
 
-        One pass: about half of an ended page's objects are kept by finalizers for one more pass; they go at
-        the next reclaim (a second pass here would double the pause).
+        One pass: about half of an ended page's objects survive it (why is not known); they go at the next
+        reclaim (a second pass here would double the pause).
         """
         t0 = time.perf_counter()
         gc.unfreeze()
@@ -84,7 +84,7 @@ class Heap:
         with self._lock:
             self._due, self.ended, self.frozen, self.reclaimed = False, 0, frozen, collected
             self.reclaims += 1
-            self.reclaim_last_s, self.reclaim_max_s = spent, max(self.reclaim_max_s, spent)
+            self.reclaim_max_s = max(self.reclaim_max_s, spent)
         return collected
 
     def report(self) -> dict:
