@@ -2,7 +2,8 @@
 
 The public names are imported on first use (PEP 562 ``__getattr__``), so that
 a light submodule such as :mod:`core.cli` (``shakedown --help``) starts
-without importing numba, scipy and pandas.
+without importing numba, scipy and pandas. ``core.__all__`` lists them all
+(asking for it imports them).
 """
 
 import importlib
@@ -43,12 +44,18 @@ def _load_locked():
                                shakedown_state_3d, PointContactResult, StaticResult3D)
         from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
-        globals().update({k: v for k, v in locals().items() if k != "analytical"})
+        public = {k: v for k, v in locals().items() if k != "analytical"}
+        globals().update(public)
+        # every public name, for ``from core import *`` and the documentation's API reference
+        globals()["__all__"] = sorted({*analytical.__all__, *public})
     finally:
         _loading = None
 
 
 def __getattr__(name):
+    if name == "__all__" and _loading != threading.get_ident():
+        _load()
+        return globals()["__all__"]
     if name.startswith("__") or _loading == threading.get_ident():
         raise AttributeError(name)
     if importlib.util.find_spec(f"{__name__}.{name}") is not None:

@@ -1,6 +1,6 @@
 """The paper's regressions and reconstructed approximations.
 
-Everything in this module is an *approximation* fitted by the paper's author
+Everything in this module is an *approximation* fitted by the paper's author [1]_
 (or reconstructed from its garbled text), kept apart from the exact results of
 :mod:`core.analytical` so the two are never confused. Use them to compare with
 the paper's figures; the numerical solver (:mod:`core.solver`) is the ground
