@@ -79,4 +79,13 @@ class Explorer(pn.viewable.Viewer):
             inputs = pn.Column(*self.explorer.sidebar(), width=self.sidebar_width, sizing_mode="fixed",
                                css_classes=["explorer-inputs"])
             self._layout = pn.Row(inputs, self.explorer.main_area(), sizing_mode="stretch_width")
+            self._draw_all()
+            self.explorer.state.param.watch(lambda e: self._draw_all(), "body")
         return self._layout
+
+    def _draw_all(self) -> None:
+        """Draw every figure of the current body now. The served page draws a figure when the browser scrolls
+        near it (a sentinel per figure); a notebook's output is drawn at once, and a static copy of it (an
+        exported or documentation page) has no kernel to ask for the rest later."""
+        for sentinel in list(self.explorer.sentinels.values()):
+            sentinel.shown = True

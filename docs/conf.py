@@ -94,6 +94,8 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "remove_config_comments": True,
     "plot_gallery": "True",
+    # run every example even when its output is cached in docs/auto_examples (tests/test_docs.py sets it)
+    "run_stale_examples": os.environ.get("SHAKEDOWN_DOCS_RERUN_EXAMPLES") == "1",
     "matplotlib_animations": False,
     "image_scrapers": ("matplotlib",),
     "reset_modules": ("matplotlib",),
