@@ -85,6 +85,13 @@ def hertz_pressure(x, xc=0.0):
     -------
     ndarray
         ``p / p0 = sqrt(1 - (x - xc)^2)`` inside the contact, 0 outside.
+
+    Examples
+    --------
+    >>> hertz_pressure([0.0, 0.6, 1.2])
+    array([1. , 0.8, 0. ])
+    >>> round(float(hertz_pressure(0.6, xc=0.2)), 4)
+    0.9165
     """
     x = check_range("x", x)
     xc = check_range("xc", xc)
@@ -145,6 +152,11 @@ def cattaneo_stick_halfwidth(ft):
     -------
     ndarray
         ``c / a = sqrt(1 - ft)``.
+
+    Examples
+    --------
+    >>> round(float(cattaneo_stick_halfwidth(0.36)), 12)
+    0.8
     """
     ft = _ft(ft, upper_closed=True)
     return np.sqrt(1.0 - ft)
@@ -165,6 +177,11 @@ def cattaneo_traction(x, ft):
     ndarray
         ``q / (mu p0) = sqrt(1 - x^2) - (c/a) sqrt(1 - (x/c)^2)``, the second
         term only inside the stick zone ``|x| < c``.
+
+    Examples
+    --------
+    >>> cattaneo_traction([0.0, 0.9], 0.36).round(4)
+    array([0.2   , 0.4359])
     """
     x = check_range("x", x)
     c = cattaneo_stick_halfwidth(ft)
@@ -233,6 +250,15 @@ def w_limit(ft, body="cylinder"):
     -------
     ndarray
         ``w_lim`` in [0, 1] with ``ft_limit(w_lim) == ft``.
+
+    Examples
+    --------
+    >>> round(float(w_limit(0.3)), 4)
+    0.5851
+    >>> w_limit([0.1, 0.5]).round(4)
+    array([0.8054, 0.404 ])
+    >>> round(float(ft_limit(w_limit(0.3))), 12)
+    0.3
     """
     if body != "cylinder":  # point contacts: core/point_contact.py
         from .point_contact import limit_body, w_limit_point
@@ -268,6 +294,11 @@ def lowest_pressure(x, w):
     -------
     ndarray
         ``sqrt(1 - (|x| + w)^2)`` for ``|x| < 1 - w``, else 0 (eq 21).
+
+    Examples
+    --------
+    >>> lowest_pressure([0.0, 0.5, 0.8], 0.3).round(4)
+    array([0.9539, 0.6   , 0.    ])
     """
     x = check_range("x", x)
     w = _w(w, upper_closed=True)
@@ -412,6 +443,13 @@ def shakedown_traction(x, ft, w):
     Whether it respects ``|q| <= mu p_min`` everywhere is tested in
     ``tests/test_analytical.py``; compare it with the numerical solver's state
     in the app.
+
+    Examples
+    --------
+    At the centre the stick-zone ansatz; in the slip zone the bound ``mu p_min``:
+
+    >>> shakedown_traction([0.0, 0.6], 0.3, 0.3).round(4)
+    array([0.2522, 0.4359])
     """
     x = check_range("x", x)
     c = shakedown_stick_halfwidth(ft, w)
@@ -429,6 +467,13 @@ def shakedown_zones(x, ft, w):
         :data:`ZONE_STICK` (``|x| < c_sd``), :data:`ZONE_SLIP`
         (``c_sd <= |x| < 1 - w``), :data:`ZONE_RELEASED` (``1 - w <= |x| < 1``)
         or :data:`ZONE_NONE` (outside the contact, or no shakedown state).
+
+    Examples
+    --------
+    >>> shakedown_zones([0.0, 0.6, 0.9], 0.3, 0.3)
+    array([1, 2, 3])
+    >>> [int(z) for z in (ZONE_STICK, ZONE_SLIP, ZONE_RELEASED)]
+    [1, 2, 3]
     """
     x = check_range("x", x)
     c = shakedown_stick_halfwidth(ft, w)

@@ -136,6 +136,16 @@ def rocking_schedule(ft, w, periods=10, dW=0.025, shape="triangle", load_steps=1
     Returns
     -------
     Schedule
+
+    Examples
+    --------
+    The loading step, then the centre ``0 -> W -> -W -> 0`` in steps of ``dW`` each period:
+
+    >>> s = rocking_schedule(0.3, 0.5, periods=1, dW=0.25)
+    >>> s.xc
+    array([ 0.  ,  0.25,  0.5 ,  0.25,  0.  , -0.25, -0.5 , -0.25,  0.  ])
+    >>> s.period
+    array([-1,  0,  0,  0,  0,  0,  0,  0,  0])
     """
     ft = check_scalar("ft", ft, -1.0, 1.0, lo_closed=False, hi_closed=False)
     w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)

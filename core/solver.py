@@ -131,6 +131,15 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     ValueError
         For invalid inputs, or a run whose stored fields would exceed
         :data:`MAX_STORED_VALUES` (steps x elements).
+
+    Examples
+    --------
+    Any :class:`~core.schedule.Schedule`; here two periods of the paper's rocking:
+
+    >>> from core import rocking_schedule
+    >>> r = solve_schedule(rocking_schedule(0.3, 0.5, periods=2, dW=0.25), dx=1 / 20)
+    >>> r.increment_per_period.round(3)
+    array([0.137, 0.032])
     """
     if not isinstance(schedule, Schedule):
         raise ValueError(f"schedule must be a core.Schedule, got {type(schedule).__name__}")
@@ -270,6 +279,16 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
     ShakedownState
         ``x`` (element centres [a]), ``traction`` [mu p0], ``bound`` (``mu p_min``
         per element [mu p0]) and ``stick_halfwidth`` (``c_sd / a``, 0 if none).
+
+    Examples
+    --------
+    A coarse grid (``dx = a/20``) resolves ``c_sd`` to one element; eq 30 gives 0.494:
+
+    >>> sd = shakedown_state(0.3, 0.3, dx=1 / 20)
+    >>> sd.stick_halfwidth
+    0.5
+    >>> bool((abs(sd.traction) <= sd.bound + 1e-9).all())
+    True
     """
     ft = check_scalar("ft", ft, -1.0, 1.0, lo_closed=False, hi_closed=False)
     w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
@@ -442,6 +461,15 @@ def simulate_contact(contact, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="str
         Default ``"strip"``: the truncated-3D model with the contact's length.
     **options
         Further options of :func:`simulate_cycles`.
+
+    Examples
+    --------
+    The paper's numerical case (eq 17) at ``ft = 0.08``, ``w = 0.26``, on a coarse grid:
+
+    >>> from core import PAPER_SIMULATION
+    >>> r = simulate_contact(PAPER_SIMULATION.replace(ft=0.08, w=0.26), periods=4, dx=1 / 20)
+    >>> r.regime, round(float(r.u[-1]), 3)
+    ('shakedown', 0.078)
     """
     from .contact import Contact
 
