@@ -10,7 +10,7 @@ sum of element tractions, and its closed-form references.
 pressure of eq 4 averaged exactly over each element, half-width and peak both
 scaling as ``sqrt(P)`` (eq 5). Point contacts (sphere, ellipsoid: 2D grids)
 are added by writing one module with a class of the same interface and
-registering it in :data:`BODIES` (see the README, "Adding a body").
+registering it in :data:`BODIES` (see the developer guide, ``docs/dev/adding-a-body.md``).
 
 Normalised units: lengths in the nominal half-width ``a``, pressure in the
 nominal ``p0``, tractions in ``mu p0``, normal load in the nominal ``P``,

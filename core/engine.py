@@ -33,8 +33,8 @@ __all__ = ["run", "STEP_SOLVERS", "SOLVER_CHOICES", "AUTO_CROSSOVER", "select_so
 STEP_SOLVERS = {"dense": DenseSolver, "fft": FFTSolver}
 #: The values of the ``solver`` keyword.
 SOLVER_CHOICES = ("auto", "dense", "fft")
-#: Elements above which ``solver="auto"`` picks "fft", measured by ``benchmarks/solver.py`` (the README's
-#: "Benchmarks"): the dense solver (interval inverses of the Toeplitz matrix, FFT residuals) is faster per
+#: Elements above which ``solver="auto"`` picks "fft", measured by ``benchmarks/solver.py`` (docs/dev/
+#: benchmarks.md): the dense solver (interval inverses of the Toeplitz matrix, FFT residuals) is faster per
 #: rocking step at every size up to its grid cap (about 5x at 3800 elements: 1.1 ms against 5.6 ms a step,
 #: 2 cores shared), so "auto" runs it up to :data:`core.bodies.MAX_ELEMENTS` and the matrix-free one above,
 #: up to :data:`core.bodies.MAX_FFT_ELEMENTS`.

@@ -315,13 +315,13 @@ def test_default_map_loads_and_matches_eq35():
 
 
 def test_the_readme_maps_snippet_runs_as_a_file():
-    """Saved as a file, the snippet's work runs only under its __main__ guard (spawned workers re-import it)."""
+    """The maps snippet of the user guide (docs/guide/cli.md, once in the README). Saved as a file, the snippet's work runs only under its __main__ guard (spawned workers re-import it)."""
     import ast
     import pathlib
     import re
 
-    readme = (pathlib.Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8")
-    section = readme[readme.index("## Maps of the (ft, w) plane"):]
+    page = (pathlib.Path(__file__).parents[1] / "docs" / "guide" / "cli.md").read_text(encoding="utf-8")
+    section = page[page.index("# Maps of the (ft, w) plane"):]
     code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
     tree = ast.parse(code)
     *imports, guard = tree.body
