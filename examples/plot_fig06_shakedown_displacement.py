@@ -8,7 +8,7 @@ amplitude shakes down: the cylinder walks a little in the first periods, then st
 equilibrium, further for the larger amplitude.
 
 How it compares: the runs use the paper's numerical model (eq 17: the truncated-3D strip of
-:data:`core.PAPER_SIMULATION`, ``L/a = 292.6``, ``nu = 0.5``), on a grid of ``a/20`` instead of the
+:data:`core.PAPER_SIMULATION`, ``L/a = 292.6``, ``nu = 0.5``), on a grid of ``a/40`` instead of the
 paper's ``a/85``. As in the paper, the three curves level off within a few periods, higher for the
 larger amplitude; the solver's ``u_sd`` (0.078 to 0.092 on this grid) lies within 0.004 of the
 paper's regression eq 34 (``u_sd = 1 - (1 - ft)^0.92 + 0.3 ft w``, dotted), printed beside it.
@@ -34,7 +34,7 @@ def periods_axis(result):
 FT = 0.08
 fig, ax = plt.subplots(figsize=(6.4, 3.8), layout="constrained")
 for w, color in zip((0.26, 0.52, 0.77), ("#0072B2", "#E69F00", "#009E73")):
-    r = core.simulate_cycles(FT, w, periods=10, dx=1 / 20, **paper_model())
+    r = core.simulate_cycles(FT, w, periods=10, dx=1 / 40, **paper_model())
     ax.plot(periods_axis(r), r.u, color=color, lw=1.5, label=f"w = {w} ({r.regime})")
     eq34 = float(approximations.shakedown_displacement_approx(FT, w))
     ax.axhline(eq34, color=color, ls=":", lw=1)

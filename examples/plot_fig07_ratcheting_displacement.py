@@ -10,7 +10,7 @@ amount on every period.
 How it compares: the paper's caption counts ``w = 0.26`` among the ratcheting cases, but eq 35
 (``ft_lim(0.26) = 0.673 > 0.58``) and the solver both say that it shakes down: its curve levels
 off. The two others grow linearly, faster for the larger amplitude, as in the paper; eq 38's
-increment per period is printed beside the solver's. Paper's strip model (eq 17), grid ``a/20``.
+increment per period is printed beside the solver's. Paper's strip model (eq 17), grid ``a/40``.
 """
 
 import matplotlib.pyplot as plt
@@ -33,7 +33,7 @@ def periods_axis(result):
 FT = 0.58
 fig, ax = plt.subplots(figsize=(6.4, 3.8), layout="constrained")
 for w, color in zip((0.26, 0.52, 0.77), ("#0072B2", "#E69F00", "#009E73")):
-    r = core.simulate_cycles(FT, w, periods=10, dx=1 / 20, **paper_model())
+    r = core.simulate_cycles(FT, w, periods=10, dx=1 / 40, **paper_model())
     ax.plot(periods_axis(r), r.u, color=color, lw=1.5, label=f"w = {w} ({r.regime})")
     du = r.increment_per_period[-1] / r.u0
     eq38 = float(approximations.ratchet_increment_approx(FT, w))

@@ -9,7 +9,7 @@ per period (``b < |x| < a``).
 How it compares: the solver's shaken-down state (:func:`core.shakedown_state`, one static
 partial-slip problem with the bound ``mu p_min``, which equals the end of the transient) is drawn
 with the paper's ansatz (eqs 22-26 with ``c_sd`` of eq 30) and the zones of the closure
-(:func:`core.shakedown_zones`); plane-strain kernel, grid ``a/50``, ``ft = 0.3``, ``w = 0.3``.
+(:func:`core.shakedown_zones`); plane-strain kernel, grid ``a/100``, ``ft = 0.3``, ``w = 0.3``.
 The two ``c_sd`` agree to within an element.
 """
 
@@ -19,7 +19,7 @@ import numpy as np
 import core
 
 ft, w = 0.3, 0.3
-sd = core.shakedown_state(ft, w, dx=1 / 50)
+sd = core.shakedown_state(ft, w, dx=1 / 100)
 c_eq30 = float(core.shakedown_stick_halfwidth(ft, w))
 x = np.linspace(-1.05, 1.05, 841)
 
@@ -34,5 +34,5 @@ for code, color in colors.items():
     ax.fill_between(x, -0.08, -0.02, where=zones == code, color=color, label=names[code])
 ax.set(xlabel="x / a", ylabel="q / (mu p0)", title=f"Fig 9: after shakedown, ft = {ft}, w = {w}")
 ax.legend(fontsize=8, loc="upper right")
-print(f"c_sd: solver {sd.stick_halfwidth:.3f} a, eq 30 {c_eq30:.3f} a (element {1 / 50} a)")
+print(f"c_sd: solver {sd.stick_halfwidth:.3f} a, eq 30 {c_eq30:.3f} a (element {1 / 100} a)")
 plt.show()

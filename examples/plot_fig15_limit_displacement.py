@@ -7,7 +7,7 @@ against the amplitude (at the limit ``ft = ft_lim(w)`` of eq 35).
 
 How it compares: at the limit the stick zone has shrunk to the centre and the whole contact
 carries ``mu p_min``, so the solver's ``u_lim`` is the centre displacement of that traction over
-``U0`` (the paper's strip model, grid ``a/50``). The paper's formula for it (eq 37) is unreadable
+``U0`` (the paper's strip model, grid ``a/100``). The paper's formula for it (eq 37) is unreadable
 in the text; the nearest readable formula, eq 34 at ``(ft_lim(w), w)``, is drawn instead, and the
 largest difference printed.
 """
@@ -17,7 +17,7 @@ import numpy as np
 
 from core import paper_figures
 
-data = paper_figures.limit_displacement_curve(w_values=tuple(np.round(np.linspace(0.0, 0.9, 7), 6)), dx=1 / 50)
+data = paper_figures.limit_displacement_curve(w_values=tuple(np.round(np.linspace(0.0, 0.9, 10), 6)), dx=1 / 100)
 fig, ax = plt.subplots(figsize=(6.4, 4), layout="constrained")
 ax.plot(data["w"], data["eq34_at_limit"], color="#0072B2", lw=1.5, label="eq 34 at (ft_lim(w), w)")
 ax.plot(data["w"], data["solver"], "^", color="#D55E00", label="solver")
