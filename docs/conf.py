@@ -58,6 +58,7 @@ exclude_patterns = [
 ]
 templates_path = ["_templates"]
 root_doc = "index"
+smartquotes = False  # keep "--flag" and quotes as typed (the command-line reference shows options)
 nitpicky = False
 
 # -- MyST and notebooks ----------------------------------------------------------

@@ -57,12 +57,39 @@ def defining_module(core, name: str) -> str:
     module = getattr(obj, "__module__", None) if (inspect.isclass(obj) or callable(obj)) else None
     if isinstance(module, str) and module.startswith("core."):
         return module
-    # constants: the first submodule that lists the very object in its __all__
-    for sub in sorted(SECTIONS, key=list(SECTIONS).index):
-        mod = importlib.import_module(sub)
-        if name in getattr(mod, "__all__", ()) and getattr(mod, name, None) is obj:
+    # constants: of the submodules that list the very object in their __all__, the one that documents it
+    # with a ``#:`` comment (where it is defined), else the first
+    candidates = [sub for sub in SECTIONS if name in getattr(importlib.import_module(sub), "__all__", ())
+                  and getattr(importlib.import_module(sub), name, None) is obj]
+    for sub in candidates:
+        if data_doc(sub, name):
             return sub
-    return "core"
+    return candidates[0] if candidates else "core"
+
+
+def is_data(obj) -> bool:
+    """A constant (not a class, a function or a module): documented with ``py:data``, not autosummary."""
+    return not (inspect.isclass(obj) or callable(obj) or isinstance(obj, types.ModuleType))
+
+
+def data_doc(module: str, name: str) -> str:
+    """The ``#:`` comment (or docstring after the assignment) of ``name`` in ``module``'s source."""
+    from sphinx.pycode import ModuleAnalyzer
+
+    try:
+        docs = ModuleAnalyzer.for_module(module).find_attr_docs()
+    except Exception:  # no source (a compiled module)
+        return ""
+    return "\n".join(docs.get(("", name), [])).strip()
+
+
+def _data_entry(core, module: str, name: str) -> str:
+    """A ``py:data`` entry of the constant ``core.<name>``: its value (when short) and its description."""
+    value = repr(getattr(core, name))
+    option = f"   :value: {value}\n" if len(value) <= 80 and "\n" not in value else ""
+    doc = data_doc(module, name) if module.startswith("core.") else ""
+    body = "\n".join(f"   {line}" if line else "" for line in doc.splitlines())
+    return f".. py:data:: {name}\n   :module: core\n{option}\n{body}\n"
 
 
 def write_api_page(path: Path, core) -> list[str]:
@@ -75,6 +102,12 @@ def write_api_page(path: Path, core) -> list[str]:
     if "modules" in groups:
         order.append("modules")
     parts = [HEADER]
+    stubs = {f"core.{n}.rst" for n in names if not is_data(getattr(core, n))}
+    generated = Path(path).parent / "generated"
+    if generated.is_dir():  # stubs of names no longer on the page (renamed, removed, or now a constant)
+        for stale in generated.glob("core.*.rst"):
+            if stale.name not in stubs:
+                stale.unlink()
     for module in order:
         if module == "modules":
             title, note = "Submodules", "Modules exposed as a whole."
@@ -82,9 +115,16 @@ def write_api_page(path: Path, core) -> list[str]:
             doc = inspect.getdoc(importlib.import_module(module)) or ""
             title = SECTIONS.get(module) or (doc.splitlines()[0].rstrip(".") if doc else module)
             note = f"Defined in `{module}`."
-        entries = "\n".join(f"   {n}" for n in sorted(groups[module], key=str.lower))
-        parts.append(f"## {title}\n\n{note}\n\n```{{eval-rst}}\n.. currentmodule:: core\n\n.. autosummary::\n"
-                     f"   :toctree: generated\n   :nosignatures:\n\n{entries}\n```\n")
+        names_here = sorted(groups[module], key=str.lower)
+        objects = [n for n in names_here if not is_data(getattr(core, n))]
+        data = [n for n in names_here if is_data(getattr(core, n))]
+        block = ".. currentmodule:: core\n"
+        if objects:
+            entries = "\n".join(f"   {n}" for n in objects)
+            block += f"\n.. autosummary::\n   :toctree: generated\n   :nosignatures:\n\n{entries}\n"
+        for n in data:
+            block += "\n" + _data_entry(core, module, n)
+        parts.append(f"## {title}\n\n{note}\n\n```{{eval-rst}}\n{block}```\n")
     text = "\n".join(parts)
     path = Path(path)
     if not path.exists() or path.read_text() != text:
