@@ -95,6 +95,8 @@ _PHASE_WARM = True
 _WINDOW_QUANTUM = 1
 # inexact Newton: each linear solve reduces its residual to this fraction of the last KKT violation
 _CG_FORCING = 1e-2
+# active sets remembered for the detection of a cycle (see _increment_kernel)
+_CYCLE_MEMORY = 16
 # solve increments that are mirror-symmetric in y with half-cost FFT products (see _mirror_symmetric)
 _MIRROR = True
 # asymmetry [relative to the largest value] below which the inputs count as mirror-symmetric (round-off)
@@ -255,6 +257,17 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
 
 
 @jit
+def _signature(kind):
+    """A 64-bit FNV-1a hash of the element kinds: equal active sets give equal signatures."""
+    h = np.uint64(14695981039346656037)
+    prime = np.uint64(1099511628211)
+    for i in range(kind.shape[0]):
+        for j in range(kind.shape[1]):
+            h = (h ^ np.uint64(kind[i, j] + 1)) * prime
+    return h
+
+
+@jit
 def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, tol, maxiter, cg_maxiter, measure,
                       mirror):
     """The active-set / semismooth Newton loop of :func:`solve_increment`, compiled.
@@ -262,7 +275,25 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
     Updates ``kind``, ``d`` and ``wcurv`` in place; returns the final traction
     (slipping elements on the disk), the slips (0 where sticking), ``lam``,
     ``K dq``, the stick part of the last correction, the stick mask, the
-    iterations, the CG iterations, whether it converged and the last violation.
+    iterations, the CG iterations, the status (0 converged, 1 out of
+    iterations, 2 a cycle that the last fallback did not break), the fallback
+    stage reached and the last violations (bound, slip direction, tangential
+    correction, linear residual).
+
+    Cycles. The linear solves are inexact (inexact Newton: CG stops at
+    :data:`_CG_FORCING` times the last violation), so near the solution an
+    element whose traction is at its bound with a slip close to zero (a weakly
+    active element) can be tested against the noise of the linear solve: it
+    slips with a slip against its traction of the size of that noise, sticks
+    with a traction above its bound, and so on for ever (seen at ft 0.65, w 0.3,
+    a/40, step 77: violations 9e-8 against CG residuals of 3e-6). Every active
+    set solved is remembered (a hash, :func:`_signature`); coming back to one
+    is a cycle, and the loop falls back, one stage per cycle: (1) exact linear
+    solves (CG to a tenth of ``tol``), so that every decision is taken on a
+    solution accurate to the tolerance; (2) in addition, only the worst
+    violator changes its kind per iteration (a least-violation pivoting rule,
+    as Murty's for P-matrix LCPs), with the slip directions iterated to
+    convergence between changes. A cycle in stage 2 stops with status 2.
     """
     ny, nx = g.shape
     contact = g > 0.0
@@ -295,7 +326,11 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
     lam = np.zeros(2)
     cg_total = 0
     worst = np.inf
-    converged = False
+    over_max = wrong_max = tangent = cg_res = np.inf
+    status = 1
+    stage = 0
+    seen = np.zeros(_CYCLE_MEMORY, np.uint64)
+    nseen = 0
     it = 0
     while it < maxiter:
         it += 1
@@ -349,7 +384,7 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
         if mirror:
             _symmetrize(x0)
         Kdq = _convolve(base - q_prev + x0, spec[0], spec[1], spec[2], spec[3], spec[4], mirror)
-        cg_tol = max(0.1 * tol, _CG_FORCING * measure)
+        cg_tol = 0.1 * tol if stage > 0 else max(0.1 * tol, _CG_FORCING * measure)
         its, cg_res = _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x0, Kdq, cg_tol, cg_maxiter,
                                   mirror)
         x = x0.copy()
@@ -387,10 +422,23 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
         worst = max(over_max, wrong_max)
         measure = max(worst, tangent)
         if worst <= tol and tangent <= tol and cg_res <= 0.5 * tol:
-            converged = True
+            status = 0
             break
+        if stage == 2 and tangent > tol and worst <= max(tol, tangent):
+            worst = -np.inf  # stage 2: converge the slip directions before the next change of kind
         if worst > tol:
-            level = tol if it <= _FULL_MOVES else max(tol, 0.5 * worst)
+            # this active set is about to change: remember it, and detect a return to an earlier one
+            sig = _signature(kind)
+            if nseen < _CYCLE_MEMORY:
+                seen[nseen] = sig
+                nseen += 1
+            else:
+                for k in range(_CYCLE_MEMORY - 1):
+                    seen[k] = seen[k + 1]
+                seen[_CYCLE_MEMORY - 1] = sig
+            level = tol if it <= _FULL_MOVES and stage == 0 else max(tol, 0.5 * worst)
+            if stage == 2:
+                level = max(tol, (1.0 - 1e-12) * worst)
             for i in range(ny):
                 for j in range(nx):
                     if over[i, j] > level:
@@ -402,6 +450,16 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
                     if wrong[i, j] > level:
                         kind[i, j] = _STICK
                         x[0, i, j] = x[1, i, j] = 0.0
+            sig = _signature(kind)
+            for k in range(nseen):
+                if seen[k] == sig:  # a cycle: next fallback stage, or give up
+                    if stage == 2:
+                        status = 2
+                    stage += 1
+                    nseen = 0
+                    break
+            if status == 2:
+                break
         # ---- Newton update of the slip directions and their curvature |s|/g: where the slip dominates (|s|/g
         # above the self-influence) linearise q = g s/|s| about the slip direction (semismooth Newton); elsewhere
         # follow the corrected traction
@@ -430,7 +488,7 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
                 s[0, i, j] = s[1, i, j] = 0.0
             if not stick[i, j]:
                 x[0, i, j] = x[1, i, j] = 0.0
-    return q, s, lam, Kdq, x, stick, it, cg_total, converged, worst
+    return q, s, lam, Kdq, x, stick, it, cg_total, status, min(stage, 2), over_max, wrong_max, tangent, cg_res
 
 
 def _mirror(a, sign):
@@ -476,6 +534,27 @@ def _mirror_symmetric(g, q_prev, target, warm):
     return g, q_prev
 
 
+def _failure(status, stage, it, maxiter, cg_maxiter, tol, over, wrong, tangent, cg_res):
+    """The message of an increment that did not settle: which KKT condition is not met, by how much, and why."""
+    parts = []
+    if over > tol:
+        parts.append(f"a sticking traction above its bound by {over:.3g} [mu p0]")
+    if wrong > tol:
+        parts.append(f"a slip against its traction of {wrong:.3g}")
+    if tangent > tol:
+        parts.append(f"a slipping traction off its disk or a slip not parallel to it by {tangent:.3g}")
+    if stage > 0 and cg_res > 0.5 * tol:  # stage 0 stops CG early on purpose (inexact Newton)
+        parts.append(f"the linear solve of the last active set reaching only {cg_res:.3g} in {cg_maxiter} CG iterations")
+    unmet = "; ".join(parts) or "no single condition above the tolerance in the last iterate"
+    stages = ("inexact linear solves", "exact linear solves", "exact linear solves and one change of kind per iteration")
+    if status == 2:
+        why = (f"the active set cycled even with {stages[2]} (the last fallback): the problem is degenerate to "
+               f"the tolerance {tol:g}; a larger tol would accept it")
+    else:
+        why = f"the active set did not settle in {maxiter} iterations (last stage: {stages[stage]})"
+    return f"{why}; unmet: {unmet} (worst violation {max(over, wrong):.3g})"
+
+
 def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
     """Solve one increment of the 3D tangential problem (see the module docstring).
 
@@ -507,13 +586,18 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     lam : ndarray, shape (2,)
         Rigid-body displacement increment.
     info : dict
-        ``iterations`` (active set), ``cg_iterations`` and the residuals of
-        :data:`RESIDUAL_NAMES` (``load_balance`` in ``sum q dA`` units).
+        ``iterations`` (active set), ``cg_iterations``, ``fallback`` (the
+        stage of the cycle fallback reached: 0 none, 1 exact linear solves, 2
+        one change of kind per iteration; see :func:`_increment_kernel`) and
+        the residuals of :data:`RESIDUAL_NAMES` (``load_balance`` in
+        ``sum q dA`` units).
 
     Raises
     ------
     RuntimeError
-        If the iteration does not settle within ``maxiter``.
+        If the iteration does not settle within ``maxiter``, or cycles in the
+        last fallback stage; the message names the KKT condition not met, by
+        how much, and the stage.
     """
     # one compiled specialisation: C-contiguous, writeable float64 (int8 kinds) arrays
     g, q_prev = (np.require(a, np.float64, ["C", "W"]) for a in (g, q_prev))
@@ -532,6 +616,7 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         zero = np.zeros_like(q_prev)
         info = dict(iterations=0, cg_iterations=0, stick_slip=0.0, bound=max(float((mag_prev - g).max()), 0.0),
                     slip_direction=0.0, out_of_contact=0.0, load_balance=float(balance))
+        info["fallback"] = 0
         return q_prev.copy(), zero, np.zeros(2), info
     measure = max(float((mag_prev - g).max()), balance)
     # at nu = 0 the y problem decouples and the full products keep q_y exactly 0 (the half-cost ones to round-off)
@@ -539,11 +624,11 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     mirror = gm is not None
     if mirror:
         g, q_prev = gm, qm
-    q, s, lam, Kdq, x, stick, it, cg_total, converged, worst = _increment_kernel(
+    q, s, lam, Kdq, x, stick, it, cg_total, status, stage, over, wrong, tangent, cg_res = _increment_kernel(
         op.spectra(), op.self_influence, g, q_prev, np.asarray(target, float), float(dA), kind, d, warm.curv, warm.x,
         float(tol), int(maxiter), int(cg_maxiter), float(measure), mirror)
-    if not converged:
-        raise RuntimeError(f"active set did not settle in {maxiter} iterations (worst violation {worst:.3g})")
+    if status != 0:
+        raise RuntimeError(_failure(status, stage, it, maxiter, cg_maxiter, tol, over, wrong, tangent, cg_res))
     if mirror:  # exactly symmetric results (the solver's sums leave round-off in the lower half)
         for a, sign in ((q[0], 1.0), (q[1], -1.0), (s[0], 1.0), (s[1], -1.0), (Kdq[0], 1.0), (Kdq[1], -1.0),
                         (x[0], 1.0), (x[1], -1.0), (stick, True)):
@@ -556,7 +641,7 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     along = e[0] * s[0] + e[1] * s[1]
     direction = np.where(slipping, np.maximum(np.abs(e[0] * s[1] - e[1] * s[0]), -along), 0.0)
     info = dict(
-        iterations=it, cg_iterations=cg_total,
+        iterations=it, cg_iterations=cg_total, fallback=int(stage),
         stick_slip=float(np.abs(np.where(stick, lam[:, None, None] - Kdq, 0.0)).max()),
         bound=max(float((np.hypot(q[0], q[1]) - g).max()), 0.0),
         slip_direction=float(direction.max()),
