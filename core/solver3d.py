@@ -771,7 +771,7 @@ class PointContactResult(_GridFields):
 
     @cached_property
     def _verdict(self):
-        """``(shakedown_period, regime, reason)`` by the rule of every body (:func:`core.result.classify_increments`)."""
+        """The :class:`core.result.Verdict` by the rule of every body (:func:`core.result.classify_increments`)."""
         return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
                                    floor=10.0 * self.tol, unit="mu Fn/(E* a)")
 
@@ -782,7 +782,33 @@ class PointContactResult(_GridFields):
 
     @property
     def regime_reason(self) -> str:
+        """Why the run got its :attr:`regime`, in words."""
         return self._verdict[2]
+
+    @property
+    def trend(self):
+        """The fit ``D_n = D_inf + C r^n`` of the tail of the increments (:func:`core.result.fit_trend`; None below 4 periods)."""
+        return self._verdict.trend
+
+    @property
+    def D_inf(self) -> float:
+        """Limit of the increment per period as the periods go on [mu Fn/(E* a)] (NaN below 4 periods)."""
+        return math.nan if self.trend is None else self.trend.D_inf
+
+    @property
+    def D_inf_error(self) -> float:
+        """Standard error of :attr:`D_inf` [mu Fn/(E* a)] (NaN below 4 periods)."""
+        return math.nan if self.trend is None else self.trend.D_inf_error
+
+    @property
+    def decay_ratio(self) -> float:
+        """``r``: the factor by which the changing part of the increment shrinks each period (NaN if none)."""
+        return math.nan if self.trend is None else self.trend.ratio
+
+    @property
+    def periods_to_decide(self) -> int | None:
+        """Roughly how many more periods would decide an undetermined run (None otherwise or if unknown)."""
+        return self._verdict.periods_to_decide
 
     # ---- the final state ---------------------------------------------------
     @cached_property
@@ -809,9 +835,11 @@ class PointContactResult(_GridFields):
 
     def summary(self) -> dict:
         inc = self.increment_per_period
-        return {**self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
+        return {"dx": self.dx, **self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
                 "regime_reason": self.regime_reason, "stick_halfwidth": self.stick_halfwidth,
                 "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
+                "D_inf": self.D_inf, "D_inf_error": self.D_inf_error, "decay_ratio": self.decay_ratio,
+                "periods_to_decide": self.periods_to_decide,
                 "shakedown_period": self.shakedown_period, "max_kkt_residual": self.max_kkt_residual,
                 "elements": int((self.x_edges.size - 1) * (self.y_edges.size - 1)), "steps": int(self.xc.size),
                 "periodic_from": self.periodic_from, "max_iterations": int(self.iterations.max()),
