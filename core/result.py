@@ -285,16 +285,15 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
                                            f"{tolerance:.2g} {unit} ({shakedown_rtol:g} of the largest)"), trend, None)
     more = _periods_to_decide(trend, tolerance)
     if more is None:
-        hint = ("the increment does not decay yet" if math.isfinite(r) and r >= 1.0 else
-                "its changing part cannot be told from the noise")
-        advice = "run more periods"
+        advice = ("the increment does not decay yet" if math.isfinite(r) and r >= 1.0 else
+                  "its changing part cannot be told from the noise") + ": run more periods"
     else:
-        hint = f"the changing part shrinks by r = {r:.4g} per period"
         advice = f"roughly {more} more periods would likely decide"
     return Verdict(None, "undetermined", (f"after {inc.size} periods the increment per period ({last:.3g} {unit}, "
                                           f"{abs(last) / scale:.3g} of its largest) extrapolates to {fitted}: "
                                           f"D_inf +- {VERDICT_SIGMAS:g} errors straddles the shakedown tolerance "
-                                          f"{tolerance:.2g} {unit}; {hint}: {advice}"), trend, more)
+                                          f"{tolerance:.2g} {unit}, so it may still shake down or ratchet; "
+                                          f"{advice}"), trend, more)
 
 
 def below_bound(q, bound):

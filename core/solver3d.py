@@ -61,6 +61,7 @@ from ._validate import check_int, check_scalar
 from ._jit import jit
 from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
+from .resolution import DEFAULT_DX_POINT, default_dx
 from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth, classify_increments
 from .schedule import Schedule, rocking_schedule
 
@@ -77,7 +78,7 @@ PERIODIC_TOL = 1e-6
 #: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
 #: w = 0.6) is 0.1589, 0.1731, 0.1771, 0.1788 at a/5, a/10, a/20, a/40 (benchmarks/solver3d.py): a/20 is
 #: 1 % below a/40 and about 2 % below the extrapolated limit, at an eighth of a/40's cost.
-DEFAULT_DX_3D = 1.0 / 20.0
+DEFAULT_DX_3D = DEFAULT_DX_POINT  # one place for every body's default grid: core/resolution.py
 #: Largest grid (elements) a point-contact run accepts.
 MAX_GRID_ELEMENTS = 200_000
 #: Largest number of stored full-field values (snapshots at the turning points).
@@ -1036,9 +1037,10 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     periods : int
         Rocking periods, in [1, 10000].
     dx : float, optional
-        Element side over ``a``, in [0.005, 0.5]; default :data:`DEFAULT_DX_3D`
-        (1/20: 40 elements across the contact; the increment per period is
-        about 2 % below its grid limit there, ``benchmarks/solver3d.py``).
+        Element side over ``a``, in [0.005, 0.5]; default: the body's grid,
+        :func:`core.resolution.default_dx` (:data:`DEFAULT_DX_3D` = 1/20: 40
+        elements across the contact; the increment per period is about 2 %
+        below its grid limit there, ``benchmarks/solver3d.py``).
     dW : float, optional
         Rocking step over ``a``; defaults to ``dx``.
     body : {"sphere", "ellipsoid"} or Ellipsoid
@@ -1070,7 +1072,7 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     """
     body = resolve_body(body, ratio)
     tol = TOL_3D if tol is None else tol
-    dx = check_scalar("dx", DEFAULT_DX_3D if dx is None else dx, 0.005, 0.5)
+    dx = check_scalar("dx", default_dx(body) if dx is None else dx, 0.005, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
     params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name, ratio=body.ratio,
