@@ -37,7 +37,8 @@ def _load_locked():
         from .engine import run, STEP_SOLVERS  # noqa: F401
         from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
                              solve_static, shakedown_state)
-        from .convergence import ConvergedIncrement, converged_increment  # noqa: F401
+        from .convergence import ConvergedIncrement, converged_increment, grid_error  # noqa: F401
+        from .resolution import default_dx  # noqa: F401
         from .point_contact import Ellipsoid, Sphere, PointContact, POINT_BODIES  # noqa: F401
         from .halfspace import HalfSpaceOperator  # noqa: F401
         from .solver3d import (simulate_point_contact, solve_point_schedule, mindlin_state,  # noqa: F401

@@ -50,7 +50,8 @@ _PREFIX = "shakedown: error: "
 # copies of library constants, so that building the parser imports nothing heavy (tests/test_cli.py checks them)
 _KERNELS = ("plane", "strip")
 _SHAPES = ("triangle", "sine")
-_DEFAULT_DX = 1.0 / 40.0
+_DEFAULT_DX = 1.0 / 40.0  # core.resolution.DEFAULT_DX_LINE: the cylinder's default grid
+_DEFAULT_DX_POINT = 1.0 / 20.0  # core.resolution.DEFAULT_DX_POINT: the point contacts' default grid
 _MAX_ELEMENTS = 16384  # core.solver.MAX_FFT_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many
 # elements (the solver picks the dense one up to core.solver.MAX_ELEMENTS and the matrix-free one above)
 _DX_MIN = 1.0 / (_MAX_ELEMENTS // 2 - 1)  # the finest dx the solver accepts (at w = 0)
@@ -293,7 +294,8 @@ def _add_solver_options(parser, kernel_default="plane"):
         help="rocking periods to simulate, in [1, 10000] (default 10)")
     add("--dx", type=_number("dx", _DX_MIN, 0.5), action=_Once, metavar="DX",
         help=f"element width [a], in [{_DX_MIN:.5g}, 0.5]: the grid over [-(1 + w), 1 + w] has at most "
-             f"{_MAX_ELEMENTS} elements, so dx >= (1 + w)/{_MAX_ELEMENTS // 2 - 1} (default {_DEFAULT_DX:g} = 1/40)")
+             f"{_MAX_ELEMENTS} elements, so dx >= (1 + w)/{_MAX_ELEMENTS // 2 - 1} (default: the body's grid, "
+             f"{_DEFAULT_DX:g} = 1/40 for the cylinder, {_DEFAULT_DX_POINT:g} = 1/20 for the point contacts)")
     add("--dW", type=_number("dW", 1e-4, 1.0), action=_Once, metavar="DW",
         help="largest step of the contact centre [a], in [1e-4, 1] (default: dx)")
     add("--kernel", type=_choice("kernel", _KERNELS), action=_Once,
@@ -514,11 +516,21 @@ def _fmt(v, unit=""):
     return f"{text} {unit}".rstrip()
 
 
-def _fmt(v, unit=""):
-    if v is None or (isinstance(v, float) and math.isnan(v)):
-        return "-"
-    text = f"{v:.6g}" if isinstance(v, float) else str(v)
-    return f"{text} {unit}".rstrip()
+def args_given(args) -> set:
+    """The options given on the command line (argparse leaves the others None)."""
+    return {k for k in _SOLVER_DESTS if getattr(args, k, None) is not None}
+
+
+def _trend_rows(s: dict, unit: str) -> list[tuple[str, str]]:
+    """The rows of the verdict's trend: D_inf with its error, the ratio r, the periods likely to decide."""
+    D, err, r = s.get("D_inf"), s.get("D_inf_error"), s.get("decay_ratio")
+    if D is None or (isinstance(D, float) and math.isnan(D)):
+        return [("  D_inf (limit increment)", "- (too few periods to fit the trend)")]
+    rows = [("  D_inf (limit increment)", f"{D:.4g} +- {err:.2g} {unit}"),
+            ("  r (decay per period)", "- (nothing left changing)" if r is None or math.isnan(r) else f"{r:.4g}")]
+    if s.get("periods_to_decide") is not None:
+        rows.append(("  periods likely to decide", f"about {s['periods_to_decide']} more"))
+    return rows
 
 
 def _cmd_run(args) -> int:
@@ -548,12 +560,14 @@ def _cmd_run(args) -> int:
     rows = [
         ("regime", f"{s['regime']}{since}"),
         ("  why", result.regime_reason),
+        *_trend_rows(s, unit_u),
         ("increment, last period", _fmt(s["increment_last_period"], unit_u)),
         ("increment, first period", _fmt(float(inc[0]) if inc.size else None, unit_u)),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),
         *([("  paper's ansatz (eq 30)", _fmt(c_paper, "a"))] if line else []),
         (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=body)), "= ft_lim")),
         (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=body)), "= w_lim")),
+        ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in args_given(args) else " (the body's default)")),
         ("elements x steps", f"{s['elements']} x {s['steps']}"),
         ("max active-set iterations", str(s["max_iterations"])),
         ("max KKT residual", _fmt(s.get("max_kkt_residual", s.get("max_residual")))),

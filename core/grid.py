@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from ._validate import check_int, check_range, check_scalar, env_int
+from .resolution import default_dx
 
 __all__ = ["sweep_grid", "solver_defaults", "default_max_runs", "default_max_cells", "run_cells", "MAX_RUNS",
            "MAX_CELLS", "W_MAX"]
@@ -106,7 +107,7 @@ def _cells(w: float, items: tuple) -> tuple[int, int] | None:
     defaults = solver_defaults()
     if option.get("body", "cylinder") != "cylinder" or option.get("history") not in (None, "rocking"):
         return None  # another body or history: the solver checks its own size
-    dx = check_scalar("dx", option.get("dx", defaults["dx"]), 1e-4, 0.5)
+    dx = check_scalar("dx", option.get("dx") or default_dx("cylinder"), 1e-4, 0.5)
     dW = option.get("dW")
     schedule = rocking_schedule(0.0, w, periods=option.get("periods", defaults["periods"]),
                                 dW=dx if dW is None else dW, shape=option.get("shape", defaults["shape"]),
@@ -169,8 +170,9 @@ def sweep_grid(ft, w, *, max_runs: int | None = None, max_cells: int | None = No
     list of dict
         One dict of keyword arguments of :func:`core.simulate_cycles` per run,
         ``ft`` varying slowest, then ``w``, then the options in the order
-        given. Each has ``ft``, ``w``, ``periods``, ``dx``, ``kernel``,
-        ``shape`` and every option given.
+        given. Each has ``ft``, ``w``, ``periods``, ``dx`` (the body's
+        default grid, :func:`core.resolution.default_dx`, unless given),
+        ``kernel``, ``shape`` and every option given.
 
     Raises
     ------
@@ -194,6 +196,9 @@ def sweep_grid(ft, w, *, max_runs: int | None = None, max_cells: int | None = No
                          "use fewer values or raise the cap")
     names = list(axes)
     combos = [dict(zip(names, values)) for values in itertools.product(*axes.values())]
+    for option in combos:  # the body's own default grid (core/resolution.py), recorded in the table
+        if option.get("dx") is None:
+            option["dx"] = default_dx(option.get("body", "cylinder"))
     for option in combos:
         _check_option(ft_values, w_values, option, cells_cap)
     return [{"ft": f, "w": x, **option} for f, x in itertools.product(ft_values, w_values) for option in combos]

@@ -5,14 +5,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from .bodies import get_body
 from .states import STATE_NAMES, State, Zone
 
 __all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
-           "STATE_NAMES", "SolverError", "SolveCancelled", "read_only", "classify_increments", "SETTLED_RATIO"]
+           "STATE_NAMES", "SolverError", "SolveCancelled", "read_only", "classify_increments", "fit_trend", "Trend",
+           "Verdict", "VERDICT_SIGMAS", "MIN_FIT_PERIODS"]
 
 #: Element states recorded per step (``CycleResult.state``): aliases of :class:`core.states.State`.
 STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = (
@@ -28,25 +31,194 @@ def read_only(arr: np.ndarray) -> np.ndarray:
 #: Margin [mu p0] below the traction bound that counts as sticking in the final state.
 STICK_MARGIN = 1e-7
 
-#: Ratio of the last increment per period to the one before from which a run that has not shaken down
-#: counts as ratcheting (the increment has settled); below it, the run is "undetermined".
-SETTLED_RATIO = 0.9
+#: Half-width of the confidence interval of ``D_inf``, in standard errors: the verdict needs the whole
+#: interval ``D_inf +- VERDICT_SIGMAS * D_inf_error`` on one side of the shakedown tolerance.
+VERDICT_SIGMAS = 3.0
+#: Fewest periods of the tail that the trend ``D_n = D_inf + C r^n`` is fitted to (three parameters and
+#: at least one degree of freedom left to measure the scatter).
+MIN_FIT_PERIODS = 4
+#: Lengths of the tails tried (the shortest error of ``D_inf`` wins; at most ``periods - 1`` after the first).
+FIT_WINDOWS = (4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192)
+#: Range of the ratio ``r`` searched by the fit.
+RATIO_RANGE = (0.0, 1.2)
 
 
-def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor=0.0, unit="mu P/E*"):
+@dataclass(frozen=True)
+class Trend:
+    """The fit ``D_n = D_inf + C r^n`` of the tail of the increments per period.
+
+    Attributes
+    ----------
+    D_inf : float
+        The limit of the increment per period as the periods go on (the
+        increments' unit and sign; positive along ``Ft``).
+    D_inf_error : float
+        Its standard error: the least-squares covariance of the fit with the
+        scatter of the residuals (at least the solver noise ``floor``),
+        combined with the distance to Aitken's delta-squared limit of the
+        fitted tail (the cross-check: a tail that is not one geometric decay
+        widens it).
+    ratio : float
+        ``r``: the factor by which the part of the increment that is still
+        changing shrinks each period (NaN when nothing changes any more).
+    transient : float
+        ``C r^n`` at the last period: how far the last increment still is from ``D_inf``.
+    periods_fitted : int
+        Length of the tail fitted (the last ``periods_fitted`` periods).
+    aitken : float
+        Aitken's delta-squared limit of the first, middle and last increments of the fitted tail.
+    sigma : float
+        Scatter of the increments about the fit (at least ``floor``).
+    """
+
+    D_inf: float
+    D_inf_error: float
+    ratio: float
+    transient: float
+    periods_fitted: int
+    aitken: float
+    sigma: float
+
+
+class Verdict(NamedTuple):
+    """The verdict of :func:`classify_increments`: ``(shakedown_period, regime, reason, trend, periods_to_decide)``."""
+
+    shakedown_period: int | None
+    regime: str
+    reason: str
+    trend: Trend | None
+    periods_to_decide: int | None
+
+
+def _fit_window(y: np.ndarray, floor: float):
+    """Least squares of ``y_j = D + C r^j`` (j = 0 ... k-1): a search over r, linear in D and C for each."""
+    k = y.size
+    j = np.arange(k, dtype=float)
+    yc = y - y.mean()
+
+    def linear(r):
+        b = np.power.outer(np.atleast_1d(r), j)  # (m, k)
+        bc = b - b.mean(axis=1, keepdims=True)
+        bb = np.einsum("ij,ij->i", bc, bc)
+        C = np.where(bb > 0, bc @ yc / np.where(bb > 0, bb, 1.0), 0.0)
+        res = yc - C[:, None] * bc
+        return np.einsum("ij,ij->i", res, res), C, y.mean() - C * b.mean(axis=1)
+
+    lo, hi = RATIO_RANGE
+    grid = np.linspace(lo, hi, 482)[1:]
+    ssr = linear(grid)[0]
+    i = int(np.argmin(ssr))
+    a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+    opt = minimize_scalar(lambda r: float(linear(r)[0][0]), bounds=(a, b), method="bounded",
+                          options={"xatol": 1e-12})
+    r = float(opt.x) if opt.fun <= ssr[i] else float(grid[i])
+    s, C, D = (float(v[0]) for v in linear(r))
+    J = np.column_stack([np.ones(k), r ** j, C * j * r ** np.maximum(j - 1.0, 0.0)])
+    sigma = max(math.sqrt(s / (k - 3)) if k > 3 else 0.0, float(floor))
+    pinv = np.linalg.pinv(J, rcond=1e-13)
+    err = sigma * math.sqrt(float(pinv[0] @ pinv[0]))
+    return D, err, r, C * r ** (k - 1), sigma
+
+
+def _aitken(y: np.ndarray, stride: int = 1) -> float:
+    """Aitken's delta-squared limit of ``y[-1 - 2 stride], y[-1 - stride], y[-1]`` (the last value if they do not decay).
+
+    Exact for ``D + C r^n`` at any stride; a stride of half the fitted tail keeps the solver noise of the
+    differences small beside the differences themselves when ``r`` is close to 1.
+    """
+    a, b, c = y[-1 - 2 * stride], y[-1 - stride], y[-1]
+    d1, d2 = c - b, b - a
+    curvature = d1 - d2
+    if curvature == 0 or abs(d1) >= abs(d2):
+        return float(c)
+    return float(c - d1 * d1 / curvature)
+
+
+def fit_trend(increments, floor=0.0) -> Trend | None:
+    """Fit ``D_n = D_inf + C r^n`` to the tail of the increments per period (None below 4 periods).
+
+    Tails of :data:`FIT_WINDOWS` periods are tried (leaving out the first
+    period, a transient of its own, when there are 5 periods or more); the one
+    with the smallest error of ``D_inf`` is kept. Each fit is a least-squares
+    one: a search over ``r`` in :data:`RATIO_RANGE` with ``D_inf`` and ``C``
+    linear for each ``r``; the error of ``D_inf`` is its standard error (the
+    Jacobian of all three parameters and the residuals' scatter, at least
+    ``floor``) combined with its distance to Aitken's delta-squared limit of
+    the first, middle and last increments of the tail.
+
+    Parameters
+    ----------
+    increments : array_like
+        Increment of each period (any sign; the fit is in the sign of the largest).
+    floor : float
+        Noise of an increment: its smallest credible scatter (>= 0).
+
+    Returns
+    -------
+    Trend or None
+
+    Examples
+    --------
+    >>> from core.result import fit_trend
+    >>> t = fit_trend([0.3 + 0.5 ** n for n in range(12)], floor=1e-9)
+    >>> round(t.D_inf, 6), round(t.ratio, 6)
+    (0.3, 0.5)
+    """
+    inc = np.asarray(increments, dtype=float)
+    n = inc.size
+    if n < MIN_FIT_PERIODS:
+        return None
+    sign = 1.0 if inc[np.argmax(np.abs(inc))] >= 0 else -1.0
+    y = sign * inc
+    longest = n - 1 if n > MIN_FIT_PERIODS else n
+    best = None
+    for k in [w for w in FIT_WINDOWS if w <= longest] or [MIN_FIT_PERIODS]:
+        D, err, r, transient, sigma = _fit_window(y[n - k:], floor)
+        if best is None or err < best[1]:
+            best = (D, err, r, transient, sigma, k)
+    D, err, r, transient, sigma, k = best
+    aitken = _aitken(y, max(1, (k - 1) // 2))
+    err = math.hypot(err, D - aitken)
+    if abs(transient) <= sigma:  # nothing left that decays: r is not measured
+        r = math.nan
+    return Trend(D_inf=sign * D, D_inf_error=err, ratio=r, transient=sign * transient, periods_fitted=k,
+                 aitken=sign * aitken, sigma=sigma)
+
+
+def _periods_to_decide(trend: Trend, tolerance: float) -> int | None:
+    """Roughly how many more periods until the decaying part is below the tolerance (None if it does not decay)."""
+    r, transient = trend.ratio, abs(trend.transient)
+    if not (0.0 < r < 1.0) or transient <= 0:
+        return None
+    target = 0.5 * max(tolerance, VERDICT_SIGMAS * trend.sigma)
+    if transient <= target:
+        return 1
+    return int(math.ceil(math.log(target / transient) / math.log(r)))
+
+
+def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor=0.0, unit="mu P/E*") -> Verdict:
     """The verdict of a run from its increments per period: one rule for every body.
 
-    * ``"shakedown"``: from some period on every increment is at most
-      ``shakedown_rtol`` of the largest (or at most ``floor``, the size of
-      solver noise); that period is the shakedown period.
-    * ``"ratcheting"``: the body keeps walking: the state repeats
-      (``periodic_from``) with a non-zero increment, or the last increment is
-      at least :data:`SETTLED_RATIO` of the one before (it has settled;
-      shakedown increments decay geometrically, by a factor of 2 to 10 per
-      period away from the limit, ever more slowly close to it).
-    * ``"undetermined"``: the run cannot tell: a single period (one increment
-      shows no trend), or increments still decaying but not yet below
-      ``shakedown_rtol``. More periods decide it.
+    The increments of a run that shakes down decay to zero; those of a run
+    that ratchets tend to a constant, the distance the body walks every period.
+    Close to the limit both approaches are slow geometric ones (a ratio of
+    0.9 or more per period), so the verdict reads the trend of the tail: the
+    fit ``D_n = D_inf + C r^n`` (:func:`fit_trend`), whose ``D_inf`` is
+    compared with the shakedown tolerance ``tol = max(shakedown_rtol * largest
+    increment, floor)``:
+
+    * ``"shakedown"``: from some period on every increment is at most ``tol``
+      (that period is the shakedown period); or the fit's ``D_inf`` is below
+      ``tol`` by more than :data:`VERDICT_SIGMAS` standard errors (zero to
+      the tolerance, within its uncertainty) and the increments decay
+      (``r < 1``): they will fall below ``tol``.
+    * ``"ratcheting"``: the state repeats (``periodic_from``) with an increment
+      above ``tol``; or ``D_inf`` is above ``tol`` by more than
+      :data:`VERDICT_SIGMAS` standard errors: the body keeps walking.
+    * ``"undetermined"``: fewer than :data:`MIN_FIT_PERIODS` periods, or the
+      interval ``D_inf +- VERDICT_SIGMAS * error`` straddles ``tol``; the
+      reason says roughly how many more periods would decay the changing part
+      of the increment below ``tol`` (``periods_to_decide``).
 
     Parameters
     ----------
@@ -57,41 +229,71 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
     periodic_from : int or None
         Period from which the solver found the state repeating.
     floor : float
-        Absolute size below which an increment counts as zero (>= 0).
+        Absolute size below which an increment counts as zero, and the
+        smallest scatter the fit assumes (the solver noise; >= 0).
     unit : str
         Unit of the increments, for the reason.
 
     Returns
     -------
-    shakedown_period : int or None
-    regime : str
-    reason : str
+    Verdict
+        ``shakedown_period`` (int or None), ``regime``, ``reason`` (in words),
+        ``trend`` (:class:`Trend`, None below 4 periods) and
+        ``periods_to_decide`` (more periods likely to decide an undetermined
+        run, else None).
+
+    Examples
+    --------
+    >>> from core.result import classify_increments
+    >>> v = classify_increments([0.1 * 0.95 ** n for n in range(40)], 1e-3, floor=1e-9)
+    >>> v.regime, round(v.trend.ratio, 4), abs(v.trend.D_inf) < 1e-6
+    ('shakedown', 0.95, True)
     """
-    inc = np.abs(np.asarray(increments, dtype=float))
+    inc = np.asarray(increments, dtype=float)
     if inc.size == 0:
-        return None, "undetermined", "no rocking period was run"
-    scale = float(inc.max())
-    small = inc <= max(shakedown_rtol * scale, float(floor))
+        return Verdict(None, "undetermined", "no rocking period was run", None, 1)
+    scale = float(np.abs(inc).max())
+    tolerance = max(shakedown_rtol * scale, float(floor))
+    trend = fit_trend(inc, floor)
+    small = np.abs(inc) <= tolerance
     if small[-1]:
         k = inc.size - 1
         while k > 0 and small[k - 1]:
             k -= 1
-        return int(k), "shakedown", (f"the increment per period fell to <= {shakedown_rtol:g} of its largest "
-                                     f"from period {k}")
+        return Verdict(int(k), "shakedown", (f"the increment per period fell to <= {shakedown_rtol:g} of its largest "
+                                             f"from period {k}"), trend, None)
     last = float(inc[-1])
     if periodic_from is not None:
-        return None, "ratcheting", (f"the state repeats from period {periodic_from}, walking {last:.3g} {unit} "
-                                    "per period")
-    if inc.size < 2:
-        return None, "undetermined", (f"{inc.size} period: one increment cannot show whether it decays "
-                                      "(shakedown) or settles (ratcheting); run more periods")
-    ratio = last / float(inc[-2]) if inc[-2] > 0 else math.inf
-    if ratio >= SETTLED_RATIO:
-        return None, "ratcheting", (f"the increment per period settled at {last:.3g} {unit} (last two in ratio "
-                                    f"{ratio:.3g})")
-    return None, "undetermined", (f"after {inc.size} periods the increment still decays (ratio {ratio:.3g} per "
-                                  f"period) but is {last / scale:.3g} of its largest, above shakedown_rtol = "
-                                  f"{shakedown_rtol:g}; run more periods")
+        return Verdict(None, "ratcheting", (f"the state repeats from period {periodic_from}, walking {last:.3g} "
+                                            f"{unit} per period"), trend, None)
+    if trend is None:
+        need = MIN_FIT_PERIODS - inc.size
+        return Verdict(None, "undetermined", (f"{inc.size} period{'s' if inc.size > 1 else ''}: too few to see "
+                                              f"whether the increment per period decays to zero (shakedown) or "
+                                              f"to a constant (ratcheting); run at least {MIN_FIT_PERIODS} "
+                                              f"periods"), None, need)
+    D, err, r = abs(trend.D_inf), trend.D_inf_error, trend.ratio
+    band = VERDICT_SIGMAS * err
+    fitted = (f"D_inf = {trend.D_inf:.3g} +- {err:.2g} {unit} (fit of the last {trend.periods_fitted} periods")
+    fitted += f", the rest shrinking by r = {r:.4g} per period)" if math.isfinite(r) else ", nothing left changing)"
+    if D - band > tolerance:
+        return Verdict(None, "ratcheting", (f"the increment per period tends to a constant: {fitted}; the body "
+                                            f"keeps walking about {trend.D_inf:.3g} {unit} per period"), trend, None)
+    if D + band <= tolerance and math.isfinite(r) and r < 1.0:
+        return Verdict(None, "shakedown", (f"the increment per period decays geometrically towards zero: {fitted}; "
+                                           f"within its uncertainty D_inf is below the shakedown tolerance "
+                                           f"{tolerance:.2g} {unit} ({shakedown_rtol:g} of the largest)"), trend, None)
+    more = _periods_to_decide(trend, tolerance)
+    if more is None:
+        advice = ("the increment does not decay yet" if math.isfinite(r) and r >= 1.0 else
+                  "its changing part cannot be told from the noise") + ": run more periods"
+    else:
+        advice = f"roughly {more} more periods would likely decide"
+    return Verdict(None, "undetermined", (f"after {inc.size} periods the increment per period ({last:.3g} {unit}, "
+                                          f"{abs(last) / scale:.3g} of its largest) extrapolates to {fitted}: "
+                                          f"D_inf +- {VERDICT_SIGMAS:g} errors straddles the shakedown tolerance "
+                                          f"{tolerance:.2g} {unit}, so it may still shake down or ratchet; "
+                                          f"{advice}"), trend, more)
 
 
 def below_bound(q, bound):
@@ -282,14 +484,14 @@ class CycleResult:
         return self._classified[0]
 
     @cached_property
-    def _classified(self):
+    def _classified(self) -> Verdict:
         return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
                                    floor=10.0 * self.tol, unit="mu P/E*")
 
     @property
     def verdict(self) -> tuple[str, str]:
         """``(regime, reason)``: what the periods run show about the regime, and why (:func:`classify_increments`)."""
-        return self._classified[1:]
+        return self._classified[1:3]
 
     @property
     def regime(self) -> str:
@@ -300,6 +502,31 @@ class CycleResult:
     def regime_reason(self) -> str:
         """Why the run got its :attr:`regime`, in words (see :attr:`verdict`)."""
         return self.verdict[1]
+
+    @property
+    def trend(self) -> Trend | None:
+        """The fit ``D_n = D_inf + C r^n`` of the tail of the increments (:func:`fit_trend`; None below 4 periods)."""
+        return self._classified.trend
+
+    @property
+    def D_inf(self) -> float:
+        """Limit of the increment per period as the periods go on [mu P/E*] (NaN below 4 periods)."""
+        return math.nan if self.trend is None else self.trend.D_inf
+
+    @property
+    def D_inf_error(self) -> float:
+        """Standard error of :attr:`D_inf` [mu P/E*] (NaN below 4 periods)."""
+        return math.nan if self.trend is None else self.trend.D_inf_error
+
+    @property
+    def decay_ratio(self) -> float:
+        """``r``: the factor by which the changing part of the increment shrinks each period (NaN if none)."""
+        return math.nan if self.trend is None else self.trend.ratio
+
+    @property
+    def periods_to_decide(self) -> int | None:
+        """Roughly how many more periods would decide an undetermined run (None otherwise or if unknown)."""
+        return self._classified.periods_to_decide
 
     # ---- the final state ---------------------------------------------------
     @cached_property
@@ -339,12 +566,17 @@ class CycleResult:
         """Scalar figures of the run (for tables, CSV headers, the CLI)."""
         inc = self.increment_per_period
         return {
+            "dx": self.dx,
             **self.params,
             "regime": self.regime,
             "regime_reason": self.regime_reason,
             "stick_halfwidth": self.stick_halfwidth,
             "shakedown_period": self.shakedown_period,
             "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
+            "D_inf": self.D_inf,
+            "D_inf_error": self.D_inf_error,
+            "decay_ratio": self.decay_ratio,
+            "periods_to_decide": self.periods_to_decide,
             "periods": self.periods,
             "elements": int(self.edges.size - 1),
             "steps": int(self.xc.size),

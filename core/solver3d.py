@@ -63,6 +63,7 @@ from ._validate import check_int, check_scalar
 from ._jit import jit
 from .halfspace import HalfSpaceOperator, convolve, convolve_mirror, rectangle_integrals
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
+from .resolution import DEFAULT_DX_POINT, default_dx
 from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth, classify_increments
 from .schedule import Schedule, rocking_schedule
 
@@ -79,7 +80,7 @@ PERIODIC_TOL = 1e-6
 #: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
 #: w = 0.6) is 0.1589, 0.1731, 0.1771, 0.1788 at a/5, a/10, a/20, a/40 (benchmarks/solver3d.py): a/20 is
 #: 1 % below a/40 and about 2 % below the extrapolated limit, at an eighth of a/40's cost.
-DEFAULT_DX_3D = 1.0 / 20.0
+DEFAULT_DX_3D = DEFAULT_DX_POINT  # one place for every body's default grid: core/resolution.py
 #: Largest grid (elements) a point-contact run accepts.
 MAX_GRID_ELEMENTS = 200_000
 #: Largest number of stored full-field values (snapshots at the turning points).
@@ -996,7 +997,7 @@ class PointContactResult(_GridFields):
 
     @cached_property
     def _verdict(self):
-        """``(shakedown_period, regime, reason)`` by the rule of every body (:func:`core.result.classify_increments`)."""
+        """The :class:`core.result.Verdict` by the rule of every body (:func:`core.result.classify_increments`)."""
         return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
                                    floor=10.0 * self.tol, unit="mu Fn/(E* a)")
 
@@ -1007,7 +1008,33 @@ class PointContactResult(_GridFields):
 
     @property
     def regime_reason(self) -> str:
+        """Why the run got its :attr:`regime`, in words."""
         return self._verdict[2]
+
+    @property
+    def trend(self):
+        """The fit ``D_n = D_inf + C r^n`` of the tail of the increments (:func:`core.result.fit_trend`; None below 4 periods)."""
+        return self._verdict.trend
+
+    @property
+    def D_inf(self) -> float:
+        """Limit of the increment per period as the periods go on [mu Fn/(E* a)] (NaN below 4 periods)."""
+        return math.nan if self.trend is None else self.trend.D_inf
+
+    @property
+    def D_inf_error(self) -> float:
+        """Standard error of :attr:`D_inf` [mu Fn/(E* a)] (NaN below 4 periods)."""
+        return math.nan if self.trend is None else self.trend.D_inf_error
+
+    @property
+    def decay_ratio(self) -> float:
+        """``r``: the factor by which the changing part of the increment shrinks each period (NaN if none)."""
+        return math.nan if self.trend is None else self.trend.ratio
+
+    @property
+    def periods_to_decide(self) -> int | None:
+        """Roughly how many more periods would decide an undetermined run (None otherwise or if unknown)."""
+        return self._verdict.periods_to_decide
 
     # ---- the final state ---------------------------------------------------
     @cached_property
@@ -1034,9 +1061,11 @@ class PointContactResult(_GridFields):
 
     def summary(self) -> dict:
         inc = self.increment_per_period
-        return {**self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
+        return {"dx": self.dx, **self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
                 "regime_reason": self.regime_reason, "stick_halfwidth": self.stick_halfwidth,
                 "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
+                "D_inf": self.D_inf, "D_inf_error": self.D_inf_error, "decay_ratio": self.decay_ratio,
+                "periods_to_decide": self.periods_to_decide,
                 "shakedown_period": self.shakedown_period, "max_kkt_residual": self.max_kkt_residual,
                 "elements": int((self.x_edges.size - 1) * (self.y_edges.size - 1)), "steps": int(self.xc.size),
                 "periodic_from": self.periodic_from, "max_iterations": int(self.iterations.max()),
@@ -1233,9 +1262,10 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     periods : int
         Rocking periods, in [1, 10000].
     dx : float, optional
-        Element side over ``a``, in [0.005, 0.5]; default :data:`DEFAULT_DX_3D`
-        (1/20: 40 elements across the contact; the increment per period is
-        about 2 % below its grid limit there, ``benchmarks/solver3d.py``).
+        Element side over ``a``, in [0.005, 0.5]; default: the body's grid,
+        :func:`core.resolution.default_dx` (:data:`DEFAULT_DX_3D` = 1/20: 40
+        elements across the contact; the increment per period is about 2 %
+        below its grid limit there, ``benchmarks/solver3d.py``).
     dW : float, optional
         Rocking step over ``a``; defaults to ``dx``.
     body : {"sphere", "ellipsoid"} or Ellipsoid
@@ -1267,7 +1297,7 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     """
     body = resolve_body(body, ratio)
     tol = TOL_3D if tol is None else tol
-    dx = check_scalar("dx", DEFAULT_DX_3D if dx is None else dx, 0.005, 0.5)
+    dx = check_scalar("dx", default_dx(body) if dx is None else dx, 0.005, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
     params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name, ratio=body.ratio,

@@ -166,7 +166,8 @@ def sweep(ft, w, scheduler=None, *, workers=None, max_workers=None, progress=Non
         ``dx``, ``dW``, ``kernel``, ``shape``, ``load_steps``, ``L_over_a``,
         ``nu``, ``tol``, ``detect_periodic``, ``shakedown_rtol``,
         ``time_budget`` (a run past its budget becomes an error row), the body
-        and the loading history where the solver has them). A list, tuple,
+        and the loading history where the solver has them; ``dx`` defaults to
+        the body's grid, :func:`core.resolution.default_dx`). A list, tuple,
         range or array makes the option a further axis of the product; a
         scalar or a string is the same for every run.
 
@@ -179,7 +180,12 @@ def sweep(ft, w, scheduler=None, *, workers=None, max_workers=None, progress=Non
         then ``regime`` (``"shakedown"``, ``"ratcheting"``,
         ``"undetermined"`` when the periods run cannot tell, or ``"error"``),
         ``regime_reason`` (why, in words), ``increment`` (rigid-body
-        displacement in the last period [mu P/E*]), ``stick_halfwidth``
+        displacement in the last period [mu P/E*]), ``D_inf`` and
+        ``D_inf_error`` (the limit the increments tend to, with its standard
+        error, from the fit of the verdict, :func:`core.result.fit_trend`),
+        ``decay_ratio`` (``r``, the factor by which the changing part of the
+        increment shrinks each period), ``periods_to_decide`` (for an
+        undetermined run, the more periods likely to decide), ``stick_halfwidth``
         (``c_sd / a``), ``shakedown_period`` (first period below the shakedown
         tolerance, else NA), ``runtime`` (solve time [s]),
         ``max_kkt_residual``, ``max_iterations`` (active-set iterations of the

@@ -30,8 +30,9 @@ __all__ = ["INPUT_COLUMNS", "RESULT_COLUMNS", "REGIMES", "DEFAULT_MAP", "normali
 #: Inputs that every sweep table has as columns (further options add theirs).
 INPUT_COLUMNS = ("ft", "w", "periods", "dx", "kernel", "shape")
 #: Result columns of a sweep table, in order.
-RESULT_COLUMNS = ("regime", "regime_reason", "increment", "stick_halfwidth", "shakedown_period", "runtime",
-                  "max_kkt_residual", "max_iterations", "elements", "steps", "periodic_from", "error")
+RESULT_COLUMNS = ("regime", "regime_reason", "increment", "D_inf", "D_inf_error", "decay_ratio", "periods_to_decide",
+                  "stick_halfwidth", "shakedown_period", "runtime", "max_kkt_residual", "max_iterations", "elements",
+                  "steps", "periodic_from", "error")
 #: Values of the ``regime`` column.
 REGIMES = ("shakedown", "ratcheting", "undetermined", "error")
 #: How CSV files write floats: 15 significant digits, so that round-off noise of the last digits
@@ -40,7 +41,7 @@ CSV_FLOAT_FORMAT = "%.15g"
 #: File name of the shipped map under ``core/data`` (see :func:`load_default_map`).
 DEFAULT_MAP = "default_map.csv.gz"
 _INT_COLUMNS = ("periods", "load_steps", "shakedown_period", "max_iterations", "elements", "steps",
-                "periodic_from")
+                "periodic_from", "periods_to_decide")
 _STR_COLUMNS = ("kernel", "shape", "body", "history", "regime", "regime_reason", "error")
 _BOOL_COLUMNS = ("detect_periodic",)
 
@@ -90,7 +91,9 @@ def input_columns(points: list[dict]) -> list[str]:
 # --------------------------------------------------------------------------
 def failed_row(message: str, runtime: float = float("nan")) -> dict:
     """The result columns of a run that failed with ``message``."""
-    return {"regime": "error", "regime_reason": None, "increment": float("nan"), "stick_halfwidth": float("nan"),
+    return {"regime": "error", "regime_reason": None, "increment": float("nan"), "D_inf": float("nan"),
+            "D_inf_error": float("nan"), "decay_ratio": float("nan"), "periods_to_decide": None,
+            "stick_halfwidth": float("nan"),
             "shakedown_period": None, "runtime": runtime, "max_kkt_residual": float("nan"),
             "max_iterations": None, "elements": None, "steps": None, "periodic_from": None,
             "error": message[:500]}
@@ -107,7 +110,8 @@ def run_point(point: dict) -> dict:
     except Exception as e:  # noqa: BLE001 - a failing point must not stop the sweep
         return failed_row(f"{type(e).__name__}: {e}", time.perf_counter() - t0)
     return {"regime": s["regime"], "regime_reason": r.regime_reason, "increment": s["increment_last_period"],
-            "stick_halfwidth": s["stick_halfwidth"], "shakedown_period": s["shakedown_period"],
+            "D_inf": s["D_inf"], "D_inf_error": s["D_inf_error"], "decay_ratio": s["decay_ratio"],
+            "periods_to_decide": s["periods_to_decide"], "stick_halfwidth": s["stick_halfwidth"], "shakedown_period": s["shakedown_period"],
             "runtime": s["runtime_s"], "max_kkt_residual": s["max_kkt_residual"],
             "max_iterations": s["max_iterations"], "elements": s["elements"], "steps": s["steps"],
             "periodic_from": s["periodic_from"], "error": None}

@@ -225,11 +225,12 @@ def test_a_run_too_short_to_tell_is_undetermined_not_misnamed():
     one = core.simulate_cycles(0.1, 0.2, periods=1)  # a clear shakedown case, far below eq 35
     assert one.regime == "undetermined" and "1 period" in one.regime_reason
     two = core.simulate_cycles(0.1, 0.2, periods=2)
-    assert two.regime == "undetermined" and "still decays" in two.regime_reason
+    assert two.regime == "undetermined" and "too few" in two.regime_reason and two.periods_to_decide == 2
     ten = core.simulate_cycles(0.1, 0.2, periods=10)
     assert ten.regime == "shakedown" and "fell to" in ten.regime_reason
-    settled = core.simulate_cycles(0.6, 0.5, periods=2)  # far above eq 35: the second increment is no smaller
-    assert settled.regime == "ratcheting" and "settled" in settled.regime_reason
+    settled = core.simulate_cycles(0.6, 0.5, periods=5, detect_periodic=False)  # far above eq 35: a constant
+    assert settled.regime == "ratcheting" and "tends to a constant" in settled.regime_reason
+    assert settled.D_inf == pytest.approx(settled.increment_per_period[-1], abs=10 * settled.D_inf_error)
     repeated = core.simulate_cycles(0.6, 0.5, periods=10)
     assert repeated.regime == "ratcheting" and "repeats" in repeated.regime_reason
     table = core.sweep(0.1, 0.2, workers=1, periods=[1, 10])
