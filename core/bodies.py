@@ -149,11 +149,14 @@ class Body:
                              "use normal='numerical' or 'auto'")
         return normal
 
-    def solve_normal(self, dx, P=1.0, tol=None):
+    def solve_normal(self, dx, P=1.0, tol=None, refine=1):
         """The numerical static pressure at ``xc = 0`` (:func:`core.normal.solve_line`) on elements of width ``dx``.
 
         The elements' edges are multiples of ``dx`` (those of every run grid of
-        the same ``dx``), over ``[-support, support] * max(1, P)``.
+        the same ``dx``), over ``[-support, support] * max(1, P)``. With
+        ``refine > 1`` that solve locates the contact, and the returned one is
+        on elements ``refine`` times finer over the contact (and two coarse
+        elements more each side), started from the coarse pressure.
 
         Returns
         -------
@@ -166,16 +169,28 @@ class Body:
             If the contact reaches the edge of that region (raise :attr:`support`).
         """
         from .normal import NORMAL_TOL, solve_line
+        tol = NORMAL_TOL if tol is None else tol
         reach = self.support * max(1.0, float(P))
         half = math.ceil(reach / dx - 1e-9)
         edges = dx * (np.arange(2 * half + 1) - half)
         x = 0.5 * (edges[1:] + edges[:-1])
-        sol = solve_line(self.profile(x), dx, load=self.load_factor * float(P),
-                         tol=NORMAL_TOL if tol is None else tol)
+        sol = solve_line(self.profile(x), dx, load=self.load_factor * float(P), tol=tol)
         if sol.contact[0] or sol.contact[-1]:
             raise ValueError(f"the contact of {self!r} reaches the edge of its solve region |x| < {reach:g}: "
                              "raise its support")
-        return edges, sol
+        refine = int(refine)
+        if refine <= 1:
+            return edges, sol
+        inside = np.flatnonzero(sol.contact)
+        lo, hi = max(inside[0] - 2, 0), min(inside[-1] + 3, x.size)
+        fine_dx = dx / refine
+        fine_edges = edges[lo] + fine_dx * np.arange((hi - lo) * refine + 1)
+        xf = 0.5 * (fine_edges[1:] + fine_edges[:-1])
+        fine = solve_line(self.profile(xf), fine_dx, load=self.load_factor * float(P), tol=tol,
+                          initial=np.repeat(sol.pressure[lo:hi], refine))
+        if fine.contact[0] or fine.contact[-1]:
+            raise ValueError(f"the refined contact of {self!r} reaches the edge of its region: use a smaller dx")
+        return fine_edges, fine
 
     def cumulative(self, dx, P=1.0, normal="auto"):
         """``C(s) = integral_{-inf}^{s} p`` [p0 a] at the centre 0 under ``P``: a callable, and the contact's reach.
@@ -189,7 +204,7 @@ class Body:
         ``x = a sin(phi)`` (4096 intervals, 4-point Gauss: about 1e-9).
         """
         if self.normal_mode(normal) == "numerical":
-            edges, sol = self.solve_normal(dx / NORMAL_REFINE, P)
+            edges, sol = self.solve_normal(dx, P, refine=NORMAL_REFINE)
             C = np.concatenate(([0.0], np.cumsum(sol.pressure) * (dx / NORMAL_REFINE)))
             inside = edges[:-1][sol.contact]
             reach = float(max(-inside.min(), inside.max() + dx))
