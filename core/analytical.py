@@ -211,8 +211,9 @@ def ft_limit(w, body="cylinder"):
     ----------
     w : array_like
         ``W / a`` in [0, 1].
-    body : {"cylinder", "sphere", "ellipsoid"} or core.Ellipsoid
-        Point contacts: :func:`core.point_contact.ft_limit_point`.
+    body : str or body object
+        ``"cylinder"`` (eq 35); any other name or body object (``"sphere"``,
+        ``core.Punch(flat=0.5)``, ...): :func:`core.melan.ft_limit`.
 
     Returns
     -------
@@ -225,10 +226,9 @@ def ft_limit(w, body="cylinder"):
     >>> round(float(core.ft_limit(0.26)), 4)
     0.6727
     """
-    if body != "cylinder":  # point contacts: core/point_contact.py
-        from .point_contact import ft_limit_point, limit_body
-        limit_body(body)
-        return ft_limit_point(w)
+    if not (isinstance(body, str) and body == "cylinder"):  # other bodies: Melan's integral, core/melan.py
+        from .melan import ft_limit as melan_ft_limit
+        return melan_ft_limit(w, body=body)
     w = _w(w, upper_closed=True)
     return _segment_area(w)
 
@@ -243,8 +243,8 @@ def w_limit(ft, body="cylinder"):
     ----------
     ft : array_like
         ``Ft / (mu Fn)`` in [0, 1].
-    body : {"cylinder", "sphere", "ellipsoid"} or core.Ellipsoid
-        Point contacts: :func:`core.point_contact.w_limit_point`.
+    body : str or body object
+        As in :func:`ft_limit` (:func:`core.melan.w_limit`).
 
     Returns
     -------
@@ -260,10 +260,9 @@ def w_limit(ft, body="cylinder"):
     >>> round(float(ft_limit(w_limit(0.3))), 12)
     0.3
     """
-    if body != "cylinder":  # point contacts: core/point_contact.py
-        from .point_contact import limit_body, w_limit_point
-        limit_body(body)
-        return w_limit_point(ft)
+    if not (isinstance(body, str) and body == "cylinder"):  # other bodies: Melan's integral, core/melan.py
+        from .melan import w_limit as melan_w_limit
+        return melan_w_limit(ft, body=body)
     ft = _ft(ft, upper_closed=True)
     shape = ft.shape
     flat = ft.ravel()

@@ -26,7 +26,15 @@ import numpy as np
 from . import analytical
 from ._hertz import element_means
 
-__all__ = ["Cylinder", "BODIES", "get_body", "MAX_ELEMENTS", "MAX_FFT_ELEMENTS"]
+__all__ = ["Body", "Cylinder", "Punch", "LineGrid", "BODIES", "get_body", "resolve_body", "NORMAL_CHOICES",
+           "MAX_ELEMENTS", "MAX_FFT_ELEMENTS"]
+
+#: The numerical normal problem of a run is solved on elements this many times finer than the run's (once per
+#: normal load: cheap), its element means then feed the run (``benchmarks/normal.py``, ``tests/test_punch.py``).
+NORMAL_REFINE = 4
+#: The values of the ``normal`` keyword: the closed-form pressure, the numerical normal solve
+#: (:mod:`core.normal`), or the closed form where the body has one.
+NORMAL_CHOICES = ("auto", "exact", "numerical")
 
 #: Largest grid of the dense solver (its matrix and interval inverses need 8 n^2 bytes each).
 MAX_ELEMENTS = 4000
@@ -34,12 +42,295 @@ MAX_ELEMENTS = 4000
 MAX_FFT_ELEMENTS = 16384
 
 
-class Cylinder:
-    """The rocking cylinder (line contact, plane problem) on a uniform 1D grid.
+def _check_edges(edges):
+    edges = np.array(edges, dtype=float)
+    if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
+        raise ValueError("edges must be a strictly increasing 1-D array of at least 2 values")
+    if edges.size - 1 > MAX_FFT_ELEMENTS:
+        raise ValueError(f"the grid has {edges.size - 1} elements (> {MAX_FFT_ELEMENTS}): use a larger dx")
+    edges.setflags(write=False)
+    return edges
+
+
+def _edges_for_reach(reach, dx, max_elements):
+    max_elements = min(int(max_elements), MAX_FFT_ELEMENTS)
+    half = math.ceil(reach / dx - 1e-9) + 1
+    n = 2 * half
+    if n > max_elements:
+        hint = " or solver='fft'" if max_elements < MAX_FFT_ELEMENTS else ""
+        raise ValueError(f"dx = {dx:g} needs {n} elements (> {max_elements}): dx must be >= "
+                         f"{reach / (max_elements // 2 - 1):.4g} here; use a larger dx{hint}")
+    return dx * (np.arange(n + 1) - half)
+
+
+class Body:
+    """A line-contact body as an object with parameters (a spec): its profile, its pressure, its grid.
+
+    A subclass sets :attr:`name` and gives its gap :meth:`profile` (always: the
+    numerical normal solve, :mod:`core.normal`, needs only it) and, if it has
+    one, its closed-form :meth:`pressure` and :meth:`half_width` (then
+    :attr:`closed_form` is True). Everything else (the grid of a run, the
+    traction bound per step, the shakedown limit) follows here. The body only
+    translates: its contact centre ``xc`` moves and its pressure moves with it,
+    so the normal problem is solved once per normal load, not per step.
+
+    Normalised units: lengths in ``a``, the contact half-width at the nominal
+    load (for a body without a closed form: the length unit of its profile);
+    pressure in ``p0 = 2 P / (pi a)`` (so the nominal load is
+    ``integral p dx = pi/2``); the gap in ``P / E*``. Hertz's cylinder is
+    ``h = (2/pi) x^2``.
+
+    Attributes
+    ----------
+    name : str
+        Its key in :data:`BODIES`.
+    dim : int
+        1: a line contact (the 1D engine).
+    closed_form : bool
+        Whether :meth:`pressure` is known in closed form.
+    support : float
+        Half-width [a] of the region the numerical normal solve covers at the
+        nominal load (scaled by ``max(1, P)``); the contact must stay inside it.
+    """
+
+    name = "body"
+    dim = 1
+    closed_form = False
+    support = 2.0
+    #: Total load of a unit traction over the nominal area per unit of Q: ``sum q dx = (pi/2) Q``.
+    load_factor = 0.5 * math.pi
+
+    @property
+    def parameters(self) -> dict:
+        """The body's parameters by name (empty: none)."""
+        return {}
+
+    def __repr__(self):
+        args = ", ".join(f"{k}={v!r}" for k, v in self.parameters.items())
+        return f"{type(self).__name__}({args})"
+
+    def __eq__(self, other):
+        return type(other) is type(self) and other.parameters == self.parameters
+
+    def __hash__(self):
+        return hash((type(self).__name__, tuple(sorted(self.parameters.items()))))
+
+    def __getstate__(self):  # its cached pressure tables hold closures: rebuilt after a pickle (process workers)
+        return {k: v for k, v in self.__dict__.items() if k != "_tables"}
+
+    # ---- what a body gives ------------------------------------------------------
+    def profile(self, x):
+        """The gap ``h(x)`` [P/E*] of the unloaded body centred at 0 (lowest point 0)."""
+        raise NotImplementedError(f"{type(self).__name__} gives no profile")
+
+    def pressure(self, x, xc=0.0, P=1.0):
+        """Closed-form pressure [p0] at ``x`` [a] with the centre at ``xc`` under the load ``P`` [nominal P]."""
+        raise NotImplementedError(f"{type(self).__name__} has no closed-form pressure: use normal='numerical'")
+
+    def half_width(self, P=1.0):
+        """Closed-form contact half-width [a] under the load ``P`` [nominal P]."""
+        raise NotImplementedError(f"{type(self).__name__} has no closed-form half-width")
+
+    # ---- the normal problem -----------------------------------------------------
+    def normal_mode(self, normal="auto") -> str:
+        """``"exact"`` or ``"numerical"`` for the ``normal`` keyword (:data:`NORMAL_CHOICES`).
+
+        Raises
+        ------
+        ValueError
+            For another value, or ``"exact"`` on a body without a closed form.
+        """
+        if normal not in NORMAL_CHOICES:
+            raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
+        if normal == "auto":
+            return "exact" if self.closed_form else "numerical"
+        if normal == "exact" and not self.closed_form:
+            raise ValueError(f"normal='exact' needs a closed-form pressure, which {self!r} has not: "
+                             "use normal='numerical' or 'auto'")
+        return normal
+
+    def solve_normal(self, dx, P=1.0, tol=None, refine=1):
+        """The numerical static pressure at ``xc = 0`` (:func:`core.normal.solve_line`) on elements of width ``dx``.
+
+        The elements' edges are multiples of ``dx`` (those of every run grid of
+        the same ``dx``), over ``[-support, support] * max(1, P)``. With
+        ``refine > 1`` that solve locates the contact, and the returned one is
+        on elements ``refine`` times finer over the contact (and two coarse
+        elements more each side), started from the coarse pressure.
+
+        Returns
+        -------
+        edges : ndarray, shape (n + 1,)
+        solution : core.normal.NormalSolution
+
+        Raises
+        ------
+        ValueError
+            If the contact reaches the edge of that region (raise :attr:`support`).
+        """
+        from .normal import NORMAL_TOL, solve_line
+        tol = NORMAL_TOL if tol is None else tol
+        reach = self.support * max(1.0, float(P))
+        half = math.ceil(reach / dx - 1e-9)
+        edges = dx * (np.arange(2 * half + 1) - half)
+        x = 0.5 * (edges[1:] + edges[:-1])
+        sol = solve_line(self.profile(x), dx, load=self.load_factor * float(P), tol=tol)
+        if sol.contact[0] or sol.contact[-1]:
+            raise ValueError(f"the contact of {self!r} reaches the edge of its solve region |x| < {reach:g}: "
+                             "raise its support")
+        refine = int(refine)
+        if refine <= 1:
+            return edges, sol
+        inside = np.flatnonzero(sol.contact)
+        lo, hi = max(inside[0] - 2, 0), min(inside[-1] + 3, x.size)
+        fine_dx = dx / refine
+        fine_edges = edges[lo] + fine_dx * np.arange((hi - lo) * refine + 1)
+        xf = 0.5 * (fine_edges[1:] + fine_edges[:-1])
+        fine = solve_line(self.profile(xf), fine_dx, load=self.load_factor * float(P), tol=tol,
+                          initial=np.repeat(sol.pressure[lo:hi], refine))
+        if fine.contact[0] or fine.contact[-1]:
+            raise ValueError(f"the refined contact of {self!r} reaches the edge of its region: use a smaller dx")
+        return fine_edges, fine
+
+    def cumulative(self, dx, P=1.0, normal="auto"):
+        """``C(s) = integral_{-inf}^{s} p`` [p0 a] at the centre 0 under ``P``: a callable, and the contact's reach.
+
+        The element means of the pressure centred at ``xc`` are then
+        ``(C(e_{i+1} - xc) - C(e_i - xc)) / dx``. ``"numerical"``: the
+        piecewise-constant pressure solved on elements :data:`NORMAL_REFINE`
+        times finer than ``dx`` (exact means for shifts by whole sub-elements;
+        the element means then match the closed form's about 8 times better
+        than a solve at ``dx``); ``"exact"``: the closed form integrated in
+        ``x = a sin(phi)`` (4096 intervals, 4-point Gauss: about 1e-9).
+        """
+        if self.normal_mode(normal) == "numerical":
+            edges, sol = self.solve_normal(dx, P, refine=NORMAL_REFINE)
+            C = np.concatenate(([0.0], np.cumsum(sol.pressure) * (dx / NORMAL_REFINE)))
+            inside = edges[:-1][sol.contact]
+            reach = float(max(-inside.min(), inside.max() + dx))
+            return (lambda s: np.interp(s, edges, C)), reach + dx
+        a = float(self.half_width(P))
+        m = 4096
+        g, wts = np.polynomial.legendre.leggauss(4)
+        t = np.linspace(-0.5 * math.pi, 0.5 * math.pi, m + 1)
+        h = t[1] - t[0]
+        nodes = 0.5 * (t[:-1, None] + t[1:, None]) + 0.5 * h * g[None, :]
+        vals = self.pressure(a * np.sin(nodes), 0.0, P) * a * np.cos(nodes)
+        C = np.concatenate(([0.0], np.cumsum((vals * wts).sum(axis=1) * 0.5 * h)))
+
+        def cum(s):
+            return np.interp(np.arcsin(np.clip(np.asarray(s) / a, -1.0, 1.0)), t, C)
+        return cum, a
+
+    # ---- the grid of a run --------------------------------------------------------
+    def grid(self, history, dx, max_elements=MAX_ELEMENTS, normal="auto"):
+        """The discretised body (:class:`LineGrid`) covering every contact of ``history`` with elements ``dx``."""
+        Pmax = float(np.max(history.P))
+        _, reach = self._table(dx, Pmax, self.normal_mode(normal))
+        edges = _edges_for_reach(float(np.max(np.abs(history.xc))) + reach, dx, max_elements)
+        return self.on_grid(edges, normal)
+
+    def on_grid(self, edges, normal="auto"):
+        """This body on the element ``edges`` (the traction bounds of a run, :class:`LineGrid`)."""
+        return LineGrid(self, edges, self.normal_mode(normal))
+
+    def _table(self, dx, P, mode):
+        cache = self.__dict__.setdefault("_tables", {})
+        key = (round(float(dx), 15), float(P), mode)
+        if key not in cache:
+            if len(cache) > 512:
+                cache.clear()
+            cache[key] = self.cumulative(dx, P, mode)
+        return cache[key]
+
+    # ---- its shakedown limit (Melan, core/melan.py) ---------------------------------
+    def ft_limit(self, w):
+        """The exact shakedown limit ``ft_lim(w)`` (:func:`core.melan.ft_limit`)."""
+        from .melan import ft_limit
+        return ft_limit(w, body=self)
+
+    def w_limit(self, ft):
+        """Its inverse (:func:`core.melan.w_limit`)."""
+        from .melan import w_limit
+        return w_limit(ft, body=self)
+
+
+class LineGrid:
+    """A line-contact :class:`Body` on a uniform grid: the interface :func:`core.engine.run` uses.
 
     Parameters
     ----------
+    body : Body
+        The body (spec).
     edges : array_like, shape (n + 1,)
+        Uniform, increasing element edges [a].
+    normal : {"exact", "numerical"}
+        How the pressure is found (see :meth:`Body.cumulative`).
+
+    Attributes
+    ----------
+    name : str
+        The body's name.
+    body_spec : Body
+        The body.
+    edges, x, dx, shape, load_factor :
+        As on :class:`Cylinder`.
+    """
+
+    def __init__(self, body, edges, normal):
+        if normal not in ("exact", "numerical"):
+            raise ValueError(f"normal must be 'exact' or 'numerical' here, got {normal!r:.60}")
+        self.body_spec = body
+        self.name = body.name
+        self.normal = normal
+        self.load_factor = body.load_factor
+        self.edges = _check_edges(edges)
+        self.dx = float(self.edges[1] - self.edges[0])
+        x = 0.5 * (self.edges[1:] + self.edges[:-1])
+        x.setflags(write=False)
+        self.x = x
+        self.shape = (self.edges.size - 1,)
+
+    @property
+    def size(self) -> int:
+        """Number of elements."""
+        return self.shape[0]
+
+    def bounds(self, xc, P, out=None):
+        """Traction bound ``mu p`` [mu p0] of every element at every step, shape (steps, n): the element means
+        of the body's pressure centred at ``xc`` under ``P`` (solved once per distinct ``P``)."""
+        xc = np.atleast_1d(np.asarray(xc, dtype=float))
+        P = np.broadcast_to(np.asarray(P, dtype=float), xc.shape)
+        if out is None:
+            out = np.empty((xc.size, self.size))
+        for value in np.unique(P):
+            rows = np.flatnonzero(P == value)
+            cum, _ = self.body_spec._table(self.dx, float(value), self.normal)
+            F = cum(self.edges[None, :] - xc[rows, None])
+            out[rows] = np.maximum(np.diff(F, axis=1) / self.dx, 0.0)
+        return out
+
+    def load_target(self, Q):
+        """``sum q_i`` [mu p0] that carries the tangential load ``Q`` [mu P]."""
+        return np.asarray(Q, dtype=float) * (self.load_factor / self.dx)
+
+    def lowest_bound(self, w):
+        """``mu p_min`` per element while the centre rocks over ``[-w, w]`` at the nominal load [mu p0]: the
+        minimum over centres a quarter element apart (the pressure may have several peaks)."""
+        k = max(1, math.ceil(8 * w / self.dx))
+        return self.bounds(np.linspace(-w, w, k + 1), np.ones(k + 1)).min(axis=0)
+
+
+class Cylinder(Body):
+    """The rocking cylinder (line contact, plane problem): the body, and on a uniform 1D grid its bounds.
+
+    ``Cylinder()`` is the body (no parameters); ``Cylinder(edges)`` is the
+    body on a grid (the interface :func:`core.engine.run` uses, with the exact
+    element means of the Hertz pressure).
+
+    Parameters
+    ----------
+    edges : array_like, shape (n + 1,), optional
         Uniform, increasing element edges [a] (see :meth:`for_reach`).
 
     Attributes
@@ -55,27 +346,58 @@ class Cylinder:
     """
 
     name = "cylinder"
+    closed_form = True
     #: Total load of a unit traction over the Hertz area per unit of Q: ``sum q dx = (pi/2) Q`` (eq 5: P = pi a p0 / 2).
     load_factor = 0.5 * math.pi
 
-    def __init__(self, edges):
-        edges = np.array(edges, dtype=float)
-        if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
-            raise ValueError("edges must be a strictly increasing 1-D array of at least 2 values")
-        if edges.size - 1 > MAX_FFT_ELEMENTS:
-            raise ValueError(f"the grid has {edges.size - 1} elements (> {MAX_FFT_ELEMENTS}): use a larger dx")
-        edges.setflags(write=False)
-        self.edges = edges
-        self.dx = float(edges[1] - edges[0])
-        x = 0.5 * (edges[1:] + edges[:-1])
+    def __init__(self, edges=None):
+        self.edges = self.dx = self.x = self.shape = None
+        if edges is None:
+            return
+        self.edges = _check_edges(edges)
+        self.dx = float(self.edges[1] - self.edges[0])
+        x = 0.5 * (self.edges[1:] + self.edges[:-1])
         x.setflags(write=False)
         self.x = x
-        self.shape = (edges.size - 1,)
+        self.shape = (self.edges.size - 1,)
 
     @property
     def size(self) -> int:
         """Number of elements."""
         return self.shape[0]
+
+    @property
+    def body_spec(self):
+        """The body without its grid: ``Cylinder()``."""
+        return Cylinder()
+
+    def __eq__(self, other):  # the body: grids aside
+        return type(other) is Cylinder
+
+    __hash__ = Body.__hash__
+
+    def __repr__(self):
+        return "Cylinder()" if self.edges is None else f"Cylinder(<{self.size} elements, dx={self.dx:g}>)"
+
+    def profile(self, x):
+        """The gap ``(2/pi) x^2`` [P/E*] (Hertz: contact half-width 1 under the nominal load)."""
+        return (2.0 / math.pi) * np.asarray(x, dtype=float) ** 2
+
+    def pressure(self, x, xc=0.0, P=1.0):
+        """Hertz's pressure [p0] ``sqrt(P) sqrt(1 - ((x - xc)/sqrt(P))^2)`` (eq 4)."""
+        a = math.sqrt(check_positive("P", P))
+        t = (np.asarray(x, dtype=float) - xc) / a
+        return a * np.sqrt(np.clip(1.0 - t * t, 0.0, None))
+
+    def grid(self, history, dx, max_elements=MAX_ELEMENTS, normal="auto"):
+        """``Cylinder.for_history`` (exact element means), or the numerical normal's :class:`LineGrid`."""
+        if self.normal_mode(normal) == "exact":
+            return Cylinder.for_history(history, dx, max_elements)
+        return super().grid(history, dx, max_elements, normal)
+
+    def on_grid(self, edges, normal="auto"):
+        """``Cylinder(edges)`` for the exact pressure, else :meth:`Body.on_grid`."""
+        return Cylinder(edges) if self.normal_mode(normal) == "exact" else super().on_grid(edges, normal)
 
     # ---- grid ----------------------------------------------------------------
     @classmethod
@@ -97,14 +419,7 @@ class Cylinder:
         ValueError
             If the grid would exceed ``max_elements`` elements (names ``dx`` and the smallest it may be).
         """
-        max_elements = min(int(max_elements), MAX_FFT_ELEMENTS)
-        half = math.ceil(reach / dx - 1e-9) + 1
-        n = 2 * half
-        if n > max_elements:
-            hint = " or solver='fft'" if max_elements < MAX_FFT_ELEMENTS else ""
-            raise ValueError(f"dx = {dx:g} needs {n} elements (> {max_elements}): dx must be >= "
-                             f"{reach / (max_elements // 2 - 1):.4g} here; use a larger dx{hint}")
-        return cls(dx * (np.arange(n + 1) - half))
+        return cls(_edges_for_reach(reach, dx, max_elements))
 
     @classmethod
     def for_history(cls, history, dx, max_elements=MAX_ELEMENTS):
@@ -113,7 +428,7 @@ class Cylinder:
 
     # ---- Hertz scales (eq 5) -------------------------------------------------
     @staticmethod
-    def half_width(P):
+    def half_width(P=1.0):
         """Contact half-width [a] under the normal load ``P`` [nominal P]: ``a ~ sqrt(P)``."""
         return np.sqrt(P)
 
@@ -135,6 +450,8 @@ class Cylinder:
         under the normal load ``P``; 0 out of contact. The one definition used
         by the solvers and by :attr:`core.CycleResult.pressure`.
         """
+        if self.edges is None:
+            raise ValueError("Cylinder() is the body without a grid: use Cylinder(edges) or Cylinder().on_grid(edges)")
         P = np.asarray(P, dtype=float)
         return element_means(self.edges, xc, self.half_width(P), self.peak_pressure(P), out)
 
@@ -152,16 +469,78 @@ class Cylinder:
         return turning.min(axis=0)
 
     # ---- closed-form references (Wetter 2015) ---------------------------------
-    ft_limit = staticmethod(analytical.ft_limit)                          # eq 35
-    w_limit = staticmethod(analytical.w_limit)                            # inverse of eq 35
+    @staticmethod
+    def ft_limit(w):
+        """Eq 35 (:func:`core.analytical.ft_limit`)."""
+        return analytical.ft_limit(w)
+
+    @staticmethod
+    def w_limit(ft):
+        """The inverse of eq 35 (:func:`core.analytical.w_limit`)."""
+        return analytical.w_limit(ft)
+
     cattaneo_stick_halfwidth = staticmethod(analytical.cattaneo_stick_halfwidth)  # eq 7
     cattaneo_traction = staticmethod(analytical.cattaneo_traction)        # eqs 8-12
     shakedown_stick_halfwidth = staticmethod(analytical.shakedown_stick_halfwidth)  # eq 30
     shakedown_traction = staticmethod(analytical.shakedown_traction)      # eqs 22-26
 
 
-#: The bodies a run can use, by name. A point contact adds its class here.
-BODIES = {"cylinder": Cylinder}
+def check_positive(name, value):
+    value = float(value)
+    if not (value > 0 and math.isfinite(value)):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+class Punch(Body):
+    """The rounded flat punch (plane strain): a flat of half-width ``b`` with rounded edges (:mod:`core.punch`).
+
+    Parameters
+    ----------
+    flat : float
+        ``b / a`` in [0, 1), ``a`` the contact half-width at the nominal load
+        (0: the cylinder). Default 0.5.
+
+    Examples
+    --------
+    >>> import core
+    >>> core.Punch(flat=0.5)
+    Punch(flat=0.5)
+    >>> round(float(core.Punch(flat=0.0).ft_limit(0.26)), 4) == round(float(core.ft_limit(0.26)), 4)
+    True
+    """
+
+    name = "punch"
+    closed_form = True
+
+    def __init__(self, flat=None):
+        from .punch import DEFAULT_FLAT, _check_flat
+        self.flat = _check_flat(DEFAULT_FLAT if flat is None else flat)
+
+    @property
+    def parameters(self) -> dict:
+        return {"flat": self.flat}
+
+    def profile(self, x):
+        """0 over the flat, ``(2/G)(|x| - flat)^2`` beyond [P/E*] (:func:`core.punch.punch_profile`)."""
+        from .punch import punch_profile
+        return punch_profile(x, self.flat)
+
+    def pressure(self, x, xc=0.0, P=1.0):
+        """Ciavarella, Hills and Monno's closed form (:func:`core.punch.punch_pressure`)."""
+        from .punch import punch_pressure
+        return punch_pressure(x, self.flat, xc, P)
+
+    def half_width(self, P=1.0):
+        """Contact half-width [a] under ``P`` [nominal P] (:func:`core.punch.punch_half_width`)."""
+        from .punch import punch_half_width
+        return punch_half_width(P, self.flat)
+
+
+#: The bodies a run can use, by name: the class whose no-argument instance is the body with default
+#: parameters. The point contacts (``"sphere"``, ``"ellipsoid"``) run on :mod:`core.solver3d`;
+#: :mod:`core.registry` lists every body with its parameters.
+BODIES = {"cylinder": Cylinder, "punch": Punch}
 
 
 def get_body(name):
@@ -177,3 +556,30 @@ def get_body(name):
     if name not in BODIES:
         raise ValueError(f"body must be one of {', '.join(sorted(BODIES))}, got {name!r:.60}")
     return BODIES[name]
+
+
+def resolve_body(body, **parameters):
+    """A line-contact body object from a name in :data:`BODIES` (with ``parameters``), a class or an object.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, parameters given with an object, or a body that is not a line contact.
+
+    Examples
+    --------
+    >>> from core.bodies import resolve_body
+    >>> resolve_body("punch", flat=0.8), resolve_body("cylinder")
+    (Punch(flat=0.8), Cylinder())
+    """
+    if isinstance(body, Body):
+        if parameters:
+            raise ValueError(f"parameters {sorted(parameters)} given with the body object {body!r}")
+        return body
+    if isinstance(body, type) and issubclass(body, Body):
+        return body(**parameters)
+    cls = get_body(body)
+    try:
+        return cls(**parameters)
+    except TypeError:
+        raise ValueError(f"body {body!r} takes no parameters {sorted(parameters)}") from None

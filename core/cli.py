@@ -50,6 +50,9 @@ _PREFIX = "shakedown: error: "
 # copies of library constants, so that building the parser imports nothing heavy (tests/test_cli.py checks them)
 _KERNELS = ("plane", "strip")
 _SHAPES = ("triangle", "sine")
+_NORMALS = ("auto", "exact", "numerical")
+# the body flags: which body each belongs to (core/registry.py lists the bodies and their parameters)
+_BODY_FLAGS = {"flat": ("punch",), "ratio": ("ellipsoid",), "angle": ("sphere", "ellipsoid")}
 _DEFAULT_DX = 1.0 / 40.0  # core.resolution.DEFAULT_DX_LINE: the cylinder's default grid
 _DEFAULT_DX_POINT = 1.0 / 20.0  # core.resolution.DEFAULT_DX_POINT: the point contacts' default grid
 _MAX_ELEMENTS = 16384  # core.solver.MAX_FFT_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many
@@ -286,6 +289,17 @@ def _add_solver_options(parser, kernel_default="plane"):
     add = g.add_argument
     add("--body", type=_arg(lambda text: _text("body", text)), action=_Once, metavar="NAME",
         help=f"the rocking body, a name core.simulate_cycles accepts (default {_PASS_THROUGH['body']})")
+    add("--flat", type=_number("flat", 0.0, 1.0, hi_closed=False), action=_Once, metavar="B/A",
+        help="--body punch: the flat's half-width over the contact half-width, in [0, 1) (default 0.5; 0 is the "
+             "cylinder)")
+    add("--ratio", type=_number("ratio", 0.05, 20.0), action=_Once, metavar="RY/RX",
+        help="--body ellipsoid: the ratio Ry/Rx of its principal relative radii, in [0.05, 20]")
+    add("--angle", type=_number("angle", -180.0, 180.0), action=_Once, metavar="DEG",
+        help="--body sphere or ellipsoid: the angle of Ft to the rocking direction [degrees], in [-180, 180] "
+             "(default 0)")
+    add("--normal", type=_choice("normal", _NORMALS), action=_Once,
+        help="the pressure of a line contact: exact (closed form), numerical (the normal problem solved by "
+             "constrained conjugate gradients) or auto (the closed form where there is one; the default)")
     add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
         help="the loading history, a name core.simulate_cycles accepts: rocking (the default: constant Ft, "
              "the centre rocked between -W and +W), normal (the same under a normal force 1 + 0.2 sin(2 pi t)) "
@@ -316,11 +330,11 @@ def _add_solver_options(parser, kernel_default="plane"):
         help="wall-time budget of each run [s], in (0, 86400]; a run past it stops and counts as failed")
 
 
-_SOLVER_DESTS = ("body", "history", "periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu",
+_SOLVER_DESTS = ("body", "normal", "history", "periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu",
                  "shakedown_rtol", "time_budget")
 # every parameter name a library message may use, spelled as a flag by flag_names
 _FLAGGED = (*_SOLVER_DESTS, "ft", "w", "tol", "max_runs", "workers", "max_workers", "scheduler", "R1", "L", "Fn",
-            "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W")
+            "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W", "flat", "ratio", "angle")
 
 
 def _add_execution_options(parser):
@@ -449,11 +463,29 @@ def build_parser() -> argparse.ArgumentParser:
 # --------------------------------------------------------------------------
 # the commands
 # --------------------------------------------------------------------------
+def _body_options(args, options) -> None:
+    """The body flags (--flat, --ratio, --angle) into the options: a body object (core/registry.py) or the
+    point contacts' ``ratio`` and ``angle`` [rad]; each flag only with its body."""
+    body = options.get("body", _PASS_THROUGH["body"])
+    given = {k: getattr(args, k) for k in _BODY_FLAGS if getattr(args, k, None) is not None}
+    for name, value in given.items():
+        if body not in _BODY_FLAGS[name]:
+            raise ValueError(f"--{name} is for --body {' or '.join(_BODY_FLAGS[name])}, not {_short(body)}")
+    if "flat" in given:
+        from .registry import make_body
+        options["body"] = make_body(body, flat=given["flat"])
+    if "ratio" in given:
+        options["ratio"] = given["ratio"]
+    if "angle" in given:
+        options["angle"] = math.radians(given["angle"])
+
+
 def _solver_options(args) -> dict:
     """The solver options given on the command line, checked against what core.simulate_cycles accepts."""
     from .grid import solver_defaults
 
     options = {k: getattr(args, k) for k in _SOLVER_DESTS if getattr(args, k, None) is not None}
+    _body_options(args, options)
     accepted = solver_defaults()
     for name, only in _PASS_THROUGH.items():
         if name in options and name not in accepted:
@@ -553,9 +585,13 @@ def _cmd_run(args) -> int:
     s = result.summary()
     inc = result.increment_per_period
     c_paper = float(shakedown_stick_halfwidth(ft, w))
-    body = s.get("body", "cylinder")
-    line = body == "cylinder"  # the paper's closure and eq 35 are the line contact's; point contacts have their own limit
-    unit_u = "mu P/E*" if line else "mu Fn/(E* a)"
+    body = getattr(result, "body", None) or s.get("body", "cylinder")
+    if not isinstance(body, str):
+        body = body.name
+    line = body == "cylinder"  # the paper's closure and eq 35 are the cylinder's; other bodies have their own limit
+    spec = getattr(result, "body_spec", None) or options.get("body", body)  # the body with its parameters
+    line_body = hasattr(result, "edges")  # a line contact (the cylinder, the punch, any core.bodies.Body)
+    unit_u = "mu P/E*" if line_body else "mu Fn/(E* a)"
     since = f" (from period {s['shakedown_period']})" if s.get("shakedown_period") is not None else ""
     rows = [
         ("regime", f"{s['regime']}{since}"),
@@ -565,16 +601,17 @@ def _cmd_run(args) -> int:
         ("increment, first period", _fmt(float(inc[0]) if inc.size else None, unit_u)),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),
         *([("  paper's ansatz (eq 30)", _fmt(c_paper, "a"))] if line else []),
-        (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=body)), "= ft_lim")),
-        (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=body)), "= w_lim")),
+        (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),
+        (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=spec)), "= w_lim")),
         ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in args_given(args) else " (the body's default)")),
         ("elements x steps", f"{s['elements']} x {s['steps']}"),
         ("max active-set iterations", str(s["max_iterations"])),
         ("max KKT residual", _fmt(s.get("max_kkt_residual", s.get("max_residual")))),
         ("runtime", _fmt(s["runtime_s"], "s")),
     ]
-    model = f"{result.kernel} kernel" if line else f"{body}, 3D half-space"
-    history = result.params.get("history", "rocking") if line else "rocking"
+    model = (f"{result.kernel} kernel" if line else f"{spec!r}, {result.kernel} kernel"
+             if line_body else f"{body}, 3D half-space")
+    history = result.params.get("history", "rocking") if line_body else "rocking"
     loading = {"normal": f"{s['shape']} rocking under an oscillating normal force",
                "tangential": f"{s['shape']} oscillating tangential force at a fixed centre"}.get(
         history, f"{s['shape']} rocking")

@@ -144,7 +144,8 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
         u0=u0,
         periodic_from=None if periodic_from < 0 else int(periodic_from),
         params=dict(params or {}), tol=tol, shakedown_rtol=shakedown_rtol,
-        runtime=time.perf_counter() - t0, body=body.name, solver=step_solver.name, residuals=out.residuals(),
+        runtime=time.perf_counter() - t0, body=body.name,
+        body_spec=getattr(body, "body_spec", None), solver=step_solver.name, residuals=out.residuals(),
     )
 
 

@@ -75,6 +75,8 @@ class Ellipsoid:
     """
 
     ratio: float = 1.0
+    #: A point contact: a patch of elements (the 3D solver, :mod:`core.solver3d`).
+    dim = 2
 
     def __post_init__(self):
         object.__setattr__(self, "ratio", check_scalar("ratio", self.ratio, 0.05, 20.0))
@@ -82,6 +84,15 @@ class Ellipsoid:
     @property
     def name(self) -> str:
         return "sphere" if self.ratio == 1.0 else "ellipsoid"
+
+    @property
+    def parameters(self) -> dict:
+        """The body's parameters by name: ``{"ratio": Ry/Rx}``."""
+        return {"ratio": self.ratio}
+
+    def pressure(self, x, y, xc=0.0):
+        """Hertz's pressure [p0] at ``(x, y)`` [a] with the centre at ``(xc, 0)`` (:func:`hertz_pressure_3d`)."""
+        return hertz_pressure_3d(x, y, xc, self.kappa)
 
     @cached_property
     def kappa(self) -> float:

@@ -394,6 +394,8 @@ class CycleResult:
         Wall time of the solve [s].
     body : str
         Name of the body (:data:`core.bodies.BODIES`), ``"cylinder"``.
+    body_spec : core.bodies.Body or None
+        The body object with its parameters (e.g. ``core.Punch(flat=0.8)``).
     solver : str
         Per-step solver that ran (``"dense"`` or ``"fft"``).
     residuals : dict
@@ -429,6 +431,7 @@ class CycleResult:
     solver: str = "dense"
     residuals: dict = field(default_factory=dict)
     cg_iterations: np.ndarray | None = None
+    body_spec: object = None
 
     def __post_init__(self):
         if self.cg_iterations is None:
@@ -457,6 +460,9 @@ class CycleResult:
     @cached_property
     def pressure(self) -> np.ndarray:
         """Element-mean pressure per step, shape (steps, n) [p0]: the traction bound [mu p0] the solver used."""
+        if self.body_spec is not None:
+            grid = self.body_spec.on_grid(self.edges, self.params.get("normal", "auto"))
+            return read_only(grid.bounds(self.xc, self.P))
         return read_only(get_body(self.body)(self.edges).bounds(self.xc, self.P))
 
     @property

@@ -27,7 +27,7 @@ import numpy as np
 
 from .resolution import DEFAULT_DX_LINE, default_dx
 from ._validate import check_int, check_scalar
-from .bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS, Cylinder, get_body
+from .bodies import BODIES, MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, below_bound, central_halfwidth, read_only
 from .engine import SOLVER_CHOICES, make_operator, run, select_solver
@@ -72,7 +72,8 @@ def _kernel_options(kernel, L_over_a, nu):
 
 def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=None, tol=KKT_TOL,
                    maxiter=None, detect_periodic=True, shakedown_rtol=1e-3, params=None,
-                   time_budget=None, cancel=None, progress=None, chunk=256, solver="auto", body="cylinder"):
+                   time_budget=None, cancel=None, progress=None, chunk=256, solver="auto", body="cylinder",
+                   normal="auto"):
     """Run the incremental solver over any :class:`~core.schedule.Schedule`.
 
     Parameters
@@ -116,8 +117,14 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
         gradients, :mod:`core.matrix_free`) or ``"auto"`` (``"fft"`` above
         :data:`core.engine.AUTO_CROSSOVER` elements; the default). The result
         records it (``solver``) and the CG iterations of each step (``cg_iterations``).
-    body : str
-        Body name in :data:`core.bodies.BODIES` (``"cylinder"``).
+    body : str or core.bodies.Body
+        A line-contact body: a name in :data:`core.bodies.BODIES` (``"cylinder"``,
+        ``"punch"``: default parameters) or a body object (``core.Punch(flat=0.8)``,
+        any :class:`core.bodies.Body`).
+    normal : {"auto", "exact", "numerical"}
+        The pressure: the body's closed form (``"exact"``), the numerical normal
+        solve (``"numerical"``, :mod:`core.normal`, solved once per normal load:
+        the body translates) or the closed form where there is one (``"auto"``).
 
     Returns
     -------
@@ -151,7 +158,9 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     if solver not in SOLVER_CHOICES:
         raise ValueError(f"solver must be one of {SOLVER_CHOICES}, got {solver!r:.60}")
     # the dense solver's grid cap, or the matrix-free one's where that solver may run
-    body = get_body(body).for_history(schedule, dx, MAX_ELEMENTS if solver == "dense" else MAX_FFT_ELEMENTS)
+    if normal not in NORMAL_CHOICES:
+        raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
+    body = resolve_body(body).grid(schedule, dx, MAX_ELEMENTS if solver == "dense" else MAX_FFT_ELEMENTS, normal)
     n = body.size
     maxiter = check_int("maxiter", 50 + 2 * n if maxiter is None else maxiter, 1, 10**7)
     chunk = check_int("chunk", chunk, 1, 10**7)
@@ -305,7 +314,8 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shape="triangle",
                     load_steps=1, L_over_a=None, nu=0.5, tol=None, detect_periodic=True,
                     shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, solver="auto",
-                    body="cylinder", ratio=None, angle=0.0, history="rocking", amplitude=None, phase=0.0):
+                    body="cylinder", ratio=None, angle=0.0, history="rocking", amplitude=None, phase=0.0,
+                    normal="auto"):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -349,8 +359,11 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         each period away from the limit), ratcheting ones settle to a constant.
     solver : {"auto", "dense", "fft"}
         Per-step solver (see :func:`solve_schedule`).
-    body : {"cylinder", "sphere", "ellipsoid"} or core.Ellipsoid
-        ``"cylinder"`` (default) is the line contact; the point contacts run
+    body : str or body object
+        ``"cylinder"`` (default) and ``"punch"`` (:data:`core.bodies.BODIES`, or
+        objects: ``core.Punch(flat=0.8)``, any :class:`core.bodies.Body`) are
+        line contacts on the 1D engine; the point contacts (``"sphere"``,
+        ``"ellipsoid"``, ``core.Ellipsoid``) run
         :func:`core.solver3d.simulate_point_contact` (with ``ratio = Ry/Rx`` of
         an ellipsoid and ``angle`` of Ft to the rocking direction [rad]; ``dx``
         is the element side, ``nu`` the substrate's; ``kernel`` and ``L_over_a``
@@ -368,6 +381,10 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         or ``"tangential"`` ([mu P], ``|ft| + amplitude < 1``, default ``(1 - |ft|)/2``).
     phase : float
         Phase of the normal force of ``"normal"`` [rad].
+    normal : {"auto", "exact", "numerical"}
+        The pressure of a line contact (see :func:`solve_schedule`): ``"auto"``
+        (the default) takes the closed form where the body has one. Point
+        contacts accept ``"auto"`` and ``"exact"`` only (Hertz).
 
     Returns
     -------
@@ -384,7 +401,14 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     >>> abs(r.stick_halfwidth - float(core.shakedown_stick_halfwidth(0.2, 0.3))) < 0.05
     True
     """
-    if not (isinstance(body, str) and body == "cylinder"):  # point contacts: core/solver3d.py
+    line = isinstance(body, Body) or (isinstance(body, type) and issubclass(body, Body)) or (
+        isinstance(body, str) and body in BODIES)
+    if normal not in NORMAL_CHOICES:
+        raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
+    if not line:  # point contacts: core/solver3d.py
+        if normal == "numerical":
+            raise ValueError(f"normal='numerical' is for the line contacts ({', '.join(sorted(BODIES))} or a "
+                             f"core.bodies.Body); body={body!r:.40} runs with Hertz's pressure")
         if not (isinstance(history, str) and history == "rocking"):
             raise ValueError(f"history must be 'rocking' for a point contact (body={body!r:.40}), "
                              f"got {history!r:.60}")
@@ -401,6 +425,9 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
                                  amplitude=amplitude, phase=phase)
     params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, kernel=kernel, shape=shape,
                   load_steps=int(load_steps))
+    spec = resolve_body(body)
+    if spec.name != "cylinder" or normal != "auto":
+        params.update(spec.parameters, normal=spec.normal_mode(normal))
     params["history"] = history if isinstance(history, str) else "arrays"
     if params["history"] == "arrays":  # the schedule's own periods; the rocking options played no part
         params["periods"] = int(schedule.periods)
@@ -412,7 +439,8 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         params.update(L_over_a=options["L_over_a"], nu=float(nu))
     return solve_schedule(schedule, dx, kernel, kernel_options=options, tol=tol,
                           detect_periodic=detect_periodic, shakedown_rtol=shakedown_rtol, params=params,
-                          time_budget=time_budget, cancel=cancel, progress=progress, solver=solver, body=body)
+                          time_budget=time_budget, cancel=cancel, progress=progress, solver=solver, body=spec,
+                          normal=normal)
 
 
 def strip_options(contact):

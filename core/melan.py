@@ -1,0 +1,196 @@
+"""The exact shakedown limit of any uncoupled body: Melan's theorem with the bound ``mu p_min``.
+
+For an uncoupled frictional contact (Dundurs beta = 0: the pressure does not
+depend on the tangential tractions) Melan's theorem holds (Klarbring,
+Ciavarella and Barber 2007): the contact shakes down if and only if a
+residual traction field exists that never exceeds the friction bound, i.e.
+``|q(x)| <= mu p_min(x)`` with ``p_min(x)`` the LOWEST pressure the point ``x``
+sees over the whole cycle, and carries the load. With a constant ``Ft`` the
+condition is
+
+``ft = Ft / (mu P) <= ft_lim = (1/P) integral p_min dx``
+
+(in the normalised units ``integral p dx = P``). ``p_min`` is the minimum
+over every centre position of the cycle, not only the turning points: a
+rounded punch's pressure has two peaks and a dip between them, so a point can
+see its lowest pressure while the centre passes. For a body that translates
+by ``xc`` in ``[-w, w]``, ``p_min(x) = min over |s| <= w of p(x - s)``.
+
+Closed forms where known: the cylinder (:func:`core.analytical.ft_limit`,
+eq 35) and the sphere and every ellipsoid rocked along a principal axis
+(``(1 - w)^2 (2 + w)/2``, :func:`core.point_contact.ft_limit_point`); any
+other body numerically (:func:`ft_limit_numerical`).
+
+References
+----------
+.. [1] A. Klarbring, M. Ciavarella, J. R. Barber, "Shakedown in elastic
+   contact problems with Coulomb friction", Int. J. Solids Struct. 44 (2007) 8355.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.ndimage import minimum_filter1d
+from scipy.optimize import brentq
+
+from ._validate import check_scalar
+
+__all__ = ["ft_limit", "w_limit", "ft_limit_numerical", "lowest_pressure", "MELAN_DX"]
+
+#: Default sampling step [a] of the numerical limit: the pressure's points for a closed form, the normal
+#: solve's elements otherwise (the limit converges about as dx^1.5: 1e-5 at 1/4000, ``tests/test_melan.py``).
+MELAN_DX = {"exact": 1.0 / 4000.0, "numerical": 1.0 / 400.0}
+
+
+def _step(w, dx):
+    """A step ``<= dx`` that divides ``w`` (so the window of centres is whole)."""
+    return dx if w <= 0 else w / math.ceil(w / dx - 1e-12)
+
+
+def lowest_pressure(body, w, dx=None, normal="auto"):
+    """``p_min`` [p0] of a translating line body over centres in ``[-w, w]``, on a grid of step ``dx``.
+
+    Parameters
+    ----------
+    body : core.bodies.Body
+        A line-contact body.
+    w : float
+        Amplitude ``W / a`` in [0, 1).
+    dx : float, optional
+        Sampling step [a] (default :data:`MELAN_DX`; adjusted down so that it divides ``w``).
+    normal : {"auto", "exact", "numerical"}
+        The closed-form pressure sampled at points ``k dx``, or the numerical
+        normal solve's element pressures (:meth:`core.bodies.Body.solve_normal`).
+
+    Returns
+    -------
+    x, p, p_min : ndarray
+        The sample positions [a], the pressure at ``xc = 0`` and the lowest pressure over the cycle.
+    """
+    w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
+    mode = body.normal_mode(normal)
+    dx = _step(w, check_scalar("dx", MELAN_DX[mode] if dx is None else dx, 1e-5, 0.1))
+    if mode == "exact":
+        a = float(body.half_width(1.0))
+        half = math.ceil((a + w) / dx) + 1
+        x = dx * np.arange(-half, half + 1)
+        p = body.pressure(x, 0.0, 1.0)
+    else:
+        edges, sol = body.solve_normal(dx, 1.0)
+        pad = math.ceil(w / dx) + 1
+        p = np.concatenate((np.zeros(pad), sol.pressure, np.zeros(pad)))
+        x = 0.5 * (edges[1:] + edges[:-1])
+        x = np.concatenate((x[0] - dx * np.arange(pad, 0, -1), x, x[-1] + dx * np.arange(1, pad + 1)))
+    k = int(round(w / dx))
+    p_min = minimum_filter1d(p, 2 * k + 1, mode="constant", cval=0.0) if k > 0 else p.copy()
+    return x, p, p_min
+
+
+def ft_limit_numerical(w, body, dx=None, normal="auto"):
+    """``ft_lim = integral p_min / integral p`` of a line body (:func:`lowest_pressure`), or of a point body.
+
+    Point bodies (objects with ``pressure(x, y, xc)`` and ``dim == 2``, e.g.
+    :class:`core.point_contact.Ellipsoid`) use their closed-form pressure on a
+    square grid of step ``dx`` (default 1/400) and the minimum along x.
+
+    Examples
+    --------
+    >>> import core
+    >>> from core.melan import ft_limit_numerical
+    >>> round(float(ft_limit_numerical(0.26, core.Cylinder())), 4)
+    0.6727
+    """
+    if getattr(body, "dim", 1) == 2:
+        w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
+        dx = _step(w, check_scalar("dx", 1.0 / 400.0 if dx is None else dx, 1e-4, 0.1))
+        kappa = float(getattr(body, "kappa", 1.0))
+        half = math.ceil((1 + w) / dx) + 1
+        x = dx * np.arange(-half, half + 1)
+        y = dx * np.arange(-math.ceil(kappa / dx) - 1, math.ceil(kappa / dx) + 2)
+        p = body.pressure(x[None, :], y[:, None], 0.0)
+        k = int(round(w / dx))
+        p_min = minimum_filter1d(p, 2 * k + 1, axis=1, mode="constant", cval=0.0) if k > 0 else p
+        return float(p_min.sum() / p.sum())
+    _, p, p_min = lowest_pressure(body, w, dx, normal)
+    return float(p_min.sum() / p.sum())
+
+
+def _resolve(body):
+    from .bodies import Body, Cylinder, resolve_body
+    from .point_contact import Ellipsoid, POINT_BODIES
+    if body is None or (isinstance(body, str) and body == "cylinder") or type(body) is Cylinder:
+        return "cylinder"
+    if isinstance(body, Ellipsoid) or (isinstance(body, str) and body in POINT_BODIES):
+        return "point"
+    if isinstance(body, Body):
+        return body
+    return resolve_body(body)
+
+
+def ft_limit(w, body="cylinder", *, normal="auto", dx=None):
+    """The exact shakedown limit ``ft_lim(w)`` of a body: closed form where known, Melan's integral otherwise.
+
+    Parameters
+    ----------
+    w : array_like
+        ``W / a`` in [0, 1] (numerical bodies: [0, 1)).
+    body : str, core.bodies.Body or core.Ellipsoid
+        ``"cylinder"`` (eq 35), ``"sphere"``/``"ellipsoid"`` or an ellipsoid
+        (``(1 - w)^2 (2 + w)/2``), a name in :data:`core.bodies.BODIES`
+        (default parameters) or a body object (:func:`ft_limit_numerical`).
+    normal, dx :
+        For the numerical bodies (see :func:`lowest_pressure`).
+
+    Examples
+    --------
+    >>> import core
+    >>> round(float(core.ft_limit(0.3, body=core.Punch(flat=0.5))), 4)
+    0.5527
+    """
+    kind = _resolve(body)
+    if kind == "cylinder":
+        from .analytical import ft_limit as closed
+        return closed(w)
+    if kind == "point":
+        from .point_contact import ft_limit_point
+        return ft_limit_point(w)
+    w = np.asarray(w, dtype=float)
+    if w.ndim == 0:
+        return np.float64(ft_limit_numerical(float(w), kind, dx, normal))
+    return np.vectorize(lambda v: ft_limit_numerical(float(v), kind, dx, normal), otypes=[float])(w)
+
+
+def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
+    """The inverse of :func:`ft_limit`: the largest amplitude that shakes down at ``ft`` (root of ft_lim(w) = ft).
+
+    Examples
+    --------
+    >>> import core
+    >>> round(float(core.w_limit(0.5527, body=core.Punch(flat=0.5))), 3)
+    0.3
+    """
+    kind = _resolve(body)
+    if kind == "cylinder":
+        from .analytical import w_limit as closed
+        return closed(ft)
+    if kind == "point":
+        from .point_contact import w_limit_point
+        return w_limit_point(ft)
+
+    def one(f):
+        f = check_scalar("ft", f, 0.0, 1.0)
+        if f >= 1.0:
+            return 0.0
+        if f <= 0.0:
+            return 1.0
+        top = 1.0 - 1e-6
+        if ft_limit_numerical(top, kind, dx, normal) >= f:
+            return top
+        return brentq(lambda v: ft_limit_numerical(v, kind, dx, normal) - f, 0.0, top, xtol=1e-7)
+
+    ft = np.asarray(ft, dtype=float)
+    if ft.ndim == 0:
+        return np.float64(one(float(ft)))
+    return np.vectorize(one, otypes=[float])(ft)

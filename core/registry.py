@@ -1,0 +1,135 @@
+"""Every body a run can use, with its parameters: the one list the API and the CLI read.
+
+Each entry names a body, how to build it from its parameters, its
+parameters (default, range, meaning) and its kind: ``"line"`` (a line
+contact on the 1D engine, :class:`core.bodies.Body`) or ``"point"`` (a point
+contact on the 3D solver, :class:`core.point_contact.Ellipsoid`).
+:func:`make_body` builds a body from a name and parameters;
+:func:`describe` lists them (``shakedown`` prints it in its help).
+
+A new line body needs no entry here to run (``core.simulate_cycles(...,
+body=MyBody())`` takes any :class:`core.bodies.Body`); an entry makes it
+reachable by name from the CLI (see ``docs/dev/adding-a-body.md``).
+
+Examples
+--------
+>>> from core.registry import make_body, REGISTRY
+>>> make_body("punch", flat=0.8), make_body("ellipsoid", ratio=2.0)
+(Punch(flat=0.8), Ellipsoid(ratio=2.0))
+>>> sorted(REGISTRY)
+['cylinder', 'ellipsoid', 'punch', 'sphere']
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+from ._validate import check_scalar
+
+__all__ = ["Parameter", "BodyEntry", "REGISTRY", "make_body", "register", "describe", "body_name"]
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter of a body: its name, default, range ``[lo, hi)`` (or closed) and meaning."""
+
+    name: str
+    default: float
+    lo: float
+    hi: float
+    doc: str
+    hi_closed: bool = True
+
+    def check(self, value) -> float:
+        """The value as a float, or ValueError naming the parameter and its range."""
+        return check_scalar(self.name, value, self.lo, self.hi, hi_closed=self.hi_closed)
+
+
+@dataclass(frozen=True)
+class BodyEntry:
+    """A registered body: ``make(**parameters)`` builds it."""
+
+    name: str
+    make: Callable
+    kind: str
+    doc: str
+    parameters: tuple = field(default_factory=tuple)
+
+
+def _punch(flat=0.5):
+    from .bodies import Punch
+    return Punch(flat=flat)
+
+
+def _cylinder():
+    from .bodies import Cylinder
+    return Cylinder()
+
+
+def _ellipsoid(ratio=2.0):
+    from .point_contact import Ellipsoid
+    return Ellipsoid(ratio)
+
+
+def _sphere():
+    from .point_contact import Ellipsoid
+    return Ellipsoid(1.0)
+
+
+#: The bodies by name.
+REGISTRY: dict[str, BodyEntry] = {}
+
+
+def register(entry: BodyEntry) -> BodyEntry:
+    """Add (or replace) a body in :data:`REGISTRY`; line bodies also become names of :data:`core.bodies.BODIES`."""
+    if entry.kind not in ("line", "point"):
+        raise ValueError(f"kind must be 'line' or 'point', got {entry.kind!r:.40}")
+    REGISTRY[entry.name] = entry
+    if entry.kind == "line":
+        from .bodies import BODIES
+        BODIES.setdefault(entry.name, type(entry.make()))
+    return entry
+
+
+register(BodyEntry("cylinder", _cylinder, "line", "the rocking cylinder (Hertz line contact, the paper's)"))
+register(BodyEntry("punch", _punch, "line", "the rounded flat punch (plane strain, Ciavarella, Hills and Monno 1998)",
+                   (Parameter("flat", 0.5, 0.0, 1.0, "flat half-width over the contact half-width, b/a",
+                              hi_closed=False),)))
+register(BodyEntry("sphere", _sphere, "point", "the rocking sphere (Hertz point contact)"))
+register(BodyEntry("ellipsoid", _ellipsoid, "point", "the rocking ellipsoid, rocked along its x axis",
+                   (Parameter("ratio", 2.0, 0.05, 20.0, "Ry/Rx, its principal relative radii's ratio"),)))
+
+
+def make_body(name, **parameters):
+    """The body ``name`` of :data:`REGISTRY` with ``parameters`` (missing ones at their defaults).
+
+    Raises
+    ------
+    ValueError
+        For an unknown name or parameter, or a value out of its range.
+    """
+    if name not in REGISTRY:
+        raise ValueError(f"body must be one of {', '.join(sorted(REGISTRY))}, got {name!r:.60}")
+    entry = REGISTRY[name]
+    known = {p.name: p for p in entry.parameters}
+    unknown = sorted(set(parameters) - set(known))
+    if unknown:
+        allowed = ", ".join(known) or "none"
+        raise ValueError(f"body {name!r} has no parameter(s) {', '.join(unknown)} (its parameters: {allowed})")
+    return entry.make(**{k: known[k].check(v) for k, v in parameters.items()})
+
+
+def body_name(body) -> str:
+    """The registry name of a body given by name or object."""
+    return body if isinstance(body, str) else body.name
+
+
+def describe() -> str:
+    """One line per body: its name, kind, parameters with defaults and ranges, and what it is."""
+    lines = []
+    for e in REGISTRY.values():
+        params = ", ".join(f"--{p.name} {p.default:g} in [{p.lo:g}, {p.hi:g}{']' if p.hi_closed else ')'}"
+                           for p in e.parameters)
+        lines.append(f"{e.name} ({e.kind}{'; ' + params if params else ''}): {e.doc}")
+    return "\n".join(lines)

@@ -1,0 +1,138 @@
+"""The numerical normal solve (core/normal.py): Hertz to grid accuracy, converging with dx, and an independent code."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.special import ellipe, ellipk
+
+from core._hertz import element_means
+from core.normal import PatchOperator, solve_line, solve_normal, solve_patch, line_operator
+from core.point_contact import Ellipsoid, hertz_element_means
+
+
+def _line(dx, half=1.5):
+    n = int(round(2 * half / dx))
+    e = np.arange(n + 1) * dx - half
+    return e, 0.5 * (e[1:] + e[:-1])
+
+
+def test_cylinder_equals_hertz_and_converges():
+    """p = sqrt(1 - x^2) for h = (2/pi) x^2 at the nominal load: the L1 error (relative to P) falls about as
+    dx^1.5 (0.2 % at dx = 0.04, 0.008 % at 0.01), the interior (|x| < 0.9) error as dx^2 (1.3e-3 -> 4e-5)."""
+    l1, inner = [], []
+    for dx in (0.04, 0.02, 0.01):
+        e, x = _line(dx)
+        s = solve_line((2 / np.pi) * x**2, dx)
+        exact = element_means(e, np.zeros(1), np.ones(1), np.ones(1))[0]
+        d = s.pressure - exact
+        l1.append(np.abs(d).sum() * dx / (np.pi / 2))
+        inner.append(np.abs(d[np.abs(x) < 0.9]).max())
+        assert s.load == pytest.approx(np.pi / 2, rel=1e-12)
+        assert abs(s.area - 2.0) <= 2 * dx + 1e-12
+        assert s.gap_residual < 1e-8 and s.penetration == 0.0
+    assert l1[0] < 3e-3 and l1[-1] < 1e-4
+    assert inner[0] < 2e-3 and inner[-1] < 6e-5
+    assert l1[0] / l1[-1] > 8 and inner[0] / inner[-1] > 12  # dx / 4: at least dx^1.5
+
+
+def test_sphere_equals_hertz():
+    """h = (3/8) r^2 in the point-contact units: the L1 error 1.3 % at h = 0.1, 0.4 % at h = 0.05."""
+    errs = []
+    for h in (0.1, 0.05):
+        e, x = _line(h)
+        X, Y = np.meshgrid(x, x)
+        s = solve_patch(0.375 * (X**2 + Y**2), h)
+        exact = hertz_element_means(e, e, 0.0, 1.0)
+        d = s.pressure - exact
+        errs.append(np.abs(d).sum() * h * h / (2 * np.pi / 3))
+        assert np.abs(d[np.hypot(X, Y) < 0.9]).max() < (0.015 if h == 0.1 else 0.003)
+    assert errs[0] < 0.015 and errs[1] < 0.005
+
+
+def test_ellipsoid_equals_hertz():
+    """Ratio Ry/Rx = 2: the profile from Hertz's elliptical solution (Johnson ch. 3: the displacement under
+    p0 sqrt(1 - x^2/a^2 - y^2/b^2)); the numerical pressure matches it, L1 error 0.3 % at h = 0.05."""
+    kap = Ellipsoid(2.0).kappa
+    alpha, beta = kap, 1.0  # semi-major (along y), semi-minor (along x)
+    m = 1 - (beta / alpha) ** 2
+    K, E = ellipk(m), ellipe(m)
+    Ay = beta / (m * alpha**2) * (K - E)
+    Ax = beta / (m * alpha**2) * ((alpha / beta) ** 2 * E - K)
+    h = 0.05
+    ex = np.arange(-1.5, 1.5 + 1e-9, h)
+    ey = np.arange(-1.5 * kap, 1.5 * kap + h, h)
+    ey -= ey.mean()
+    x, y = 0.5 * (ex[1:] + ex[:-1]), 0.5 * (ey[1:] + ey[:-1])
+    Y, X = np.meshgrid(y, x, indexing="ij")
+    load = 2 * np.pi * kap / 3
+    s = solve_patch(Ax * X**2 + Ay * Y**2, h, load=load, scale=1 / np.pi)
+    d = s.pressure - hertz_element_means(ex, ey, 0.0, kap)
+    assert np.abs(d).sum() * h * h / load < 0.005
+    assert np.abs(d[X**2 + (Y / kap) ** 2 < 0.81]).max() < 0.003
+    assert s.area == pytest.approx(np.pi * kap, rel=0.02)
+
+
+def test_cone_matches_contactmechanics():
+    """A cone (non-Hertzian) on the non-periodic half-space against ContactMechanics' own Polonsky-Keer solver on
+    its FreeFFTElasticHalfSpace (Johnson's piecewise-constant kernel, E* = 1): the pressures agree to 1e-8 of
+    the peak. Their pixel forces are ``p dA`` and their topography is the rigid surface's height, i.e. ``-h``."""
+    cm = pytest.importorskip("ContactMechanics")
+    from ContactMechanics.Optimization import constrained_conjugate_gradients
+    n, h = 48, 3.0 / 48
+    _, x = _line(h)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    prof = 0.4 * np.hypot(X, Y)
+    mine = solve_patch(prof, h, load=1.0, scale=1 / np.pi)
+    sub = cm.FreeFFTElasticHalfSpace((n, n), 1.0, (n * h, n * h))
+    ref = constrained_conjugate_gradients(sub, -prof, external_force=1.0, pentol=1e-12, forcetol=1e-12)
+    assert ref.success
+    p_ref = ref.jac / (h * h)
+    assert np.abs(p_ref - mine.pressure).max() < 1e-8 * mine.pressure.max()
+    assert mine.contact.sum() == (p_ref > 0).sum()
+    # the cone's pressure is not Hertz's: a log singularity at the tip, a finite slope at the edge
+    assert mine.pressure.max() > 1.5 * mine.pressure[np.hypot(X, Y) < 0.5].min()
+
+
+def test_patch_operator_matches_matrix():
+    op = PatchOperator(5, 7, 0.2)
+    p = np.random.default_rng(3).random(op.shape)
+    assert np.allclose(op.apply(p).ravel(), op.matrix() @ p.ravel(), rtol=1e-12, atol=1e-14)
+
+
+def test_warm_start_and_a_flat_profile():
+    e, x = _line(0.02)
+    h = (2 / np.pi) * x**2
+    cold = solve_line(h, 0.02)
+    warm = solve_line(h, 0.02, initial=cold.pressure)
+    assert warm.iterations < cold.iterations
+    assert np.allclose(warm.pressure, cold.pressure, atol=1e-8)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(load=0.0), "load"),
+    (dict(load=np.nan), "load"),
+    (dict(tol=1.0), "tol"),
+    (dict(maxiter=0), "maxiter"),
+    (dict(element_area=-1.0), "element_area"),
+    (dict(profile=np.full(10, np.inf)), "profile"),
+    (dict(profile=np.zeros(11)), "profile"),
+    (dict(initial=-np.ones(10)), "initial"),
+    (dict(maxiter=1, tol=1e-14), "converge"),
+])
+def test_bad_inputs(kwargs, match):
+    args = dict(profile=np.linspace(-1, 1, 10) ** 2, load=1.0, operator=line_operator(10, 0.2), element_area=0.2)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        solve_normal(**args)
+
+
+def test_bad_grids():
+    with pytest.raises(ValueError, match="profile"):
+        solve_line(np.zeros((3, 3)), 0.1)
+    with pytest.raises(ValueError, match="dx"):
+        solve_line(np.zeros(10), 0.0)
+    with pytest.raises(ValueError, match="profile"):
+        solve_patch(np.zeros(10), 0.1)
+    with pytest.raises(ValueError, match="h"):
+        solve_patch(np.zeros((4, 4)), -0.1)

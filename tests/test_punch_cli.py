@@ -1,0 +1,61 @@
+"""The CLI's body flags (--body punch --flat, --body ellipsoid --ratio --angle, --normal), as a subprocess."""
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def _cli(*args, timeout=600):
+    env = {**os.environ, "PYTHONPATH": ROOT}
+    return subprocess.run([sys.executable, "-m", "core.cli", *args], capture_output=True, text=True, env=env,
+                          timeout=timeout, cwd=ROOT)
+
+
+def test_run_punch(tmp_path):
+    out = tmp_path / "run.json"
+    p = _cli("run", "--ft", "0.45", "--w", "0.3", "--body", "punch", "--flat", "0.8", "--periods", "20",
+             "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    assert "Punch(flat=0.8)" in p.stdout and "exact limit at this w      0.4917" in p.stdout
+    assert "eq 30" not in p.stdout
+    doc = json.loads(out.read_text())
+    assert doc["summary"]["regime"] == "shakedown"
+
+
+def test_run_punch_numerical_normal():
+    p = _cli("run", "--ft", "0.2", "--w", "0.3", "--body", "punch", "--normal", "numerical", "--periods", "5")
+    assert p.returncode == 0, p.stderr
+    assert "Punch(flat=0.5)" in p.stdout and "shakedown" in p.stdout
+
+
+def test_sweep_punch():
+    p = _cli("sweep", "--ft", "0.2,0.7", "--w", "0.3", "--body", "punch", "--flat", "0.5", "--periods", "10",
+             "--out", "-", "--no-progress")
+    assert p.returncode == 0, p.stderr
+    rows = p.stdout.strip().splitlines()
+    assert len(rows) == 3 and "Punch(flat=0.5),shakedown" in rows[1] and "Punch(flat=0.5),ratcheting" in rows[2]
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--flat", "0.8"), "--flat is for --body punch"),
+    (("--body", "punch", "--flat", "1.0"), "flat"),
+    (("--body", "punch", "--ratio", "2"), "--ratio is for --body ellipsoid"),
+    (("--body", "sphere", "--normal", "numerical"), "normal"),
+    (("--body", "punch", "--normal", "closed"), "normal"),
+])
+def test_bad_body_flags(args, message):
+    p = _cli("run", "--ft", "0.2", "--w", "0.3", "--periods", "2", *args)
+    assert p.returncode != 0 and message in p.stderr
+
+
+def test_ellipsoid_ratio_angle_parse():
+    """--ratio and --angle [degrees] reach the point-contact run (a coarse grid: dx = 0.25)."""
+    p = _cli("run", "--ft", "0.2", "--w", "0.3", "--body", "ellipsoid", "--ratio", "2", "--angle", "30",
+             "--periods", "2", "--dx", "0.25")
+    assert p.returncode == 0, p.stderr
+    assert "ellipsoid, 3D half-space" in p.stdout and "exact limit at this w      0.5635" in p.stdout
