@@ -1,4 +1,6 @@
-"""Export a :class:`~core.result.CycleResult` as tidy tables, CSV or JSON, with its parameters.
+"""Export a run (:class:`~core.result.CycleResult` of the cylinder, or
+:class:`~core.solver3d.PointContactResult` of a sphere or an ellipsoid) as tidy tables, CSV or JSON,
+with its parameters.
 
 Three tables describe a run:
 
@@ -6,7 +8,14 @@ Three tables describe a run:
   displacement, ``U/U0`` for the strip kernel, dissipation);
 * ``"periods"``: one row per rocking period (its displacement increment);
 * ``"final"``: one row per element (final traction, lowest pressure of the last
-  period, zone).
+  period, zone, and the paper's closure traction, eqs 22-30, beside the
+  numerical one); for a point contact, one row per element of the line
+  ``y = 0`` (both traction components and the state).
+
+Periods are numbered from ``first_period`` (0 by default; the loading is
+``first_period - 1``): the explorer numbers them from 1, as its cycle player.
+Point contacts are in their own units: lengths in ``a``, tractions in
+``mu p0``, displacements in ``mu Fn/(E* a)`` (suffix ``_muFn_Estar_a``).
 
 Columns carry their unit in their name (``_a``: in the half-width a,
 ``_muP_Estar``: in mu P/E*, ``_mu_p0``: in mu p0, ``_m``/``_Pa``: SI). Physical
@@ -24,21 +33,42 @@ import math
 import numpy as np
 import pandas as pd
 
+from .analytical import shakedown_traction
 from .contact import Contact
+from .point_contact import PointContact
 from .result import CycleResult
+from .solver3d import PointContactResult
 from .states import STATE_NAMES, ZONE_NAMES
 
-__all__ = ["TABLES", "ZONE_NAMES", "parameters", "result_table", "to_csv", "to_json"]
+__all__ = ["TABLES", "ZONE_NAMES", "POINT_STATE_NAMES", "parameters", "result_table", "to_csv", "to_json"]
 
 #: Names of the tables of a run.
 TABLES = ("steps", "periods", "final")
+#: Names of a point contact's element states (``PointContactResult.state_cut``), by code.
+POINT_STATE_NAMES = ("released", "stick", "slip +x", "slip -x")
 
 
-def _check(result, contact):
-    if not isinstance(result, CycleResult):
-        raise ValueError(f"result must be a core.CycleResult, got {type(result).__name__}")
-    if contact is not None and not isinstance(contact, Contact):
-        raise ValueError(f"contact must be a core.Contact or None, got {type(contact).__name__}")
+def _check(result, contact, first_period=0):
+    if isinstance(result, PointContactResult):
+        if contact is not None and not isinstance(contact, PointContact):
+            raise ValueError(f"contact must be a core.PointContact or None for a point-contact run, "
+                             f"got {type(contact).__name__}")
+    elif isinstance(result, CycleResult):
+        if contact is not None and not isinstance(contact, Contact):
+            raise ValueError(f"contact must be a core.Contact or None, got {type(contact).__name__}")
+    else:
+        raise ValueError(f"result must be a core.CycleResult or core.PointContactResult, got {type(result).__name__}")
+    if isinstance(first_period, bool) or not isinstance(first_period, (int, np.integer)) or not 0 <= first_period <= 1:
+        raise ValueError(f"first_period must be 0 or 1, got {first_period!r}")
+
+
+def _contact_summary(contact) -> dict:
+    """The inputs and derived quantities of a contact (SI units)."""
+    if isinstance(contact, Contact):
+        return dict(contact.summary())
+    fields = ("Rx", "Ry", "Fn", "mu", "E2", "nu2", "E1", "nu1", "Ft", "W", "angle")
+    return {**{k: getattr(contact, k) for k in fields}, "a": contact.a, "b": contact.b, "p0": contact.p0,
+            "E_star": contact.E_star, "ft": contact.ft, "w": contact.w}
 
 
 def _plain(v):
@@ -55,9 +85,9 @@ def parameters(result: CycleResult, contact: Contact | None = None) -> dict:
 
     Parameters
     ----------
-    result : CycleResult
+    result : CycleResult or PointContactResult
         The run.
-    contact : Contact, optional
+    contact : Contact or PointContact, optional
         The contact in physical units; adds its inputs and derived quantities
         (prefixed ``contact_``, SI units) and the unit conversions.
 
@@ -65,7 +95,7 @@ def parameters(result: CycleResult, contact: Contact | None = None) -> dict:
     -------
     dict
         ``result.summary()`` plus, with a contact, ``contact_*`` and the units
-        ``a_m``, ``mu_p0_Pa``, ``muP_Estar_m``.
+        ``a_m``, ``mu_p0_Pa``, ``muP_Estar_m`` (a point contact: ``muFn_Estar_a_m``).
 
     Raises
     ------
@@ -75,22 +105,25 @@ def parameters(result: CycleResult, contact: Contact | None = None) -> dict:
     _check(result, contact)
     out = dict(result.summary())
     if contact is not None:
-        out.update({f"contact_{k}": v for k, v in contact.summary().items()})
-        out.update(a_m=contact.a, mu_p0_Pa=contact.traction_unit, muP_Estar_m=contact.displacement_unit)
+        out.update({f"contact_{k}": v for k, v in _contact_summary(contact).items()})
+        unit = "muFn_Estar_a_m" if isinstance(result, PointContactResult) else "muP_Estar_m"
+        out.update({"a_m": contact.a, "mu_p0_Pa": contact.traction_unit, unit: contact.displacement_unit})
     return {k: (v.item() if isinstance(v, np.generic) else v) for k, v in out.items()}
 
 
-def result_table(result: CycleResult, table: str = "steps", contact: Contact | None = None) -> pd.DataFrame:
+def result_table(result, table: str = "steps", contact=None, first_period: int = 0) -> pd.DataFrame:
     """One table of a run (see the module docstring for the columns).
 
     Parameters
     ----------
-    result : CycleResult
+    result : CycleResult or PointContactResult
         The run.
     table : {"steps", "periods", "final"}
         Which table.
-    contact : Contact, optional
-        Adds columns in SI units.
+    contact : Contact or PointContact, optional
+        The run's contact (of the same kind): adds columns in SI units.
+    first_period : {0, 1}
+        The number of the first rocking period (the loading is ``first_period - 1``).
 
     Returns
     -------
@@ -99,7 +132,8 @@ def result_table(result: CycleResult, table: str = "steps", contact: Contact | N
     Raises
     ------
     ValueError
-        If ``table`` is not one of :data:`TABLES`, or an argument has the wrong type.
+        If ``table`` is not one of :data:`TABLES`, ``first_period`` is not 0 or 1, or an
+        argument has the wrong type.
 
     Examples
     --------
@@ -108,15 +142,19 @@ def result_table(result: CycleResult, table: str = "steps", contact: Contact | N
     >>> r = core.simulate_cycles(0.2, 0.3, periods=2)
     >>> list(result_table(r, "periods").columns)
     ['period', 'increment_muP_Estar']
+    >>> list(result_table(r, "periods", first_period=1)["period"])
+    [1, 2]
     """
-    _check(result, contact)
+    _check(result, contact, first_period)
     if table not in TABLES:
         raise ValueError(f"table must be one of {TABLES}, got {table!r}")
+    if isinstance(result, PointContactResult):
+        return _point_table(result, table, contact, first_period)
     u_unit = None if contact is None else contact.displacement_unit
     if table == "steps":
         df = pd.DataFrame({
             "step": np.arange(result.xc.size),
-            "period": result.period,
+            "period": result.period + first_period,
             "xc_a": result.xc,
             "displacement_muP_Estar": result.displacement,
             "dissipation": result.dissipation,
@@ -129,13 +167,16 @@ def result_table(result: CycleResult, table: str = "steps", contact: Contact | N
         return df
     if table == "periods":
         inc = result.increment_per_period
-        df = pd.DataFrame({"period": np.arange(inc.size), "increment_muP_Estar": inc})
+        df = pd.DataFrame({"period": np.arange(inc.size) + first_period, "increment_muP_Estar": inc})
         if result.u0 is not None:
             df["increment_U_over_U0"] = inc / result.u0
         if contact is not None:
             df["increment_m"] = inc * u_unit
         return df
     zones = result.final_zones
+    ft, w = float(result.params.get("ft", math.nan)), float(result.params.get("w", math.nan))
+    closure = (shakedown_traction(result.x, ft, w) if math.isfinite(ft) and math.isfinite(w)
+               else np.full(result.x.size, math.nan))
     df = pd.DataFrame({
         "x_a": result.x,
         "traction_mu_p0": result.traction[-1],
@@ -143,6 +184,7 @@ def result_table(result: CycleResult, table: str = "steps", contact: Contact | N
         "zone": zones,
         "zone_name": np.asarray(ZONE_NAMES)[zones],
         "state": np.asarray(STATE_NAMES)[result.state[-1]],
+        "closure_traction_mu_p0": closure,  # the paper's shakedown traction (eqs 22-30); NaN past ft_lim
     })
     if contact is not None:
         df["x_m"] = result.x * contact.a
@@ -150,12 +192,52 @@ def result_table(result: CycleResult, table: str = "steps", contact: Contact | N
     return df
 
 
-def to_csv(result: CycleResult, table: str = "steps", contact: Contact | None = None) -> str:
+def _point_table(result: PointContactResult, table: str, contact, first_period: int) -> pd.DataFrame:
+    """:func:`result_table` of a point-contact run."""
+    u_unit = None if contact is None else contact.displacement_unit
+    if table == "steps":
+        along = result.displacement @ np.array([math.cos(result.angle), math.sin(result.angle)])
+        df = pd.DataFrame({
+            "step": np.arange(result.xc.size),
+            "period": result.period + first_period,
+            "xc_a": result.xc,
+            "ux_muFn_Estar_a": result.displacement[:, 0],
+            "uy_muFn_Estar_a": result.displacement[:, 1],
+            "u_along_Ft_muFn_Estar_a": along,
+            "dissipation": result.dissipation,
+        })
+        if contact is not None:
+            df["xc_m"] = result.xc * contact.a
+            df["u_along_Ft_m"] = along * u_unit
+        return df
+    if table == "periods":
+        inc = result.increment_per_period
+        df = pd.DataFrame({"period": np.arange(inc.size) + first_period, "increment_muFn_Estar_a": inc})
+        if contact is not None:
+            df["increment_m"] = inc * u_unit
+        return df
+    q, state = result.traction_cut[-1], result.state_cut[-1].astype(int)
+    df = pd.DataFrame({
+        "x_a": result.x,
+        "qx_mu_p0": q[0],
+        "qy_mu_p0": q[1],
+        "lowest_pressure_p0": result.lowest_pressure[result.cut_row],
+        "state_code": state,
+        "state": np.asarray(POINT_STATE_NAMES)[state],
+    })
+    if contact is not None:
+        df["x_m"] = result.x * contact.a
+        df["qx_Pa"] = q[0] * contact.traction_unit
+        df["qy_Pa"] = q[1] * contact.traction_unit
+    return df
+
+
+def to_csv(result, table: str = "steps", contact=None, first_period: int = 0) -> str:
     """One table of a run as CSV text, preceded by ``# name = value`` lines of all its parameters.
 
     Parameters
     ----------
-    result, table, contact :
+    result, table, contact, first_period :
         See :func:`result_table`.
 
     Returns
@@ -163,16 +245,18 @@ def to_csv(result: CycleResult, table: str = "steps", contact: Contact | None = 
     str
         CSV; read it back with ``pandas.read_csv(io.StringIO(text), comment="#")``.
     """
-    df = result_table(result, table, contact)
+    df = result_table(result, table, contact, first_period)
     header = "".join(f"# {k} = {v}\n" for k, v in parameters(result, contact).items())
     buf = io.StringIO()
     buf.write(f"# shakedown explorer run, table: {table}\n")
+    if first_period:
+        buf.write(f"# periods numbered from {first_period}: the loading is period {first_period - 1}\n")
     buf.write(header)
     df.to_csv(buf, index=False, float_format="%.10g")
     return buf.getvalue()
 
 
-def to_json(result: CycleResult, contact: Contact | None = None) -> str:
+def to_json(result, contact=None, first_period: int = 0) -> str:
     """The whole run as JSON: ``{"parameters": {...}, "steps": {...}, "periods": {...}, "final": {...}}``.
 
     Each table is stored column-wise (``{column: [values]}``); non-finite
@@ -180,7 +264,7 @@ def to_json(result: CycleResult, contact: Contact | None = None) -> str:
 
     Parameters
     ----------
-    result, contact :
+    result, contact, first_period :
         See :func:`result_table`.
 
     Returns
@@ -189,6 +273,6 @@ def to_json(result: CycleResult, contact: Contact | None = None) -> str:
     """
     out = {"parameters": {k: _plain(v) for k, v in parameters(result, contact).items()}}
     for table in TABLES:
-        df = result_table(result, table, contact)
+        df = result_table(result, table, contact, first_period)
         out[table] = {c: [_plain(v) for v in df[c].tolist()] for c in df.columns}
     return json.dumps(out, allow_nan=False)
