@@ -23,7 +23,7 @@ DEFAULT_DX_LINE = 1.0 / 40.0
 #: Default element side [a] of the point contacts: 40 elements across the contact.
 DEFAULT_DX_POINT = 1.0 / 20.0
 #: Names of the bodies run by the line-contact (2D) solver.
-LINE_BODIES = ("cylinder",)
+LINE_BODIES = ("cylinder", "punch")
 
 
 def default_dx(body="cylinder") -> float:
@@ -34,8 +34,10 @@ def default_dx(body="cylinder") -> float:
     body : str or object
         A body name (``"cylinder"``, ``"sphere"``, ``"ellipsoid"``, ...) or a
         body object. An object with a ``default_dx`` attribute gives its own;
-        otherwise the line contact's names get :data:`DEFAULT_DX_LINE` and
-        every other body (a point contact) :data:`DEFAULT_DX_POINT`.
+        otherwise the line contacts (their names, or an object with
+        ``dim == 1`` such as any :class:`core.bodies.Body`) get
+        :data:`DEFAULT_DX_LINE` and every other body (a point contact)
+        :data:`DEFAULT_DX_POINT`.
 
     Returns
     -------
@@ -50,6 +52,6 @@ def default_dx(body="cylinder") -> float:
     own = getattr(body, "default_dx", None)
     if own is not None and not isinstance(body, str):
         return float(own)
-    if body is None or (isinstance(body, str) and body in LINE_BODIES):
+    if body is None or getattr(body, "dim", None) == 1 or (isinstance(body, str) and body in LINE_BODIES):
         return DEFAULT_DX_LINE
     return DEFAULT_DX_POINT
