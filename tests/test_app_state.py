@@ -531,7 +531,8 @@ def test_point_figures_draw_point_runs_and_the_cylinders_figures_do_not(sphere_e
     (p, bounds), edge = point_view.pressure_map(u, r, 4)
     ny, nx = r.y_edges.size - 1, r.x_edges.size - 1
     assert p.shape == (ny, nx) and bounds == (r.x_edges[0], r.y_edges[0], r.x_edges[-1], r.y_edges[-1])
-    assert np.nanmax(p) <= 1.0 and np.nanmax(np.abs(np.flipud(p) - np.where(r.pressure(4) > 0, r.pressure(4), np.nan))) == 0
+    # the discrete normal solution on the grid (as CONTACT's) peaks within a per cent of Hertz's p0
+    assert np.nanmax(p) <= 1.01 and np.nanmax(np.abs(np.flipud(p) - np.where(r.pressure(4) > 0, r.pressure(4), np.nan))) == 0
     assert 0.5 * (edge[0].max() + edge[0].min()) == pytest.approx(r.xc[4], abs=1e-9)  # the edge at the step's centre
     # traction and zones: the last stored full field at or before the step
     j = point_view.stored_step(r, 4)
