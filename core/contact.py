@@ -16,7 +16,7 @@ from ._validate import check_scalar
 
 __all__ = ["Contact", "PAPER_SIMULATION", "PAPER_EXPERIMENT", "BETA_WARNING_LEVEL"]
 
-#: |Dundurs beta| above which the uncoupled model (beta = 0) is flagged.
+#: Magnitude of Dundurs' beta above which the uncoupled model (beta = 0) is flagged.
 BETA_WARNING_LEVEL = 0.05
 
 
