@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import re
 import inspect
 import types
 from pathlib import Path
@@ -88,6 +89,8 @@ def _data_entry(core, module: str, name: str) -> str:
     value = repr(getattr(core, name))
     option = f"   :value: {value}\n" if len(value) <= 80 and "\n" not in value else ""
     doc = data_doc(module, name) if module.startswith("core.") else ""
+    # ``|x|`` outside literals would be a reStructuredText substitution: escape the bars there
+    doc = "".join(part if i % 2 else part.replace("|", "\\|") for i, part in enumerate(re.split(r"(``.*?``)", doc)))
     body = "\n".join(f"   {line}" if line else "" for line in doc.splitlines())
     return f".. py:data:: {name}\n   :module: core\n{option}\n{body}\n"
 
