@@ -105,3 +105,11 @@ def test_docs_build_with_no_warning(tmp_path):
     notebook = (out / "guide" / "notebook.html").read_text()
     assert "data-root-id" in notebook, "the executed notebook shows no Panel output"
     assert "Traceback" not in notebook
+
+
+def test_readme_is_short_and_its_links_resolve():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert len(readme.splitlines()) < 150
+    assert "bash scripts/test.sh" in readme and "panel serve app/main.py" in readme
+    links = re.findall(r"\]\(([^)#]+)\)", readme)
+    assert links and not [link for link in links if not (ROOT / link).exists()]
