@@ -105,6 +105,7 @@ def test_docs_build_with_no_warning(tmp_path):
     notebook = (out / "guide" / "notebook.html").read_text()
     assert "data-root-id" in notebook, "the executed notebook shows no Panel output"
     assert "Traceback" not in notebook
+    assert "shakedown shakedown 0.50" in notebook, "the notebook's explorer and API runs agree (ft_lim(0.4) = 0.5046)"
 
 
 def test_readme_is_short_and_its_links_resolve():
