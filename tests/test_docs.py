@@ -114,3 +114,16 @@ def test_readme_is_short_and_its_links_resolve():
     assert "bash scripts/test.sh" in readme and "panel serve app/main.py" in readme
     links = re.findall(r"\]\(([^)#]+)\)", readme)
     assert links and not [link for link in links if not (ROOT / link).exists()]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", ["README.md", "docs/getting-started.md", "docs/guide/histories.md"])
+def test_python_blocks_of_the_pages_run(page):
+    """The Python blocks of the README and the guide pages run, in order, as a reader pastes them (the notebook's
+    ``pn.extension`` block and the maps snippet, a file for spawned workers, are run elsewhere)."""
+    text = (ROOT / page).read_text(encoding="utf-8")
+    blocks = [b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "pn.extension" not in b]
+    assert blocks
+    namespace: dict = {}
+    for block in blocks:
+        exec(compile(block, page, "exec"), namespace)  # noqa: S102 - the project's own documentation
