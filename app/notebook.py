@@ -76,7 +76,7 @@ class Explorer(pn.viewable.Viewer):
 
     def __panel__(self) -> pn.viewable.Viewable:
         if self._layout is None:
-            inputs = pn.Column(*self.explorer.sidebar(), width=self.sidebar_width, sizing_mode="fixed",
+            inputs = pn.Column(*self.explorer.sidebar(), width=self.sidebar_width,
                                css_classes=["explorer-inputs"])
             self._layout = pn.Row(inputs, self.explorer.main_area(), sizing_mode="stretch_width")
             self._draw_all()

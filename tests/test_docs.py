@@ -105,3 +105,25 @@ def test_docs_build_with_no_warning(tmp_path):
     notebook = (out / "guide" / "notebook.html").read_text()
     assert "data-root-id" in notebook, "the executed notebook shows no Panel output"
     assert "Traceback" not in notebook
+    assert "shakedown shakedown 0.50" in notebook, "the notebook's explorer and API runs agree (ft_lim(0.4) = 0.5046)"
+
+
+def test_readme_is_short_and_its_links_resolve():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert len(readme.splitlines()) < 150
+    assert "bash scripts/test.sh" in readme and "panel serve app/main.py" in readme
+    links = re.findall(r"\]\(([^)#]+)\)", readme)
+    assert links and not [link for link in links if not (ROOT / link).exists()]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", ["README.md", "docs/getting-started.md", "docs/guide/histories.md"])
+def test_python_blocks_of_the_pages_run(page):
+    """The Python blocks of the README and the guide pages run, in order, as a reader pastes them (the notebook's
+    ``pn.extension`` block and the maps snippet, a file for spawned workers, are run elsewhere)."""
+    text = (ROOT / page).read_text(encoding="utf-8")
+    blocks = [b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "pn.extension" not in b]
+    assert blocks
+    namespace: dict = {}
+    for block in blocks:
+        exec(compile(block, page, "exec"), namespace)  # noqa: S102 - the project's own documentation

@@ -7,6 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -51,3 +53,41 @@ def test_explorer_takes_a_query_and_rejects_unknown_inputs():
     assert (ex.state.ft, ex.state.w) == (0.1, 0.3)
     with pytest.raises(ValueError):
         Explorer(ft=1.5)
+
+
+@pytest.mark.browser
+def test_explorer_renders_in_a_browser(browser):
+    """The notebook layout renders in Chromium with no JavaScript error (served by Panel, as a notebook's output is
+    drawn by the same Bokeh models): the verdict, the inputs and every figure's canvas."""
+    import socket
+    import time
+
+    import panel as pn
+
+    from app import Explorer
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    server = pn.serve(lambda: Explorer(ft=0.2, w=0.4), port=port, address="127.0.0.1", show=False, threaded=True,
+                      websocket_origin=[f"127.0.0.1:{port}"])
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            with socket.socket() as s:
+                if s.connect_ex(("127.0.0.1", port)) == 0:
+                    break
+            time.sleep(0.2)
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        errors = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.goto(f"http://127.0.0.1:{port}/", timeout=120_000)
+        page.wait_for_selector("canvas", timeout=120_000)
+        page.get_by_text("SHAKEDOWN", exact=True).first.wait_for(timeout=60_000)
+        assert page.get_by_text("ft = Ft/(μ Fn)").count() >= 1
+        assert page.locator("canvas").count() >= 5
+        page.close()
+        assert not errors, errors
+    finally:
+        server.stop()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import re
 import inspect
 import types
 from pathlib import Path
@@ -14,8 +15,13 @@ SECTIONS = {
     "core.contact": "Contacts in physical units",
     "core.schedule": "Loading schedules",
     "core.histories": "Loading histories",
-    "core.bodies": "Bodies: the line contact",
+    "core.bodies": "Bodies: the line contacts",
+    "core.punch": "Bodies: the rounded flat punch",
     "core.point_contact": "Bodies: point contacts",
+    "core.registry": "The body registry",
+    "core.normal": "The normal problem",
+    "core.melan": "Melan's exact limit of any body",
+    "core.resolution": "Default grids",
     "core.solver": "Solving the cycles (line contact)",
     "core.engine": "The march over the steps",
     "core.solver3d": "Solving the cycles (point contacts)",
@@ -26,6 +32,8 @@ SECTIONS = {
     "core.sweeps": "Maps of the (ft, w) plane and the numerical limit",
     "core.limits_search": "The numerical limit",
     "core.tasks": "Where sweeps run",
+    "core.grid": "The runs of a sweep",
+    "core.tables": "Sweep tables",
     "core.kernels": "Influence kernels",
     "core.approximations": "The paper's regressions",
 }
@@ -59,12 +67,20 @@ def defining_module(core, name: str) -> str:
         return module
     # constants: of the submodules that list the very object in their __all__, the one that documents it
     # with a ``#:`` comment (where it is defined), else the first
-    candidates = [sub for sub in SECTIONS if name in getattr(importlib.import_module(sub), "__all__", ())
-                  and getattr(importlib.import_module(sub), name, None) is obj]
+    candidates = [sub for sub in SECTIONS if name in getattr(_module(sub), "__all__", ())
+                  and getattr(_module(sub), name, None) is obj]
     for sub in candidates:
         if data_doc(sub, name):
             return sub
     return candidates[0] if candidates else "core"
+
+
+def _module(name: str):
+    """The module ``name``, or None if this checkout's core has no such file (a title kept for later)."""
+    core = importlib.import_module("core")
+    if not (Path(core.__file__).parent / f"{name.rpartition('.')[2]}.py").exists():
+        return None
+    return importlib.import_module(name)
 
 
 def is_data(obj) -> bool:
@@ -88,6 +104,8 @@ def _data_entry(core, module: str, name: str) -> str:
     value = repr(getattr(core, name))
     option = f"   :value: {value}\n" if len(value) <= 80 and "\n" not in value else ""
     doc = data_doc(module, name) if module.startswith("core.") else ""
+    # ``|x|`` outside literals would be a reStructuredText substitution: escape the bars there
+    doc = "".join(part if i % 2 else part.replace("|", "\\|") for i, part in enumerate(re.split(r"(``.*?``)", doc)))
     body = "\n".join(f"   {line}" if line else "" for line in doc.splitlines())
     return f".. py:data:: {name}\n   :module: core\n{option}\n{body}\n"
 
