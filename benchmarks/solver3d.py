@@ -20,6 +20,8 @@ grid convergence.
 4. Cylinder against sphere, each in its own normalisation (ft = Ft/(mu Fn),
    w = W/a with a the half-width or the radius): exact limits and solver verdicts.
 5. Grid convergence of the increment per period of a ratcheting sphere.
+6. The increment per period against CONTACT's (ft 0.6, w 0.3) at 20 to 80 elements across the contact, with
+   the traction bound from the discrete normal problem (the default) and from element means of Hertz's pressure.
 
 Run: python benchmarks/solver3d.py [--quick] [--no-fine]
 """
@@ -135,12 +137,41 @@ def grid_convergence(dxs=(0.2, 0.1, 0.05, 0.025), ft=0.4, w=0.6, periods=5):
         prev = inc
 
 
+#: CONTACT's steady increment per period [mu Fn/(E* a)] of the rocking sphere (rigid, incompressible half-space),
+#: ft 0.6, w 0.3, by elements across the contact diameter (issue 21).
+CONTACT_INCREMENT = {40: 2.919e-2, 60: 2.928e-2, 80: 2.933e-2}
+
+
+def contact_comparison(elements=(20, 40, 60, 80), ft=0.6, w=0.3, periods=10):
+    """The increment per period against CONTACT's, with the traction bound from the discrete normal problem (the
+    default, as CONTACT) and from the element means of Hertz's pressure (the bound before issue 21)."""
+    import core
+    import core.solver3d as s3
+
+    print(f"\nagainst CONTACT: sphere ft={ft}, w={w}, {periods} periods, nu = 0.5, dW = dx; increment per period "
+          "[1e-2 mu Fn/(E* a)]")
+    print(f"{'elements':>8} {'CONTACT':>8} {'discrete p':>11} {'vs CONTACT':>11} {'means of p':>11} {'vs CONTACT':>11}")
+    for n in elements:
+        row = []
+        for discrete in (True, False):
+            s3._DISCRETE_PRESSURE = discrete
+            try:
+                inc = float(core.simulate_cycles(ft, w, periods, dx=2 / n, body="sphere").increment_per_period[-1])
+            finally:
+                s3._DISCRETE_PRESSURE = True
+            ref = CONTACT_INCREMENT.get(n)
+            row.append(f"{100 * inc:11.4f} {'' if ref is None else f'{(inc - ref) / ref:+.2%}':>11}")
+        ref = CONTACT_INCREMENT.get(n)
+        print(f"{n:8d} {'' if ref is None else f'{100 * ref:.3f}':>8} {row[0]} {row[1]}")
+
+
 def main(quick=False, fine=True):
     timed_cases(quick, fine)
     mindlin(dx=0.1 if quick else 0.05)
     brackets()
     cylinder_vs_sphere()
     grid_convergence(dxs=(0.2, 0.1) if quick else ((0.2, 0.1, 0.05, 0.025) if fine else (0.2, 0.1, 0.05)))
+    contact_comparison(elements=(20, 40) if quick else ((20, 40, 60, 80) if fine else (20, 40, 60)))
 
 
 if __name__ == "__main__":

@@ -22,7 +22,18 @@ each iteration is solved by conjugate gradients projected on the force
 balances, with FFT products and the inverse continuous symbol as
 preconditioner (:meth:`core.halfspace.HalfSpaceOperator.precondition`), and
 warm-started from the previous iteration and step. The zero increment is
-checked first (it is the unique solution whenever it is feasible).
+checked first (it is the unique solution whenever it is feasible). A return
+to an active set already solved (a cycle, from decisions taken on the noise
+of inexact linear solves) switches to exact linear solves, then to one change
+of kind per iteration; a step that still cannot settle raises an error naming
+the KKT condition it cannot meet (:func:`_increment_kernel`).
+
+The traction bound ``g = mu p`` of an element is the pressure of the discrete
+normal problem on the same grid (same elements, collocation and Boussinesq
+coefficients; :func:`_pressure`), as in CONTACT, rather than a sample of
+Hertz's continuous pressure: the increments per period then agree with
+CONTACT's to 0.25 % at 40 elements across the contact
+(``docs/guide/numerics.md``).
 
 Speed: each step is solved on the rectangle of elements that carry traction
 before or after it (:class:`_Window`; the operator is a convolution, so its
@@ -77,8 +88,8 @@ TOL_3D = 1e-8
 #: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
 PERIODIC_TOL = 1e-6
 #: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
-#: w = 0.6) is 0.1589, 0.1731, 0.1771, 0.1788 at a/5, a/10, a/20, a/40 (benchmarks/solver3d.py): a/20 is
-#: 1 % below a/40 and about 2 % below the extrapolated limit, at an eighth of a/40's cost.
+#: w = 0.6, 5 periods) is 0.1742, 0.1779, 0.1790, 0.1797 at a/5, a/10, a/20, a/40 (benchmarks/solver3d.py; the
+#: bound from the discrete normal problem): a/20 is 0.4 % below a/40, at an eighth of a/40's cost.
 DEFAULT_DX_3D = 1.0 / 20.0
 #: Largest grid (elements) a point-contact run accepts.
 MAX_GRID_ELEMENTS = 200_000
@@ -1235,7 +1246,8 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     dx : float, optional
         Element side over ``a``, in [0.005, 0.5]; default :data:`DEFAULT_DX_3D`
         (1/20: 40 elements across the contact; the increment per period is
-        about 2 % below its grid limit there, ``benchmarks/solver3d.py``).
+        0.4 % below a/40's there and within 0.25 % of CONTACT's,
+        ``benchmarks/solver3d.py``).
     dW : float, optional
         Rocking step over ``a``; defaults to ``dx``.
     body : {"sphere", "ellipsoid"} or Ellipsoid
