@@ -11,7 +11,10 @@ grid convergence.
    a/20 1.53 s CPU, 1.64 s wall (best of 3; 6.1 active-set and 14.8 CG
    iterations per step); a/40 18.8 s CPU, 20.5 s wall (9.5 and 27.7). Before
    the mirror-symmetric products: 2.25 s CPU, 2.58 s wall (6.2 and 16.6) and
-   27.2 s CPU, 28.4 s wall (9.6 and 29.2).
+   27.2 s CPU, 28.4 s wall (9.6 and 29.2). Issue 21 (cycle fallback, bound from the discrete normal problem),
+   measured the same day before and after on the same loaded machine (load average 3.5-6): a/20 1.51 s CPU
+   (6.10 and 14.8) before, 1.39-1.45 s CPU (5.46 and 14.3) after; a/40 18.9 s CPU (9.46 and 27.7) before,
+   18.9 s CPU (8.54 and 26.8) after (wall times 17-38 s, set by the other processes).
 2. Mindlin's static partial slip (c/a = (1 - ft)^(1/3), exact for nu = 0):
    the solver's stick half-widths along x and y, the traction on y = 0 and
    the displacement against the closed form, for nu = 0 and nu = 0.5 (the
