@@ -841,7 +841,7 @@ def _pressure(x_edges, y_edges, xc, body, scale=1.0):
     key = (round(h, 12), round(offset / h, 9), round(scale, 12), body.kappa)
     window = _NORMAL_CACHE.get(key)
     if window is None:
-        if len(_NORMAL_CACHE) > 256:
+        if len(_NORMAL_CACHE) >= 64:  # sine schedules and load steps: a few offsets and scales per run
             _NORMAL_CACHE.clear()
         solver = _NormalWindow(half_y, half_x, h)
         X = h * (np.arange(-half_x, half_x + 1) - offset / h)[None, :]
