@@ -11,7 +11,10 @@ grid convergence.
    a/20 1.53 s CPU, 1.64 s wall (best of 3; 6.1 active-set and 14.8 CG
    iterations per step); a/40 18.8 s CPU, 20.5 s wall (9.5 and 27.7). Before
    the mirror-symmetric products: 2.25 s CPU, 2.58 s wall (6.2 and 16.6) and
-   27.2 s CPU, 28.4 s wall (9.6 and 29.2).
+   27.2 s CPU, 28.4 s wall (9.6 and 29.2). Issue 21 (cycle fallback, bound from the discrete normal problem),
+   measured the same day before and after on the same loaded machine (load average 3.5-6): a/20 1.51 s CPU
+   (6.10 and 14.8) before, 1.39-1.45 s CPU (5.46 and 14.3) after; a/40 18.9 s CPU (9.46 and 27.7) before,
+   18.9 s CPU (8.54 and 26.8) after (wall times 17-38 s, set by the other processes).
 2. Mindlin's static partial slip (c/a = (1 - ft)^(1/3), exact for nu = 0):
    the solver's stick half-widths along x and y, the traction on y = 0 and
    the displacement against the closed form, for nu = 0 and nu = 0.5 (the
@@ -20,6 +23,8 @@ grid convergence.
 4. Cylinder against sphere, each in its own normalisation (ft = Ft/(mu Fn),
    w = W/a with a the half-width or the radius): exact limits and solver verdicts.
 5. Grid convergence of the increment per period of a ratcheting sphere.
+6. The increment per period against CONTACT's (ft 0.6, w 0.3) at 20 to 80 elements across the contact, with
+   the traction bound from the discrete normal problem (the default) and from element means of Hertz's pressure.
 
 Run: python benchmarks/solver3d.py [--quick] [--no-fine]
 """
@@ -135,12 +140,41 @@ def grid_convergence(dxs=(0.2, 0.1, 0.05, 0.025), ft=0.4, w=0.6, periods=5):
         prev = inc
 
 
+#: CONTACT's steady increment per period [mu Fn/(E* a)] of the rocking sphere (rigid, incompressible half-space),
+#: ft 0.6, w 0.3, by elements across the contact diameter (issue 21).
+CONTACT_INCREMENT = {40: 2.919e-2, 60: 2.928e-2, 80: 2.933e-2}
+
+
+def contact_comparison(elements=(20, 40, 60, 80), ft=0.6, w=0.3, periods=10):
+    """The increment per period against CONTACT's, with the traction bound from the discrete normal problem (the
+    default, as CONTACT) and from the element means of Hertz's pressure (the bound before issue 21)."""
+    import core
+    import core.solver3d as s3
+
+    print(f"\nagainst CONTACT: sphere ft={ft}, w={w}, {periods} periods, nu = 0.5, dW = dx; increment per period "
+          "[1e-2 mu Fn/(E* a)]")
+    print(f"{'elements':>8} {'CONTACT':>8} {'discrete p':>11} {'vs CONTACT':>11} {'means of p':>11} {'vs CONTACT':>11}")
+    for n in elements:
+        row = []
+        for discrete in (True, False):
+            s3._DISCRETE_PRESSURE = discrete
+            try:
+                inc = float(core.simulate_cycles(ft, w, periods, dx=2 / n, body="sphere").increment_per_period[-1])
+            finally:
+                s3._DISCRETE_PRESSURE = True
+            ref = CONTACT_INCREMENT.get(n)
+            row.append(f"{100 * inc:11.4f} {'' if ref is None else f'{(inc - ref) / ref:+.2%}':>11}")
+        ref = CONTACT_INCREMENT.get(n)
+        print(f"{n:8d} {'' if ref is None else f'{100 * ref:.3f}':>8} {row[0]} {row[1]}")
+
+
 def main(quick=False, fine=True):
     timed_cases(quick, fine)
     mindlin(dx=0.1 if quick else 0.05)
     brackets()
     cylinder_vs_sphere()
     grid_convergence(dxs=(0.2, 0.1) if quick else ((0.2, 0.1, 0.05, 0.025) if fine else (0.2, 0.1, 0.05)))
+    contact_comparison(elements=(20, 40) if quick else ((20, 40, 60, 80) if fine else (20, 40, 60)))
 
 
 if __name__ == "__main__":
