@@ -517,7 +517,7 @@ def _fmt(v, unit=""):
     return f"{text} {unit}".rstrip()
 
 
-def args_given(args) -> set:
+def _args_given(args) -> set:
     """The options given on the command line (argparse leaves the others None)."""
     return {k for k in _SOLVER_DESTS if getattr(args, k, None) is not None}
 
@@ -568,7 +568,7 @@ def _cmd_run(args) -> int:
         *([("  paper's ansatz (eq 30)", _fmt(c_paper, "a"))] if line else []),
         (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=body)), "= ft_lim")),
         (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=body)), "= w_lim")),
-        ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in args_given(args) else " (the body's default)")),
+        ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in _args_given(args) else " (the body's default)")),
         ("elements x steps", f"{s['elements']} x {s['steps']}"),
         ("max active-set iterations", str(s["max_iterations"])),
         ("max KKT residual", _fmt(s.get("max_kkt_residual", s.get("max_residual")))),

@@ -30,6 +30,7 @@ def test_sphere_limit_search_brackets_the_exact_limit(w):
     assert set(res.runs["body"]) == {"sphere"} and set(res.runs["dx"]) == {0.2}
 
 
+@pytest.mark.slow
 def test_sphere_limit_search_at_the_default_grid_uses_a20():
     res = core.numerical_limit(float(ft_limit_point(0.5)), tol=0.05, body="sphere", periods=6)
     assert set(res.runs["dx"]) == {core.resolution.default_dx("sphere")} == {0.05}
@@ -63,6 +64,7 @@ def test_an_undetermined_midpoint_is_decided_on_either_side(monkeypatch):
     assert not res.converged and "undetermined" in res.message
 
 
+@pytest.mark.slow
 def test_cli_limit_for_the_sphere_as_a_subprocess():
     ft = float(ft_limit_point(0.3))
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
