@@ -30,6 +30,13 @@ def test_sphere_limit_search_brackets_the_exact_limit(w):
     assert set(res.runs["body"]) == {"sphere"} and set(res.runs["dx"]) == {0.2}
 
 
+def test_ellipsoid_limit_search_brackets_the_same_exact_limit():
+    """The exact limit of a point contact does not depend on the axis ratio: the ellipsoid's search brackets it."""
+    res = core.numerical_limit(float(ft_limit_point(0.3)), tol=0.01, body="ellipsoid", ratio=2.0, dx=0.2)
+    assert res.converged and res.exact_within_tol, res
+    assert res.w_limit_eq35 == pytest.approx(0.3, abs=1e-9)
+
+
 @pytest.mark.slow
 def test_sphere_limit_search_at_the_default_grid_uses_a20():
     res = core.numerical_limit(float(ft_limit_point(0.5)), tol=0.05, body="sphere", periods=6)
