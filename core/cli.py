@@ -517,7 +517,7 @@ def _fmt(v, unit=""):
     return f"{text} {unit}".rstrip()
 
 
-def _args_given(args) -> set:
+def args_given(args) -> set:
     """The options given on the command line (argparse leaves the others None)."""
     return {k for k in _SOLVER_DESTS if getattr(args, k, None) is not None}
 
@@ -568,7 +568,7 @@ def _cmd_run(args) -> int:
         *([("  paper's ansatz (eq 30)", _fmt(c_paper, "a"))] if line else []),
         (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=body)), "= ft_lim")),
         (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=body)), "= w_lim")),
-        ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in _args_given(args) else " (the body's default)")),
+        ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in args_given(args) else " (the body's default)")),
         ("elements x steps", f"{s['elements']} x {s['steps']}"),
         ("max active-set iterations", str(s["max_iterations"])),
         ("max KKT residual", _fmt(s.get("max_kkt_residual", s.get("max_residual")))),
@@ -662,13 +662,15 @@ def _cmd_limit(args) -> int:
         shown = table[["ft", "start_lo", "start_hi", "w_shakedown", "w_ratcheting", "w_limit_eq35", "eq35_inside",
                        "exact_within_tol", "periods", "runs", "converged"]]
         body = options.get("body", "cylinder")
-        exact = "eq 35" if body == "cylinder" else "the point contacts' ft = 1 - 3w/2 + w^3/2"
+        name = body if isinstance(body, str) else getattr(body, "name", type(body).__name__)
+        exact = {"cylinder": "eq 35", "sphere": "the point contacts' ft = 1 - 3w/2 + w^3/2",
+                 "ellipsoid": "the point contacts' ft = 1 - 3w/2 + w^3/2"}.get(name, "core.w_limit of the body")
         grid = options.get("dx")
         if grid is None:
             from .resolution import default_dx
 
             grid = default_dx(body)
-        _say(f"numerical shakedown limit w_lim(ft) of the {body} (dx = {grid:.6g} a), tolerance {args.tol:g} in w: "
+        _say(f"numerical shakedown limit w_lim(ft) of the {name} (dx = {grid:.6g} a), tolerance {args.tol:g} in w: "
              "each search starts from [start_lo, start_hi] and ends with w_shakedown shaking down and w_ratcheting "
              f"ratcheting; w_limit_eq35: the exact limit ({exact}); eq35_inside: it lies in that final bracket; "
              "exact_within_tol: it lies within the tolerance of it",

@@ -154,12 +154,11 @@ def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
         return verdicts[w]
 
     lo, hi = 0.0, W_MAX
-    body = options.get("body", "cylinder")
 
     def result(w_sd, w_r, converged, message):
         mid = 0.5 * (w_sd + w_r) if converged else float("nan")
-        return LimitResult(ft, lo_start, hi_start, w_sd, w_r, mid, tol, float(w_limit_eq35(ft, body=body)), converged,
-                           message, tidy(runs, columns), most_periods)
+        return LimitResult(ft, lo_start, hi_start, w_sd, w_r, mid, tol, float(w_limit_eq35(ft, body=options.get("body", "cylinder"))), converged, message,
+                           tidy(runs, columns), most_periods)
 
     lo_start, hi_start = lo, hi
     nan = float("nan")
