@@ -442,10 +442,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     # limit -----------------------------------------------------------------
     li = sub.add_parser(
-        "limit", allow_abbrev=False, help="the numerical shakedown limit w_lim(ft), then eq 35 beside it",
+        "limit", allow_abbrev=False, help="the numerical shakedown limit w_lim(ft), then the exact one beside it",
         description="For each ft, bisect in w for the largest amplitude that still shakes down, starting from "
-                    "the whole range [0, 0.999] (not from eq 35); print the bracket found and whether the exact "
-                    "limit of eq 35 lies inside it.")
+                    "the whole range [0, 0.999] (not from the exact limit); print the bracket found and whether the "
+                    "exact limit of the body (eq 35 for the cylinder, ft = 1 - 3w/2 + w^3/2 for --body sphere or "
+                    "ellipsoid) lies inside it. Each body runs at its own default grid unless --dx is given.")
     li.add_argument("--ft", type=_range("ft", 0.0, 1.0, lo_closed=False, hi_closed=False, max_values=1000),
                     action=_Once, required=True, metavar="RANGE",
                     help="tangential loads Ft/(mu Fn) [-], each in (0, 1); START:STOP:N, X or X,Y,...")
@@ -696,10 +697,20 @@ def _cmd_limit(args) -> int:
         table.to_csv(sys.stdout, index=False, float_format=CSV_FLOAT_FORMAT)
     else:
         shown = table[["ft", "start_lo", "start_hi", "w_shakedown", "w_ratcheting", "w_limit_eq35", "eq35_inside",
-                       "periods", "runs", "converged"]]
-        _say(f"numerical shakedown limit w_lim(ft), tolerance {args.tol:g} in w: each search starts from "
-             "[start_lo, start_hi] and ends with w_shakedown shaking down and w_ratcheting ratcheting; "
-             "eq35_inside: the exact limit of eq 35 lies in that final bracket",
+                       "exact_within_tol", "periods", "runs", "converged"]]
+        body = options.get("body", "cylinder")
+        name = body if isinstance(body, str) else getattr(body, "name", type(body).__name__)
+        exact = {"cylinder": "eq 35", "sphere": "the point contacts' ft = 1 - 3w/2 + w^3/2",
+                 "ellipsoid": "the point contacts' ft = 1 - 3w/2 + w^3/2"}.get(name, "core.w_limit of the body")
+        grid = options.get("dx")
+        if grid is None:
+            from .resolution import default_dx
+
+            grid = default_dx(body)
+        _say(f"numerical shakedown limit w_lim(ft) of the {name} (dx = {grid:.6g} a), tolerance {args.tol:g} in w: "
+             "each search starts from [start_lo, start_hi] and ends with w_shakedown shaking down and w_ratcheting "
+             f"ratcheting; w_limit_eq35: the exact limit ({exact}); eq35_inside: it lies in that final bracket; "
+             "exact_within_tol: it lies within the tolerance of it",
              shown.to_string(index=False, float_format=lambda v: f"{v:.6f}"))
     if args.out not in (None, "-"):
         if args.out.name.lower().endswith(".json"):

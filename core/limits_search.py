@@ -6,10 +6,20 @@ the whole range of rocking, ``w = 0`` (it must shake down) and
 (:func:`core.w_limit`) is not used to place any run: it is only compared with
 the final bracket afterwards (:attr:`LimitResult.eq35_inside`).
 
+The same search runs for every body :func:`core.simulate_cycles` has
+(``body="sphere"``, ...), each at its own default grid
+(:func:`core.resolution.default_dx`), and compares the bracket with that
+body's exact limit (:func:`core.w_limit` with ``body=``: eq 35 for the
+cylinder, ``ft = 1 - 3w/2 + w^3/2`` for the point contacts). The columns keep
+their names ``w_limit_eq35`` and ``eq35_inside`` for every body.
+
 A run whose periods cannot tell the regime (``"undetermined"``, see
 :attr:`core.CycleResult.verdict`) is run again with twice the periods, up to
-:data:`MAX_PERIOD_DOUBLINGS` times; if it still cannot tell, the search stops
-and says so.
+:data:`MAX_PERIOD_DOUBLINGS` times. A run that still cannot tell lies close to
+the limit (the increments decay ever more slowly there): the search then
+tries ``w -+ tol/2`` on either side of it, and if those decide, the bracket
+between them is at most ``tol`` wide and the search is done; otherwise it
+stops and says so.
 """
 
 from __future__ import annotations
@@ -31,7 +41,7 @@ __all__ = ["LimitResult", "numerical_limit", "numerical_w_limit", "numerical_lim
 MAX_PERIOD_DOUBLINGS = 3
 #: Columns of :func:`numerical_limit_curve`'s table.
 LIMIT_COLUMNS = ("ft", "start_lo", "start_hi", "w_shakedown", "w_ratcheting", "w_limit", "tol", "w_limit_eq35",
-                 "eq35_inside", "difference", "periods", "runs", "converged", "runtime", "message")
+                 "eq35_inside", "exact_within_tol", "difference", "periods", "runs", "converged", "runtime", "message")
 
 
 @dataclass(frozen=True)
@@ -54,7 +64,9 @@ class LimitResult:
     tol : float
         Tolerance in ``w``: ``(w_ratcheting - w_shakedown) / 2 <= tol``.
     w_limit_eq35 : float
-        The exact limit of eq 35 (:func:`core.w_limit`), for comparison only.
+        The exact limit of the body (:func:`core.w_limit` with ``body=``: eq 35
+        for the cylinder, the inverse of ``1 - 3w/2 + w^3/2`` for the point
+        contacts), for comparison only.
     converged : bool
         Whether the bracket closed to ``tol``.
     message : str
@@ -84,6 +96,17 @@ class LimitResult:
         return bool(self.w_shakedown <= self.w_limit_eq35 <= self.w_ratcheting)
 
     @property
+    def exact_within_tol(self) -> bool:
+        """Whether the exact limit lies in the final bracket widened by ``tol`` on each side.
+
+        The bracket is the search's, within its tolerance: just past the limit
+        a ratcheting increment may still be below ``shakedown_rtol`` of the
+        first period's, so the largest ``w`` that shook down may lie a little
+        above the exact limit (see :func:`numerical_limit`).
+        """
+        return bool(self.w_shakedown - self.tol <= self.w_limit_eq35 <= self.w_ratcheting + self.tol)
+
+    @property
     def difference(self) -> float:
         """``w_limit - w_limit_eq35``: the midpoint's offset from eq 35 (at most ``tol`` when eq 35 is inside)."""
         return self.w_limit - self.w_limit_eq35
@@ -93,6 +116,7 @@ class LimitResult:
         return {"ft": self.ft, "start_lo": self.start_lo, "start_hi": self.start_hi,
                 "w_shakedown": self.w_shakedown, "w_ratcheting": self.w_ratcheting, "w_limit": self.w_limit,
                 "tol": self.tol, "w_limit_eq35": self.w_limit_eq35, "eq35_inside": self.eq35_inside,
+                "exact_within_tol": self.exact_within_tol,
                 "difference": self.difference, "periods": self.periods, "runs": len(self.runs),
                 "converged": self.converged, "runtime": float(self.runs["runtime"].sum()), "message": self.message}
 
@@ -108,6 +132,7 @@ def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
     most_periods = base_periods
 
     def shakes_down(w: float) -> bool:
+        """Whether the run at ``w`` shakes down; :class:`_Undetermined` if its periods cannot tell."""
         nonlocal most_periods
         if w in verdicts:
             return verdicts[w]
@@ -123,8 +148,8 @@ def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
             periods = min(2 * periods, 10_000)
         most_periods = max(most_periods, periods)
         if row["regime"] == "undetermined":
-            raise RuntimeError(f"the regime at w = {w:.6g} is undetermined after {periods} periods: "
-                               f"{row['regime_reason']}")
+            raise _Undetermined(f"the regime at w = {w:.6g} is undetermined after {periods} periods: "
+                                f"{row['regime_reason']}")
         verdicts[w] = row["regime"] == "shakedown"
         return verdicts[w]
 
@@ -144,13 +169,27 @@ def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
             return result(hi, nan, False, f"shakes down up to w = {hi:g}")
         while hi - lo > 2.0 * tol:
             mid = 0.5 * (lo + hi)
-            if shakes_down(mid):
-                lo = mid
-            else:
-                hi = mid
+            try:
+                if shakes_down(mid):
+                    lo = mid
+                else:
+                    hi = mid
+            except _Undetermined as e:  # close to the limit: decide on either side, tol apart
+                near = [max(lo, mid - 0.5 * tol), min(hi, mid + 0.5 * tol)]
+                try:
+                    if not shakes_down(near[0]) or shakes_down(near[1]):
+                        raise _Undetermined(f"{e}; and the runs at w = {near[0]:.6g} and {near[1]:.6g} do not "
+                                            "bracket the limit")
+                except _Undetermined as inner:
+                    raise RuntimeError(str(inner)) from None
+                lo, hi = near
     except RuntimeError as e:
         return result(nan, nan, False, str(e))
     return result(lo, hi, True, f"from [{lo_start:g}, {hi_start:g}] to [{lo:.6g}, {hi:.6g}] in {len(runs)} runs")
+
+
+class _Undetermined(RuntimeError):
+    """A run of the limit search whose periods could not tell its regime."""
 
 
 def _limit_options(tol, options) -> tuple[float, dict]:
@@ -268,8 +307,9 @@ def numerical_limit_curve(ft_values, tol=1e-3, scheduler=None, *, workers=None, 
         One row per ``ft`` in the order given, columns :data:`LIMIT_COLUMNS`:
         ``ft``, the starting bracket ``start_lo``, ``start_hi``, the final
         one ``w_shakedown``, ``w_ratcheting``, its midpoint ``w_limit``,
-        ``tol``, ``w_limit_eq35``, ``eq35_inside`` (eq 35 in the final
-        bracket), ``difference`` (``w_limit - w_limit_eq35``), ``periods``,
+        ``tol``, ``w_limit_eq35`` (the body's exact limit: eq 35 for the
+        cylinder), ``eq35_inside`` (it lies in the final bracket),
+        ``exact_within_tol`` (it lies within ``tol`` of the bracket), ``difference`` (``w_limit - w_limit_eq35``), ``periods``,
         ``runs``, ``converged``, ``runtime`` (solver time summed over the runs
         [s]) and ``message``. ``table.attrs["results"]`` holds the
         :class:`LimitResult` objects.
@@ -281,6 +321,7 @@ def numerical_limit_curve(ft_values, tol=1e-3, scheduler=None, *, workers=None, 
     if len(ft_list) > cap:
         raise ValueError(f"{len(ft_list)} ft values (> {cap}, see SHAKEDOWN_MAX_RUNS)")
     tol, options = _limit_options(tol, solver_options)
+    body = options.get("body", "cylinder")
     if max_workers is not None:
         if workers is not None:
             raise ValueError("give workers or max_workers (its old name), not both")
@@ -293,14 +334,15 @@ def numerical_limit_curve(ft_values, tol=1e-3, scheduler=None, *, workers=None, 
     def on_result(i, value, exc):
         nan = float("nan")
         results[i] = value if exc is None else LimitResult(
-            ft_list[i], 0.0, W_MAX, nan, nan, nan, tol, float(w_limit_eq35(ft_list[i])), False,
+            ft_list[i], 0.0, W_MAX, nan, nan, nan, tol, float(w_limit_eq35(ft_list[i], body=body)), False,
             f"task failed: {type(exc).__name__}: {exc}", tidy([], list(INPUT_COLUMNS) + list(RESULT_COLUMNS)))
         report(sum(r is not None for r in results), len(ft_list))
 
     def table():
         done = [r for r in results if r is not None]
         df = pd.DataFrame([r.as_row() for r in done], columns=list(LIMIT_COLUMNS))
-        df = df.astype({"runs": "int64", "periods": "int64", "converged": bool, "eq35_inside": bool})
+        df = df.astype({"runs": "int64", "periods": "int64", "converged": bool, "eq35_inside": bool,
+                        "exact_within_tol": bool})
         df.attrs["results"] = done
         return df
 

@@ -15,7 +15,7 @@ from .states import STATE_NAMES, State, Zone
 
 __all__ = ["CycleResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
            "STATE_NAMES", "SolverError", "SolveCancelled", "read_only", "classify_increments", "fit_trend", "Trend",
-           "Verdict", "VERDICT_SIGMAS", "MIN_FIT_PERIODS"]
+           "Verdict", "VERDICT_SIGMAS", "MIN_FIT_PERIODS", "SETTLED_FRACTION"]
 
 #: Element states recorded per step (``CycleResult.state``): aliases of :class:`core.states.State`.
 STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = (
@@ -37,6 +37,9 @@ VERDICT_SIGMAS = 3.0
 #: Fewest periods of the tail that the trend ``D_n = D_inf + C r^n`` is fitted to (three parameters and
 #: at least one degree of freedom left to measure the scatter).
 MIN_FIT_PERIODS = 4
+#: A run counts as settled (ratcheting needs no steady trend) when the part of its last increment still
+#: changing is at most this fraction of ``D_inf``.
+SETTLED_FRACTION = 0.25
 #: Lengths of the tails tried (the shortest error of ``D_inf`` wins; at most ``periods - 1`` after the first).
 FIT_WINDOWS = (4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192)
 #: Range of the ratio ``r`` searched by the fit.
@@ -69,6 +72,11 @@ class Trend:
         Aitken's delta-squared limit of the first, middle and last increments of the fitted tail.
     sigma : float
         Scatter of the increments about the fit (at least ``floor``).
+    steady : bool or None
+        Whether the fit of a tail twice (or half) as long gives the same
+        ``D_inf`` within their errors (None when the run is too short to
+        try): a decay that is still slowing down, as it does close to the
+        limit, gives a ``D_inf`` that drifts down as the tail moves on.
     """
 
     D_inf: float
@@ -78,6 +86,7 @@ class Trend:
     periods_fitted: int
     aitken: float
     sigma: float
+    steady: bool | None = None
 
 
 class Verdict(NamedTuple):
@@ -171,18 +180,21 @@ def fit_trend(increments, floor=0.0) -> Trend | None:
     sign = 1.0 if inc[np.argmax(np.abs(inc))] >= 0 else -1.0
     y = sign * inc
     longest = n - 1 if n > MIN_FIT_PERIODS else n
-    best = None
-    for k in [w for w in FIT_WINDOWS if w <= longest] or [MIN_FIT_PERIODS]:
-        D, err, r, transient, sigma = _fit_window(y[n - k:], floor)
-        if best is None or err < best[1]:
-            best = (D, err, r, transient, sigma, k)
-    D, err, r, transient, sigma, k = best
+    fits = {k: _fit_window(y[n - k:], floor) for k in [w for w in FIT_WINDOWS if w <= longest] or [MIN_FIT_PERIODS]}
+    k = min(fits, key=lambda w: fits[w][1])
+    D, err, r, transient, sigma = fits[k]
     aitken = _aitken(y, max(1, (k - 1) // 2))
     err = math.hypot(err, D - aitken)
+    # the same limit from a tail twice (or half) as long: a decay that is still slowing down drifts
+    other = 2 * k if 2 * k in fits else (k // 2 if k // 2 in fits else None)
+    steady = None
+    if other is not None:
+        D2, err2 = fits[other][0], fits[other][1]
+        steady = bool(abs(D - D2) <= VERDICT_SIGMAS * math.hypot(err, err2))
     if abs(transient) <= sigma:  # nothing left that decays: r is not measured
         r = math.nan
     return Trend(D_inf=sign * D, D_inf_error=err, ratio=r, transient=sign * transient, periods_fitted=k,
-                 aitken=sign * aitken, sigma=sigma)
+                 aitken=sign * aitken, sigma=sigma, steady=steady)
 
 
 def _periods_to_decide(trend: Trend, tolerance: float) -> int | None:
@@ -214,7 +226,12 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
       (``r < 1``): they will fall below ``tol``.
     * ``"ratcheting"``: the state repeats (``periodic_from``) with an increment
       above ``tol``; or ``D_inf`` is above ``tol`` by more than
-      :data:`VERDICT_SIGMAS` standard errors: the body keeps walking.
+      :data:`VERDICT_SIGMAS` standard errors: the body keeps walking. The
+      increments must also have settled (the part still changing at most
+      :data:`SETTLED_FRACTION` of ``D_inf``) or the trend be steady (a tail
+      twice as long gives the same ``D_inf``): close to the limit the decay
+      of a run that shakes down slows period after period, and a short tail
+      would extrapolate it to a constant.
     * ``"undetermined"``: fewer than :data:`MIN_FIT_PERIODS` periods, or the
       interval ``D_inf +- VERDICT_SIGMAS * error`` straddles ``tol``; the
       reason says roughly how many more periods would decay the changing part
@@ -276,7 +293,8 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
     band = VERDICT_SIGMAS * err
     fitted = (f"D_inf = {trend.D_inf:.3g} +- {err:.2g} {unit} (fit of the last {trend.periods_fitted} periods")
     fitted += f", the rest shrinking by r = {r:.4g} per period)" if math.isfinite(r) else ", nothing left changing)"
-    if D - band > tolerance:
+    settled = abs(trend.transient) <= SETTLED_FRACTION * D
+    if D - band > tolerance and (settled or trend.steady):
         return Verdict(None, "ratcheting", (f"the increment per period tends to a constant: {fitted}; the body "
                                             f"keeps walking about {trend.D_inf:.3g} {unit} per period"), trend, None)
     if D + band <= tolerance and math.isfinite(r) and r < 1.0:
@@ -284,6 +302,20 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
                                            f"within its uncertainty D_inf is below the shakedown tolerance "
                                            f"{tolerance:.2g} {unit} ({shakedown_rtol:g} of the largest)"), trend, None)
     more = _periods_to_decide(trend, tolerance)
+    if D - band > tolerance:  # above the tolerance, but the decay may still be slowing down
+        if 0.0 < r < 1.0:
+            target = SETTLED_FRACTION * D
+            more = max(1, int(math.ceil(math.log(target / abs(trend.transient)) / math.log(r))))
+        else:
+            more = None
+        advice = (f"roughly {more} more periods would likely decide" if more is not None else "run more periods")
+        why = ("a fit of a tail twice as long disagrees" if trend.steady is False else
+               "the run is too short to check that the trend is steady")
+        return Verdict(None, "undetermined", (
+            f"after {inc.size} periods the increment per period ({last:.3g} {unit}) extrapolates to {fitted}, "
+            f"above the shakedown tolerance {tolerance:.2g} {unit}; but the increment is still "
+            f"{abs(last) / D:.3g} times D_inf and {why}: close to the limit the decay slows down period after "
+            f"period, and the run may yet shake down; {advice}"), trend, more)
     if more is None:
         advice = ("the increment does not decay yet" if math.isfinite(r) and r >= 1.0 else
                   "its changing part cannot be told from the noise") + ": run more periods"

@@ -314,7 +314,7 @@ def load_default_map() -> pd.DataFrame:
     >>> import core
     >>> m = core.load_default_map()
     >>> len(m), sorted(m["regime"].unique())
-    (1600, ['ratcheting', 'shakedown', 'undetermined'])
+    (1600, ['ratcheting', 'shakedown'])
     """
     path = resources.files("core") / "data" / DEFAULT_MAP
     with resources.as_file(path) as p:

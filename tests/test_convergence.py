@@ -7,6 +7,7 @@ import pytest
 import core
 
 
+@pytest.mark.slow  # the a/400 run: 10 to 30 s
 def test_extrapolation_from_a40_and_a80_against_a400():
     """The increment converges at first order in dx: Richardson's extrapolation from a/40 and a/80 is
     closer to the a/400 run than a/80 itself, and the error estimate has the size of the true error."""

@@ -6,6 +6,7 @@ beyond its uncertainty, undetermined otherwise (with the periods likely to decid
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -145,3 +146,17 @@ def test_tol_reaches_point_contacts():
     r = core.simulate_cycles(0.4, 0.3, periods=1, dx=0.25, body="sphere", tol=1e-6)
     assert r.tol == 1e-6
     assert core.simulate_cycles(0.4, 0.3, periods=1, dx=0.25, body="sphere").tol == core.solver3d.TOL_3D
+
+
+def test_the_cli_prints_the_trend_and_the_grid(capsys):
+    from core.cli import main
+
+    assert main(["run", "--ft", "0.3", "--w", "0.3", "--periods", "6"]) == 0
+    out = capsys.readouterr().out
+    assert "D_inf (limit increment)" in out and "r (decay per period)" in out
+    assert re.search(r"element width dx +0\.025 a \(the body's default\)", out), out
+    assert main(["run", "--ft", "0.2075", "--w", "0.6", "--periods", "5", "--body", "sphere", "--dx", "0.25"]) == 0
+    out = capsys.readouterr().out
+    assert "mu Fn/(E* a)" in out and "element width dx" in out and "0.25 a\n" in out
+    assert main(["run", "--ft", "0.3", "--w", "0.3", "--periods", "2"]) == 0
+    assert "too few periods to fit the trend" in capsys.readouterr().out
