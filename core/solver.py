@@ -258,7 +258,8 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=KKT_T
                           residuals=step.residuals)
 
 
-def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0.5, tol=KKT_TOL, solver="auto"):
+def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0.5, tol=KKT_TOL, solver="auto",
+                    body="cylinder", normal="auto"):
     """The shaken-down traction, computed directly as one static partial-slip problem.
 
     After shakedown nothing slips, and every element carries at most ``mu``
@@ -271,8 +272,10 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 
     Parameters
     ----------
-    ft, w, dx, kernel, L_over_a, nu, tol :
+    ft, w, dx, kernel, L_over_a, nu, tol, body, normal :
         As in :func:`simulate_cycles` (the rocking steps do not matter here).
+        A line body other than the exact cylinder takes its lowest pressure over
+        centres a quarter element apart (:meth:`core.bodies.LineGrid.lowest_bound`).
 
     Returns
     -------
@@ -283,7 +286,11 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
     ft = check_scalar("ft", ft, -1.0, 1.0, lo_closed=False, hi_closed=False)
     w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
     dx = check_scalar("dx", dx, 1e-4, 0.5)
-    body = Cylinder.for_reach(1.0 + w, dx)
+    spec = resolve_body(body)
+    if type(spec) is Cylinder and spec.normal_mode(normal) == "exact":
+        body = Cylinder.for_reach(1.0 + w, dx)
+    else:
+        body = spec.grid(histories.for_run("rocking", 0.0, w, periods=1, dW=dx), dx, normal=normal)
     bound = read_only(body.lowest_bound(w))
     q = solve_static(bound, ft, dx, kernel, kernel_options=_kernel_options(kernel, L_over_a, nu), tol=tol,
                      solver=solver).traction

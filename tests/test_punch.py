@@ -175,3 +175,14 @@ def test_limit_search_brackets_melans_limit(flat):
     assert r.converged
     assert r.w_limit_eq35 == pytest.approx(float(core.w_limit(0.5, body=b)))
     assert r.w_shakedown <= r.w_limit_eq35 <= r.w_ratcheting
+
+
+def test_direct_shakedown_state_equals_the_transient():
+    """The shaken-down traction of the punch as one static problem with the bound mu p_min (p_min over the whole
+    cycle) equals the end state of the transient: 1.7e-7 mu p0 at flat 0.8, ft 0.4, w 0.3."""
+    b = core.Punch(flat=0.8)
+    st = core.shakedown_state(0.4, 0.3, body=b)
+    r = core.simulate_cycles(0.4, 0.3, periods=30, body=b)
+    assert r.regime == "shakedown" and st.traction.shape == r.traction[-1].shape
+    assert np.abs(st.traction - r.traction[-1]).max() < 1e-5
+    assert st.stick_halfwidth == pytest.approx(r.stick_halfwidth)
