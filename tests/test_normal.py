@@ -136,3 +136,21 @@ def test_bad_grids():
         solve_patch(np.zeros(10), 0.1)
     with pytest.raises(ValueError, match="h"):
         solve_patch(np.zeros((4, 4)), -0.1)
+
+
+def test_preconditioning_changes_the_iterations_not_the_solution():
+    """The inverse-symbol preconditioner: the same pressure (to the tolerance), 3x fewer iterations at dx = a/160
+    on the line (33 against 109) and about half on the patch (cone, h = 0.05: 23 against 50)."""
+    dx = 1 / 160
+    n = int(round(4 / dx))
+    x = (np.arange(n) + 0.5) * dx - 2
+    plain = solve_normal((2 / np.pi) * x**2, np.pi / 2, line_operator(n, dx), dx, precondition=False)
+    pre = solve_normal((2 / np.pi) * x**2, np.pi / 2, line_operator(n, dx), dx)
+    assert np.abs(plain.pressure - pre.pressure).max() < 1e-8
+    assert 2.5 * pre.iterations < plain.iterations
+    e, xp = _line(0.05)
+    X, Y = np.meshgrid(xp, xp)
+    plain = solve_patch(0.4 * np.hypot(X, Y), 0.05, precondition=False)
+    pre = solve_patch(0.4 * np.hypot(X, Y), 0.05)
+    assert np.abs(plain.pressure - pre.pressure).max() < 1e-8
+    assert 1.5 * pre.iterations < plain.iterations
