@@ -403,6 +403,9 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
                                       load_steps=load_steps, detect_periodic=detect_periodic,
                                       tol=tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget, cancel=cancel,
                                       progress=progress)
+    if ratio is not None or angle != 0.0:
+        raise ValueError(f"ratio and angle are the point contacts' (body='ellipsoid' or 'sphere'), not "
+                         f"body={body!r:.40}'s: got ratio={ratio!r}, angle={angle!r}")
     tol = KKT_TOL if tol is None else tol
     dx = check_scalar("dx", dx, 1e-4, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)

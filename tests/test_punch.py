@@ -186,3 +186,10 @@ def test_direct_shakedown_state_equals_the_transient():
     assert r.regime == "shakedown" and st.traction.shape == r.traction[-1].shape
     assert np.abs(st.traction - r.traction[-1]).max() < 1e-5
     assert st.stick_halfwidth == pytest.approx(r.stick_halfwidth)
+
+
+def test_ratio_and_angle_are_refused_for_line_bodies():
+    with pytest.raises(ValueError, match="ratio and angle"):
+        core.simulate_cycles(0.2, 0.3, periods=2, body="punch", ratio=2.0)
+    with pytest.raises(ValueError, match="ratio and angle"):
+        core.simulate_cycles(0.2, 0.3, periods=2, angle=0.5)
