@@ -344,7 +344,8 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
         (default 1e-3). Shakedown increments decay geometrically (by 3 to 10
         each period away from the limit), ratcheting ones settle to a constant.
     solver : {"auto", "dense", "fft"}
-        Per-step solver (see :func:`solve_schedule`).
+        Per-step solver of a line contact (see :func:`solve_schedule`); point
+        contacts refuse any but ``"auto"`` (they run the 3D active-set solver).
     body : str or body object
         ``"cylinder"`` (default) and ``"punch"`` (:data:`core.bodies.BODIES`, or
         objects: ``core.Punch(flat=0.8)``, any :class:`core.bodies.Body`) are
@@ -392,6 +393,9 @@ def simulate_cycles(ft, w, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="plane"
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
     if not line:  # point contacts: core/solver3d.py
+        if solver != "auto":
+            raise ValueError(f"solver={solver!r:.20} is for the line contacts; body={body!r:.40} runs the 3D "
+                             "active-set solver (core.solver3d), so solver must be 'auto'")
         if normal == "numerical":
             raise ValueError(f"normal='numerical' is for the line contacts ({', '.join(sorted(BODIES))} or a "
                              f"core.bodies.Body); body={body!r:.40} runs with Hertz's pressure")
