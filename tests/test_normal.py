@@ -154,3 +154,18 @@ def test_preconditioning_changes_the_iterations_not_the_solution():
     pre = solve_patch(0.4 * np.hypot(X, Y), 0.05)
     assert np.abs(plain.pressure - pre.pressure).max() < 1e-8
     assert 1.5 * pre.iterations < plain.iterations
+
+
+@pytest.mark.parametrize("ratio", [1.0, 0.5, 2.0])
+def test_ellipsoid_profile_gives_its_hertz_pressure(ratio):
+    """core.Ellipsoid.profile in the point-contact units (gap in Fn/(E* a), kernel_scale, total_load): the patch
+    solve returns the element means of p0 sqrt(1 - x^2 - (y/kappa)^2), L1 error < 0.5 % at h = 0.05."""
+    body = Ellipsoid(ratio)
+    kap, h = body.kappa, 0.05
+    ex = np.arange(-1.5, 1.5 + 1e-9, h)
+    ey = np.arange(-1.5 * kap, 1.5 * kap + h, h)
+    ey -= ey.mean()
+    x, y = 0.5 * (ex[1:] + ex[:-1]), 0.5 * (ey[1:] + ey[:-1])
+    s = solve_patch(body.profile(x[None, :], y[:, None]), h, load=body.total_load, scale=body.kernel_scale)
+    d = s.pressure - hertz_element_means(ex, ey, 0.0, kap)
+    assert np.abs(d).sum() * h * h / body.total_load < 0.005
