@@ -159,9 +159,11 @@ def test_preconditioning_changes_the_iterations_not_the_solution():
 @pytest.mark.parametrize("ratio", [1.0, 0.5, 2.0])
 def test_ellipsoid_profile_gives_its_hertz_pressure(ratio):
     """core.Ellipsoid.profile in the point-contact units (gap in Fn/(E* a), kernel_scale, total_load): the patch
-    solve returns the element means of p0 sqrt(1 - x^2 - (y/kappa)^2), L1 error < 0.5 % at h = 0.05."""
+    solve returns the element means of p0 sqrt(1 - x^2 - (y/kappa)^2): L1 error < 0.5 % at h = 0.05 (ratio 0.5,
+    kappa = 0.63, fewer elements across: 0.66 % at h = 0.05, 0.24 % at 0.025)."""
     body = Ellipsoid(ratio)
-    kap, h = body.kappa, 0.05
+    kap = body.kappa
+    h = 0.05 if ratio >= 1 else 0.025
     ex = np.arange(-1.5, 1.5 + 1e-9, h)
     ey = np.arange(-1.5 * kap, 1.5 * kap + h, h)
     ey -= ey.mean()
