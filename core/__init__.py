@@ -35,6 +35,8 @@ def _load_locked():
         from .bodies import BODIES, Body, Cylinder, LineGrid, Punch, get_body, NORMAL_CHOICES  # noqa: F401
         from .normal import NormalSolution, solve_normal, solve_line, solve_patch  # noqa: F401
         from .melan import ft_limit_numerical  # noqa: F401
+        from .cone import Cone  # noqa: F401
+        from .heightmap import HeightMap, HeightProfile  # noqa: F401
         from .result import CycleResult, SolverError, SolveCancelled  # noqa: F401
         from .engine import run, STEP_SOLVERS  # noqa: F401
         from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401

@@ -20,6 +20,8 @@ tangential load in ``mu P``.
 from __future__ import annotations
 
 import math
+import threading
+from collections import OrderedDict
 
 import numpy as np
 
@@ -32,6 +34,18 @@ __all__ = ["Body", "Cylinder", "Punch", "LineGrid", "BODIES", "get_body", "resol
 #: The numerical normal problem of a run is solved on elements this many times finer than the run's (once per
 #: normal load: cheap), its element means then feed the run (``benchmarks/normal.py``, ``tests/test_punch.py``).
 NORMAL_REFINE = 4
+#: Pressure tables (:meth:`Body.cumulative`) kept for equal bodies, least recently used dropped first.
+MAX_TABLES = 256
+_TABLES = OrderedDict()
+_TABLES_LOCK = threading.Lock()
+
+
+def clear_tables():
+    """Forget every cached pressure table (the next run of each body solves its normal problem again)."""
+    with _TABLES_LOCK:
+        _TABLES.clear()
+
+
 #: The values of the ``normal`` keyword: the closed-form pressure, the numerical normal solve
 #: (:mod:`core.normal`), or the closed form where the body has one.
 NORMAL_CHOICES = ("auto", "exact", "numerical")
@@ -235,13 +249,30 @@ class Body:
         return LineGrid(self, edges, self.normal_mode(normal))
 
     def _table(self, dx, P, mode):
-        cache = self.__dict__.setdefault("_tables", {})
+        """:meth:`cumulative`, cached: shared by equal bodies (same class and parameters) in this process, so
+        the runs of a sweep solve the normal problem once per worker; per object if the body is unhashable."""
         key = (round(float(dx), 15), float(P), mode)
-        if key not in cache:
-            if len(cache) > 512:
-                cache.clear()
-            cache[key] = self.cumulative(dx, P, mode)
-        return cache[key]
+        try:
+            shared = (type(self), self, *key)
+            hash(shared)
+        except TypeError:
+            cache = self.__dict__.setdefault("_tables", {})
+            if key not in cache:
+                if len(cache) > 512:
+                    cache.clear()
+                cache[key] = self.cumulative(dx, P, mode)
+            return cache[key]
+        with _TABLES_LOCK:
+            found = _TABLES.get(shared)
+            if found is not None:
+                _TABLES.move_to_end(shared)
+                return found
+        table = self.cumulative(dx, P, mode)
+        with _TABLES_LOCK:
+            _TABLES[shared] = table
+            while len(_TABLES) > MAX_TABLES:
+                _TABLES.popitem(last=False)
+        return table
 
     # ---- its shakedown limit (Melan, core/melan.py) ---------------------------------
     def ft_limit(self, w):

@@ -109,6 +109,22 @@ class Ellipsoid:
         """``p0 a^2 / (pi Fn) = 3 / (2 pi^2 kappa)``: the factor of the half-space kernel in these units."""
         return 1.5 / (math.pi ** 2 * self.kappa)
 
+    def profile(self, x, y):
+        """The gap ``A x^2 + B y^2`` [Fn/(E* a)] whose Hertz solution is this body's contact (Johnson ch. 3:
+        the displacement under ``p0 sqrt(1 - x^2 - (y/kappa)^2)``); the sphere's is ``(3/8) r^2``."""
+        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        k = self.kappa
+        if abs(k - 1.0) < 1e-9:
+            A = B = 0.25 * math.pi
+        else:
+            major, minor = max(k, 1.0), min(k, 1.0)
+            m = 1.0 - (minor / major) ** 2
+            K, E = ellipk(m), ellipe(m)
+            along_major = minor / (m * major**2) * (K - E)
+            along_minor = minor / (m * major**2) * ((major / minor) ** 2 * E - K)
+            A, B = (along_minor, along_major) if k > 1.0 else (along_major, along_minor)
+        return (A * x * x + B * y * y) / self.total_load
+
 
 def Sphere() -> Ellipsoid:
     """The sphere: ``Ellipsoid(1.0)``."""

@@ -268,7 +268,8 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=KKT_T
                           residuals=step.residuals)
 
 
-def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0.5, tol=KKT_TOL, solver="auto"):
+def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0.5, tol=KKT_TOL, solver="auto",
+                    body="cylinder", normal="auto"):
     """The shaken-down traction, computed directly as one static partial-slip problem.
 
     After shakedown nothing slips, and every element carries at most ``mu``
@@ -281,8 +282,10 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 
     Parameters
     ----------
-    ft, w, dx, kernel, L_over_a, nu, tol :
+    ft, w, dx, kernel, L_over_a, nu, tol, body, normal :
         As in :func:`simulate_cycles` (the rocking steps do not matter here).
+        A line body other than the exact cylinder takes its lowest pressure over
+        centres a quarter element apart (:meth:`core.bodies.LineGrid.lowest_bound`).
 
     Returns
     -------
@@ -303,7 +306,11 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
     ft = check_scalar("ft", ft, -1.0, 1.0, lo_closed=False, hi_closed=False)
     w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
     dx = check_scalar("dx", dx, 1e-4, 0.5)
-    body = Cylinder.for_reach(1.0 + w, dx)
+    spec = resolve_body(body)
+    if type(spec) is Cylinder and spec.normal_mode(normal) == "exact":
+        body = Cylinder.for_reach(1.0 + w, dx)
+    else:
+        body = spec.grid(histories.for_run("rocking", 0.0, w, periods=1, dW=dx), dx, normal=normal)
     bound = read_only(body.lowest_bound(w))
     q = solve_static(bound, ft, dx, kernel, kernel_options=_kernel_options(kernel, L_over_a, nu), tol=tol,
                      solver=solver).traction
@@ -358,7 +365,8 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         (default 1e-3). Shakedown increments decay geometrically (by 3 to 10
         each period away from the limit), ratcheting ones settle to a constant.
     solver : {"auto", "dense", "fft"}
-        Per-step solver (see :func:`solve_schedule`).
+        Per-step solver of a line contact (see :func:`solve_schedule`); point
+        contacts refuse any but ``"auto"`` (they run the 3D active-set solver).
     body : str or body object
         ``"cylinder"`` (default) and ``"punch"`` (:data:`core.bodies.BODIES`, or
         objects: ``core.Punch(flat=0.8)``, any :class:`core.bodies.Body`) are
@@ -406,6 +414,9 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
     if not line:  # point contacts: core/solver3d.py
+        if solver != "auto":
+            raise ValueError(f"solver={solver!r:.20} is for the line contacts; body={body!r:.40} runs the 3D "
+                             "active-set solver (core.solver3d), so solver must be 'auto'")
         if normal == "numerical":
             raise ValueError(f"normal='numerical' is for the line contacts ({', '.join(sorted(BODIES))} or a "
                              f"core.bodies.Body); body={body!r:.40} runs with Hertz's pressure")
@@ -417,6 +428,9 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
                                       load_steps=load_steps, detect_periodic=detect_periodic,
                                       tol=tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget, cancel=cancel,
                                       progress=progress)
+    if ratio is not None or angle != 0.0:
+        raise ValueError(f"ratio and angle are the point contacts' (body='ellipsoid' or 'sphere'), not "
+                         f"body={body!r:.40}'s: got ratio={ratio!r}, angle={angle!r}")
     tol = KKT_TOL if tol is None else tol
     dx = check_scalar("dx", default_dx(body) if dx is None else dx, 1e-4, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)

@@ -136,3 +136,38 @@ def test_bad_grids():
         solve_patch(np.zeros(10), 0.1)
     with pytest.raises(ValueError, match="h"):
         solve_patch(np.zeros((4, 4)), -0.1)
+
+
+def test_preconditioning_changes_the_iterations_not_the_solution():
+    """The inverse-symbol preconditioner: the same pressure (to the tolerance), 3x fewer iterations at dx = a/160
+    on the line (33 against 109) and about half on the patch (cone, h = 0.05: 23 against 50)."""
+    dx = 1 / 160
+    n = int(round(4 / dx))
+    x = (np.arange(n) + 0.5) * dx - 2
+    plain = solve_normal((2 / np.pi) * x**2, np.pi / 2, line_operator(n, dx), dx, precondition=False)
+    pre = solve_normal((2 / np.pi) * x**2, np.pi / 2, line_operator(n, dx), dx)
+    assert np.abs(plain.pressure - pre.pressure).max() < 1e-8
+    assert 2.5 * pre.iterations < plain.iterations
+    e, xp = _line(0.05)
+    X, Y = np.meshgrid(xp, xp)
+    plain = solve_patch(0.4 * np.hypot(X, Y), 0.05, precondition=False)
+    pre = solve_patch(0.4 * np.hypot(X, Y), 0.05)
+    assert np.abs(plain.pressure - pre.pressure).max() < 1e-8
+    assert 1.5 * pre.iterations < plain.iterations
+
+
+@pytest.mark.parametrize("ratio", [1.0, 0.5, 2.0])
+def test_ellipsoid_profile_gives_its_hertz_pressure(ratio):
+    """core.Ellipsoid.profile in the point-contact units (gap in Fn/(E* a), kernel_scale, total_load): the patch
+    solve returns the element means of p0 sqrt(1 - x^2 - (y/kappa)^2): L1 error < 0.5 % at h = 0.05 (ratio 0.5,
+    kappa = 0.63, fewer elements across: 0.66 % at h = 0.05, 0.24 % at 0.025)."""
+    body = Ellipsoid(ratio)
+    kap = body.kappa
+    h = 0.05 if ratio >= 1 else 0.025
+    ex = np.arange(-1.5, 1.5 + 1e-9, h)
+    ey = np.arange(-1.5 * kap, 1.5 * kap + h, h)
+    ey -= ey.mean()
+    x, y = 0.5 * (ex[1:] + ex[:-1]), 0.5 * (ey[1:] + ey[:-1])
+    s = solve_patch(body.profile(x[None, :], y[:, None]), h, load=body.total_load, scale=body.kernel_scale)
+    d = s.pressure - hertz_element_means(ex, ey, 0.0, kap)
+    assert np.abs(d).sum() * h * h / body.total_load < 0.005
