@@ -592,13 +592,15 @@ def test_point_runs_are_cached_and_downloaded(sphere_explorer):
     ex.csv_table.value = "periods"
     text = ex._csv().read()
     rows = [line for line in text.splitlines() if not line.startswith("#")]
-    assert rows[0] == "period,increment" and len(rows) == 1 + r.periods
+    assert rows[0].startswith("period,increment_muFn_Estar_a") and len(rows) == 1 + r.periods
     assert float(rows[-1].split(",")[1]) == pytest.approx(r.increment_per_period[-1], rel=1e-9)
     ex.csv_table.value = "steps"
-    assert len(ex._csv().read().splitlines()) == 2 + r.xc.size
+    rows = [line for line in ex._csv().read().splitlines() if not line.startswith("#")]
+    assert len(rows) == 1 + r.xc.size
     import json
     data = json.loads(ex._json().read())
-    assert data["body"] == "sphere" and data["regime"] == r.regime and len(data["increment_per_period"]) == r.periods
+    p = data["parameters"]
+    assert p["body"] == "sphere" and p["regime"] == r.regime and len(data["periods"]["period"]) == r.periods
 
 
 def test_fig14_and_the_map_show_both_bodies_exact_limits():
