@@ -19,9 +19,12 @@ import core
 __all__ = ["CardsMixin", "prediction", "limit_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
            "fmt", "count", "STRIP_KEYS"]
 
-#: The rows of the cards shown in the strip, in its order (the first of each group that is present).
-STRIP_KEYS = (("margin ft / ft_lim",), ("margin w / w_lim",), ("c_sd numerical", "c_sd numerical (y = 0)"),
-              ("Δu last period", "creep per period (last)"), ("grid error of Δu",))
+#: The rows of the cards shown in the strip, in its order, with their short names there (the first row of each
+#: group that is present).
+STRIP_KEYS = ((("margin ft / ft_lim", "ft/ft_lim"),), (("margin w / w_lim", "w/w_lim"),),
+              (("c_sd numerical", "c_sd"), ("c_sd numerical (y = 0)", "c_sd (y = 0)")),
+              (("Δu last period", "Δu last period"), ("creep per period (last)", "creep per period")),
+              (("grid error of Δu", "grid error"),))
 
 
 @functools.lru_cache(maxsize=4096)
@@ -157,12 +160,13 @@ def strip_html(rows, wait=None) -> str:
     found = dict(rows)
     items = []
     for names in STRIP_KEYS:
-        for name in names:
+        for name, short in names:
             if name in found:
                 v = found[name]
-                items.append(f"<span class='item'><span class='k'>{html.escape(name)}</span> "
+                items.append(f"<span class='item' title='{html.escape(name)}'><span class='k'>{html.escape(short)}</span> "
                              f"<span class='v{' pending' if v == wait else ''}'>{html.escape(v)}</span></span>")
                 break
+    items.append("<span class='more'>all numbers ▾</span>")
     return f"<div class='strip'>{''.join(items)}</div>"
 
 
@@ -192,9 +196,11 @@ class CardsMixin:
         note = f"solver, {result.periods} periods"
         if result.shakedown_period is not None:
             note += f"; shaken down after period {result.shakedown_period}"
-        if regime == "undetermined":  # the periods run cannot tell: say why
-            note += f": {html.escape(str(result.regime_reason))}"
-        note += f"<br>{html.escape(rule)} predicts {html.escape(str(predicted))} for ft = {ft:.2f}, w = {w:.2f}"
+        if regime == "undetermined":  # the periods run cannot tell: why, one click away
+            note += f" <details class='why'><summary>why undetermined</summary>{html.escape(str(result.regime_reason))}</details>"
+        else:
+            note += "<br>"
+        note += f"{html.escape(rule)} predicts {html.escape(str(predicted))} for ft = {ft:.2f}, w = {w:.2f}"
         css = re.sub(r"[^a-z]", "", regime.lower()) or "none"
         return (f'<span class="regime-badge regime-{css}" data-regime="{html.escape(regime)}">'
                 f'{html.escape(regime.upper())}</span><div class="regime-note">{note}</div>')

@@ -69,6 +69,8 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
     map_progress = param.Integer(default=0, bounds=(0, 100), doc="Progress of the map computation [%].")
     map_status = param.String(default="", doc="Outcome of the last map computation.")
     pinned = param.Parameter(default=(), doc="Pinned runs overlaid on the figures (app.compare.Pins).")
+    grid_error = param.Parameter(default=None, doc="The estimated discretisation error of the point-contact run "
+                                                   "shown (app.grid.GridEstimate), once estimated.")
 
     def __init__(self, state: ExplorerState | None = None, query: str | None = None, **params):
         super().__init__(**params)
@@ -139,7 +141,7 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         ]
         self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, visible=False,
                                                     css_classes=["solve-spinner"])
-        self.status = panes.HTML("", css_classes=["solve-status"], margin=(8, 4))
+        self.status = panes.HTML("", css_classes=["solve-status"], margin=(8, 4), visible=False)
         self._build_player()
         self._build_downloads()
 

@@ -17,13 +17,30 @@ from . import plots, point_view
 from .live import LiveFigure, WhenShown
 from .styles import CSS
 
-__all__ = ["FiguresMixin", "FIGURE_INPUTS"]
+__all__ = ["FiguresMixin", "FIGURE_INPUTS", "KEY_FIGURES", "KEY_HEIGHT", "key_figures"]
+
+#: The figures of the first screen, by kind of body: the pressure with μ p_min, the traction with the stick and
+#: slip zones, the displacement per period (a point contact: the cut along y = 0 shows the pressure bound μ p,
+#: μ p_min, the traction and the stick and slip zones; then its displacement and its increment per period).
+KEY_FIGURES = {"cylinder": ("pressure", "traction", "displacement"),
+               "point": ("point_cut", "point_displacement", "point_increments")}
+#: Height of a first-screen figure [px] (set by its options in :mod:`app.plots`).
+KEY_HEIGHT = plots.KEY_HEIGHT
+#: The other figures, in the order they are laid out below the first screen.
+GRID = ("sketch", "states", "increments", "point_pressure", "point_traction", "point_zones", "map")
+
+
+def key_figures(body: str) -> tuple[str, ...]:
+    """The first-screen figures of ``body`` (any body the app offers: the cylinder, or a point contact)."""
+    return KEY_FIGURES["cylinder" if body == "cylinder" else "point"]
 
 #: The explorer parameter behind each input of the figures (:class:`app.plots.Inputs`).
 FIGURE_INPUTS = {"ft": "ft_live", "w": "w_live", "units": "plot_units", "result": "result", "frame": "frame",
                   "table": "map_table", "pinned": "pinned"}
 #: Range padding (x, y) of the axes that follow the data; None: the figure's own fixed ranges.
 _CELL_STYLE = {"flex": "1 1 560px", "min-width": "min(300px, 100%)"}
+#: A first-screen figure's cell: three in a row from 3 x 280 px, two (and one) in a row below.
+_KEY_STYLE = {"flex": "1 1 280px", "min-width": "min(260px, 100%)"}
 _PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
 
 
@@ -103,6 +120,8 @@ class FiguresMixin:
                 else:
                     self._panes[name] = pn.pane.Bokeh(self._live[name].figure, sizing_mode="stretch_width")
 
+
+
     def _show_figures(self, names) -> None:
         """Draw the figures ``names`` that the current body shows and, on the served page, that the browser has
         scrolled near; put each in the page in place of its sentinel (one recomputation of the document's model
@@ -113,34 +132,55 @@ class FiguresMixin:
         doc = self._doc
         with (doc.models.freeze() if doc is not None else contextlib.nullcontext()):
             self._draw_figures(names)
-            grid = getattr(self, "_grid", None)
-            if grid is not None and self._when_shown:
-                slots = self._slots()
-                if slots != grid.objects:
-                    grid.objects = slots
+            for key, grid in ((True, getattr(self, "_key_grid", None)), (False, getattr(self, "_grid", None))):
+                if grid is not None and self._when_shown:
+                    slots = self._slots(key)
+                    if slots != grid.objects:
+                        grid.objects = slots
 
-    def _slots(self) -> list:
-        """What the figure grid holds: for each figure of the current body, its cell once drawn, else the
-        sentinel that keeps its place (the other body's figures are not in the page)."""
+    def _grid_names(self, key: bool) -> list[str]:
+        """The figures of the current body in the first-screen grid (``key``) or in the grid below."""
+        body = self.state.body
+        names = key_figures(body) if key else [n for n in GRID if n not in key_figures(body)]
+        return [n for n in names if point_view.shown(n, body)]
+
+    def _slots(self, key: bool = False) -> list:
+        """What a figure grid holds: for each of its figures of the current body, its cell once drawn, else
+        the sentinel that keeps its place (the other body's figures are not in the page)."""
         for name in self._live:
             if name not in self._cells:
                 self._cells[name] = self._cell(name)
-        return [self._cells.get(name) or self._sentinel(name)
-                for name in self._GRID if point_view.shown(name, self.state.body)]
+        return [self._cells.get(name) or self._sentinel(name) for name in self._grid_names(key)]
 
     def _sentinel(self, name: str) -> WhenShown:
         """The sentinel that keeps figure ``name``'s place until the browser scrolls near it (made once)."""
         if name not in self.sentinels:
-            self.sentinels[name] = WhenShown(height=plots.HEIGHT + 40, styles=_CELL_STYLE,
-                                             css_classes=[f"figure-{name}"])
+            key = name in KEY_FIGURES["cylinder"] or name in KEY_FIGURES["point"]
+            self.sentinels[name] = WhenShown(height=(KEY_HEIGHT if key else plots.HEIGHT) + 40,
+                                             styles=_KEY_STYLE if key else _CELL_STYLE, css_classes=[f"figure-{name}"])
             self.sentinels[name].param.watch(lambda e: self._show_figures([name]), "shown")
         return self.sentinels[name]
 
     def _cell(self, name: str) -> pn.Column:
-        """Figure ``name`` with its caption (and, for the map, its controls), shown while the body shows it."""
-        caption = pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}</div>",
-                               stylesheets=[CSS], sizing_mode="stretch_width", margin=0)
+        """Figure ``name`` with its caption (and, for the map, its controls), shown while the body shows it. The
+        first-screen figures' captions are together under them (:meth:`key_captions`), so the three figures
+        start on the same line and the next row starts right below."""
+        key = name in KEY_FIGURES["cylinder"] or name in KEY_FIGURES["point"]
+        caption = [] if key else [pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}"
+                                               "</div>", stylesheets=[CSS], sizing_mode="stretch_width", margin=0)]
         extra = [self.map_controls()] if name == "map" else []
-        return pn.Column(self._panes[name], caption, *extra, sizing_mode="stretch_width", styles=_CELL_STYLE,
+        return pn.Column(self._panes[name], *caption, *extra, sizing_mode="stretch_width",
+                         styles=_KEY_STYLE if key else _CELL_STYLE,
                          visible=pn.bind(point_view.shown, name, self.state.param.body))
 
+    @staticmethod
+    def _key_captions_html(body: str) -> str:
+        items = "".join(f"<li><b>{html.escape(plots.FIGURES[n]['opts']['title'])}</b>: "
+                        f"{html.escape(plots.FIGURES[n]['caption'].removeprefix('What you see: '))}</li>"
+                        for n in key_figures(body))
+        return f"<div class='caption'><b>What you see</b><ul class='key-captions'>{items}</ul></div>"
+
+    def key_captions(self) -> pn.viewable.Viewable:
+        """The first-screen figures' captions, as a list under them (they follow the body)."""
+        return pn.pane.HTML(pn.bind(self._key_captions_html, self.state.param.body), stylesheets=[CSS],
+                            sizing_mode="stretch_width", margin=0, css_classes=["key-captions"])

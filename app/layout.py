@@ -18,6 +18,7 @@ import panel as pn
 
 from . import panes, plots, point_view, slides
 from .compare import Pins
+from .figures import GRID, KEY_FIGURES
 from .paper_figures import paper_figures_tab
 from .styles import A11Y_JS, CSS, KATEX_CSS, PAGE_CSS, MathFonts
 from .widgets import filled_when
@@ -39,38 +40,60 @@ class LayoutMixin:
         return self.template()
 
     def main_area(self) -> pn.viewable.Viewable:
-        """The badge, cards, player and figures, without the sidebar (for notebooks)."""
+        """The badge, the key numbers, the tabs with the player and the figures, without the sidebar (for notebooks).
+
+        The first screen (1280x720 or 1024x768) shows the verdict, a strip of the key numbers (every number one
+        click away, in a folded card built when first opened), the cycle player and, under it, the three figures
+        it drives that tell the story (:data:`app.figures.KEY_FIGURES`)."""
         live = dict(ft=self.param.ft_live, w=self.param.w_live)
         badge = panes.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error,
-                                     pending=self.param.pending),
-                             css_classes=["regime"], margin=(6, 10), sizing_mode="stretch_width", stylesheets=[CSS])
-        cards = panes.HTML(pn.bind(self._cards, **live, mu=self.mu_slider.param.value,
-                                     contact=self.param.contact, result=self.param.result,
-                                     pending=self.param.pending, units=self.state.param.units,
-                                     cycles=self.engineer.param.cycles),
-                             css_classes=["summary-cards"], margin=(0, 10), sizing_mode="stretch_width",
-                             stylesheets=[CSS])
-        model_warnings = pn.bind(self._warnings, **live, contact=self.param.contact, result=self.param.result)
-        warnings = panes.Alert(pn.bind(lambda m: "\n".join(f"- {html.escape(x)}" for x in m), model_warnings),
-                                 visible=pn.bind(bool, model_warnings), alert_type="warning",
-                                 sizing_mode="stretch_width", css_classes=["model-warnings"])
-        errors = panes.Alert(pn.bind(lambda e: f"**Invalid input:** {html.escape(e)}", self.param.error),
-                               alert_type="danger", visible=self.param.error.rx.bool(),
-                               sizing_mode="stretch_width", css_classes=["input-error"])
-        notices = panes.Alert(pn.bind(lambda n: "**Some URL parameters were not applied:**\n\n"
-                                        + "\n".join(f"- {html.escape(m)}" for m in n), self.param.notices),
-                                alert_type="warning", visible=self.param.notices.rx.bool(),
-                                sizing_mode="stretch_width", css_classes=["url-notice"])
+                                   pending=self.param.pending),
+                           css_classes=["regime"], margin=(4, 10), sizing_mode="stretch_width", stylesheets=[CSS])
+        numbers = dict(**live, mu=self.mu_slider.param.value, contact=self.param.contact, result=self.param.result,
+                       pending=self.param.pending, units=self.state.param.units, cycles=self.engineer.param.cycles,
+                       grid_error=self.param.grid_error)
+        strip = panes.HTML(pn.bind(self._strip, **numbers), css_classes=["summary-strip"], margin=(2, 4),
+                           sizing_mode="stretch_width", stylesheets=[CSS])
+        # the strip is the header of the folded card of every number: one click opens it
+        details = pn.Card(header=strip, collapsed=True, sizing_mode="stretch_width", margin=(2, 10),
+                          css_classes=["all-numbers"], header_background="#f3f6fa",
+                          title="Every number: click the strip")
+        # the cards are built and kept up to date only once opened (most visitors read the strip)
+        filled_when(details, details.param.collapsed.rx.not_(), lambda: [panes.HTML(
+            pn.bind(self._cards, **numbers), css_classes=["summary-cards"], margin=(0, 4),
+            sizing_mode="stretch_width", stylesheets=[CSS])])
+        self._warnings_pane = self._alerts(live)
         top = pn.FlexBox(
             pn.Column(badge, pn.Row(self.spinner, self.status), sizing_mode="stretch_width",
-                      styles={"flex": "0 1 300px", "min-width": "260px"}),
-            pn.Column(cards, errors, notices, warnings, sizing_mode="stretch_width",
-                      styles={"flex": "1 1 500px", "min-width": "260px"}),
-            flex_wrap="wrap", sizing_mode="stretch_width")
+                      styles={"flex": "0 1 350px", "min-width": "250px"}, margin=0),
+            pn.Column(details, self._grid_action(), *self._input_alerts, sizing_mode="stretch_width",
+                      styles={"flex": "1 1 280px", "min-width": "250px"}, margin=0),
+            flex_wrap="wrap", sizing_mode="stretch_width", css_classes=["first-row"])
         tabs = pn.Tabs(("Explorer", self.explorer_tab()), *self._lazy_tabs(), sizing_mode="stretch_width",
-                       dynamic=True)  # a tab's models are sent only when shown
+                       dynamic=True, margin=(0, 5))  # a tab's models are sent only when shown
         tabs.param.watch(lambda e: self._fill_tab(tabs, e.new), "active")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
+
+    def _alerts(self, live) -> pn.viewable.Viewable:
+        """The invalid-input and URL alerts (:attr:`_input_alerts`, at the top) and the model's warnings (returned:
+        under the first-screen figures, so that they do not push the figures down)."""
+        model_warnings = pn.bind(self._warnings, **live, contact=self.param.contact, result=self.param.result)
+        warnings = panes.Alert(pn.bind(lambda m: "\n".join(f"- {html.escape(x)}" for x in m), model_warnings),
+                               visible=pn.bind(bool, model_warnings), alert_type="warning",
+                               sizing_mode="stretch_width", css_classes=["model-warnings"])
+        errors = panes.Alert(pn.bind(lambda e: f"**Invalid input:** {html.escape(e)}", self.param.error),
+                             alert_type="danger", visible=self.param.error.rx.bool(),
+                             sizing_mode="stretch_width", css_classes=["input-error"])
+        notices = panes.Alert(pn.bind(lambda n: "**Some URL parameters were not applied:**\n\n"
+                                      + "\n".join(f"- {html.escape(m)}" for m in n), self.param.notices),
+                              alert_type="warning", visible=self.param.notices.rx.bool(),
+                              sizing_mode="stretch_width", css_classes=["url-notice"])
+        self._input_alerts = [errors, notices]
+        return warnings
+
+    def _grid_action(self) -> pn.viewable.Viewable:
+        """The point contacts' 'Refine grid' action beside the strip (nothing for the cylinder)."""
+        return pn.Column(sizing_mode="stretch_width", margin=0)
 
     #: The tabs built only when first shown (most visitors never open them): title, builder.
     _LAZY_TABS: ClassVar[dict] = {"Paper's figures": lambda self: paper_figures_tab(),
@@ -86,22 +109,33 @@ class LayoutMixin:
         if build is not None:
             holder.objects = [build(self)]
 
-    _GRID = ("sketch", "pressure", "traction", "states", "displacement", "point_pressure", "point_traction",
-             "point_zones", "point_cut", "point_displacement", "map", "increments", "point_increments")
+    #: Every figure's place: the first-screen figures, then the others.
+    _GRID = (*KEY_FIGURES["cylinder"], *KEY_FIGURES["point"], *GRID)
 
     def explorer_tab(self) -> pn.Column:
-        """The player and the figures, each with a one-line caption; the figures wrap to one column when narrow.
-        A figure, its caption and its controls are built when the browser first scrolls near their place."""
+        """The player, under it the first-screen figures it drives, then the compare and SVG controls and the other
+        figures, each with a one-line caption; the figures wrap to fewer columns when narrow. A figure, its
+        caption and its controls are built when the browser first scrolls near their place."""
         self.figures(when_shown=True)
-        self._grid = pn.FlexBox(*(self._slots() if self._when_shown else [self._cell(name) for name in self._GRID]),
-                                flex_wrap="wrap", sizing_mode="stretch_width")
+        keys = (*KEY_FIGURES["cylinder"], *KEY_FIGURES["point"])
+        if self._when_shown:
+            self._key_grid = pn.FlexBox(*self._slots(True), flex_wrap="wrap", sizing_mode="stretch_width",
+                                        css_classes=["key-figures"])
+            self._grid = pn.FlexBox(*self._slots(False), flex_wrap="wrap", sizing_mode="stretch_width")
+        else:
+            self._key_grid = pn.FlexBox(*[self._cell(n) for n in keys], flex_wrap="wrap",
+                                        sizing_mode="stretch_width", css_classes=["key-figures"])
+            self._grid = pn.FlexBox(*[self._cell(n) for n in GRID], flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)
         svg = slides.save_svg(slides.figure_titles(), run=dict(ft=self.ft_slider, w=self.w_slider),
                               offered=self._svg_titles(self.state.body))
         self.svg_select = svg.figure_menu
         self.state.param.watch(lambda e: self.svg_select.param.update(
             options=self._svg_titles(e.new), value=self._svg_titles(e.new)[0]), "body")
-        return pn.Column(self.player_controls(), self.pins, svg, self._grid, sizing_mode="stretch_width", name="Explorer")
+        warnings = getattr(self, "_warnings_pane", None)
+        return pn.Column(self.player_controls(), self._key_grid, self.key_captions(),
+                         *([warnings] if warnings is not None else []),
+                         self.pins, svg, self._grid, sizing_mode="stretch_width", name="Explorer")
 
     def _svg_titles(self, body: str) -> list[str]:
         """The titles of the figures ``body`` shows, as the SVG menu offers them (in the grid's order)."""

@@ -24,17 +24,19 @@ class PlayerMixin:
 
     def _build_player(self):
         # the cycle player: a period (0 = the loading, then 1, 2, ...), then the steps of that period
-        grow = dict(width=250, margin=(5, 12))
-        self.period_slider = IntSlider(label="Period (0 = loading)", start=0, end=1, value=1, **grow)
+        # compact: the player sits in one row above the figures it drives (two rows on a 1024 px screen)
+        self.period_slider = IntSlider(label="Period (0 = loading)", start=0, end=1, value=1, width=140,
+                                       margin=(2, 8))
         self.step_slider = IntSlider(label="Step in the period", start=0, end=1, value=0, css_classes=["step-slider"],
-                                     **grow)
-        self.step_back = pn.widgets.Button(label="◀ Step", width=80, css_classes=["step-back"])
-        self.play = pn.widgets.Toggle(label="▶ Play the period", width=150, css_classes=["play-period"])
-        self.step_forward = pn.widgets.Button(label="Step ▶", width=80, css_classes=["step-forward"])
-        self.speed = pn.widgets.Select(label="Speed", options={"slow (400 ms a step)": 400,
-                                                              "normal (150 ms a step)": 150,
-                                                              "fast (60 ms a step)": 60}, value=150, width=190)
-        self.readout = panes.HTML("", css_classes=["readout"], sizing_mode="stretch_width", stylesheets=[CSS])
+                                     width=160, margin=(2, 8))
+        self.step_back = pn.widgets.Button(label="◀ Step", width=70, css_classes=["step-back"], margin=(2, 3))
+        self.play = pn.widgets.Toggle(label="▶ Play", width=76, css_classes=["play-period"], margin=(2, 3))
+        self.step_forward = pn.widgets.Button(label="Step ▶", width=70, css_classes=["step-forward"], margin=(2, 3))
+        self.speed = pn.widgets.Select(options={"slow": 400, "normal": 150, "fast": 60}, value=150, width=96,
+                                       margin=(2, 8), description="Player speed: 400, 150 or 60 ms a step",
+                                       css_classes=["player-speed"], stylesheets=[":host select {font-size: 14px;}"])
+        self.readout = panes.HTML("", css_classes=["readout"], sizing_mode="stretch_width", stylesheets=[CSS],
+                                  margin=(8, 6))
         self._autoplay = None
         self.period_slider.param.watch(self._period_changed, "value")
         self.step_slider.param.watch(self._update_frame, "value")
@@ -109,7 +111,7 @@ class PlayerMixin:
         self.step_slider.value += 1
 
     def _readout(self, result, frame, units) -> str:
-        """Where the player is: step, period, time, the centre's position and the rolling direction."""
+        """Where the player is: step, period, time [periods], the centre's position and the rolling direction."""
         if result is None:
             return "<div class='readout'>no run yet</div>"
         k = int(np.clip(frame, 0, result.xc.size - 1))
@@ -118,23 +120,24 @@ class PlayerMixin:
         dx = xc - float(result.xc[k - 1]) if k > 0 else 0.0
         where = f"xc = {xc * units.x:.3g} {'mm' if units.system == 'physical' else 'a'}"
         if dx > 0:
-            moving = "rolling towards +x; trailing edge at xc − a"
+            moving = "rolling to +x"
         elif dx < 0:
-            moving = "rolling towards −x; trailing edge at xc + a"
+            moving = "rolling to −x"
         else:
             moving = "at rest (loading)"
         phase = "loading" if period == 0 else f"period {period} of {result.periods}"
-        return (f"<div class='readout'>Step <b>{k + 1}</b> of {result.xc.size} · {phase} · "
-                f"t = {time_axis(result)[k]:.3f} periods · centre <b>{where}</b> · {moving}</div>")
+        t = time_axis(result)[k]
+        return (f"<div class='readout' title='t = {t:.3f} periods'>Step <b>{k + 1}</b>/{result.xc.size} · {phase} · "
+                f"centre <b>{where}</b> · {moving}</div>")
 
     def player_controls(self) -> pn.FlexBox:
         """The cycle player: period, step, step back / play / step forward, speed, and where the cylinder is."""
         readout = pn.bind(self._readout, self.param.result, self.param.frame, self.param.plot_units)
         self.readout.object = readout
         return pn.FlexBox(
-            pn.pane.Markdown("**Cycle player**", margin=(18, 10, 0, 10), width=130, sizing_mode=None),
             self.period_slider, self.step_slider,
-            pn.Row(self.step_back, self.play, self.step_forward, sizing_mode=None, margin=(14, 0, 0, 0)),
-            self.speed, self.readout,
-            flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width", css_classes=["cycle-player"])
+            pn.Row(self.step_back, self.play, self.step_forward, sizing_mode=None, margin=(16, 0, 0, 0)),
+            pn.Row(self.speed, self.readout, sizing_mode="stretch_width", margin=0),
+            flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width", css_classes=["cycle-player"],
+            margin=(4, 0, 0, 0))
 

@@ -49,6 +49,17 @@ hv.plotting.bokeh.BokehRenderer.webgl = False
 FONT = {"title": 17, "labels": 16, "xticks": 14, "yticks": 14, "legend": 14, "cticks": 13}
 LINE = 3
 HEIGHT = 480
+#: Height of a figure of the first screen [px] (:data:`app.figures.KEY_FIGURES`): three fit above the fold at
+#: 1280x720 and at 1024x768, two or three in a row.
+KEY_HEIGHT = 290
+
+
+def key_opts(legend: str = "top_right") -> dict:
+    """Options of a first-screen figure: lower, its legend inside the frame (at ``legend``), one column, smaller."""
+    return dict(height=KEY_HEIGHT, legend_position=legend, legend_cols=1, fontsize={**FONT, "title": 14, "labels": 15},
+                backend_opts={**_BASE["backend_opts"], "plot.toolbar.autohide": True},  # no toolbar over the title
+                legend_opts={"label_text_font_size": "12px", "spacing": 0, "padding": 4, "margin": 4,
+                             "label_height": 14, "glyph_height": 14, "background_fill_alpha": 0.75})
 #: Okabe and Ito's colour-blind-safe palette (distinct under deuteranopia, protanopia and tritanopia).
 OKABE_ITO = {"orange": "#E69F00", "sky": "#56B4E9", "green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
              "vermillion": "#D55E00", "purple": "#CC79A7", "black": "#000000", "grey": "#999999"}
@@ -553,16 +564,16 @@ FIGURES = {
                    caption="What you see: the rocking cylinder (not to scale) at the player's step: its contact 2a, "
                            "the way it rolls and the trailing edge, where the contact lets go.",
                    specs=sketch.specs, layers=sketch.layers, inputs=("result", "frame")),
-    "pressure": dict(opts=dict(title="Pressure (Hertz, uncoupled)"),
+    "pressure": dict(opts=dict(title="Pressure (Hertz, uncoupled)", **key_opts("top_right")),
                 caption="What you see: the Hertz pressure moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
-    "traction": dict(opts=dict(title="Traction: numerical vs closure"),
+    "traction": dict(opts=dict(title="Traction: numerical vs closure", **key_opts("top_right")),
                 caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: stick, slip (hatched), no contact.", specs=_traction_specs,
                      layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame", "pinned")),
     "states": dict(opts=dict(title="Element states over the run"),
                 caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,
                    layers=_states_layers, inputs=("units", "result", "frame")),
-    "displacement": dict(opts=dict(title="Displacement of the cylinder"),
+    "displacement": dict(opts=dict(title="Displacement of the cylinder", **key_opts("bottom_right")),
                 caption="What you see: the cylinder's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),

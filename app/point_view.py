@@ -228,8 +228,8 @@ def _cut_specs(units):
     def line(label, color, dash="solid", width=LINE):
         return Layer(hv.Curve, (kd,), (vd,), label, dict(color=color, line_dash=dash, line_width=width))
     return [*zones,
-            line("±μ p (Hertz, this step)", "#555555", "dashed", 2), line("", "#555555", "dashed", 2),
-            line("±μ p_min (exact bound of shakedown)", "black", "dotted", 2), line("", "black", "dotted", 2),
+            line("±μ p (this step)", "#555555", "dashed", 2), line("", "#555555", "dashed", 2),
+            line("±μ p_min (exact bound)", "black", "dotted", 2), line("", "black", "dotted", 2),
             line("q_y numerical", _C["sky"], width=2), line("q_x numerical", _C["vermillion"]),
             *pinned.specs("point_cut", kd, vd)]
 
@@ -262,10 +262,10 @@ def _pmin_cut(w: float, units: Units, reach: float) -> tuple:
     return (x * units.x, low), (x * units.x, -low)
 
 
-@_figure("point_cut", "Cut along y = 0 at the player's step",
+@_figure("point_cut", "Traction on y = 0 at the step",
          "What you see: the traction on the line y = 0 at the player's step (stairs: elements) inside ±μ p, and "
          "±μ p_min, the exact bound a shaken-down traction stays within; shaded: stick, slip (hatched), released.",
-         ("w", "units", "result", "frame", "pinned"), _cut_specs)
+         ("w", "units", "result", "frame", "pinned"), _cut_specs, **plots.key_opts("top_right"))
 def _cut_layers(i):
     *zones, up, down, qy, qx = cut_layers(i.units, i.result, i.frame)
     reach = 1.0 + i.w if i.result is None else float(max(abs(i.result.x_edges[0]), i.result.x_edges[-1]))
@@ -294,9 +294,10 @@ def displacement_layers(units: Units, result=None, frame=None) -> tuple:
     return (t, u), ([t[k]], [u[k]])
 
 
-@_figure("point_displacement", "Displacement of the body along Ft",
+@_figure("point_displacement", "Body displacement along Ft",
          "What you see: the body's rigid-body displacement along Ft over the periods: it levels off (shakedown) "
-         "or keeps walking (ratcheting).", ("units", "result", "frame", "pinned"), _displacement_specs)
+         "or keeps walking (ratcheting).", ("units", "result", "frame", "pinned"), _displacement_specs,
+         **plots.key_opts("bottom_right"))
 def _displacement_layers(i):
     curve, step = displacement_layers(i.units, i.result, i.frame)
     return (curve, *pinned.layers("point_displacement", i.pinned, i.units), step)
@@ -304,7 +305,7 @@ def _displacement_layers(i):
 
 def _increments_specs(units):
     lab = _labels(units)
-    kd, vd = hv.Dimension("period", label="period"), hv.Dimension("du", label=f"|Δ{lab['u']}| per period")
+    kd, vd = hv.Dimension("period", label="period"), hv.Dimension("du", label=f"|Δu| per period [{lab['u'].split('[')[-1]}")
     return [Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=2)),
             Layer(hv.Scatter, (kd,), (vd,), "", dict(color=_C["vermillion"], size=9)),
             *pinned.specs("point_increments", kd, vd)]
@@ -321,16 +322,17 @@ def increment_layers(units: Units, result=None) -> tuple:
     return pts, pts
 
 
-@_figure("point_increments", "Displacement per period (log scale)",
+@_figure("point_increments", "Increment per period (log)",
          "What you see: how far the body walks along Ft in each period (from 1); it falls to zero at shakedown "
-         "and settles at a constant step when it ratchets.", ("units", "result", "pinned"), _increments_specs, logy=True)
+         "and settles at a constant step when it ratchets.", ("units", "result", "pinned"), _increments_specs, logy=True,
+         **plots.key_opts("top_right"))
 def _increment_layers(i):
     return (*increment_layers(i.units, i.result), *pinned.layers("point_increments", i.pinned, i.units))
 
 
 plots.FIGURES.update(FIGURES)
-hv.opts.defaults(*[hv.opts.Overlay(plots.group(name), legend_position="bottom", legend_cols=2, **{
-    **plots._BASE, **f["opts"]}) for name, f in FIGURES.items()])
+hv.opts.defaults(*[hv.opts.Overlay(plots.group(name), **{
+    "legend_position": "bottom", "legend_cols": 2, **plots._BASE, **f["opts"]}) for name, f in FIGURES.items()])
 
 
 # --------------------------------------------------------------------------

@@ -133,5 +133,5 @@ class SolveMixin:
     def _show_spinner(self, *_):
         """Show the spinner while this session's solve runs (watches ``solving``)."""
         self.spinner.param.update(value=self.solving, visible=self.solving)
-        self.status.object = "solving…" if self.solving else ""
+        self.status.param.update(object="solving…" if self.solving else "", visible=self.solving)
 

@@ -16,19 +16,25 @@ __all__ = ["CSS", "PAGE_CSS", "KATEX_CSS", "A11Y_JS", "MathFonts"]
 
 _ASSETS = Path(__file__).with_name("assets")
 CSS = """
-.regime-badge {display: inline-block; padding: 8px 20px; border-radius: 12px; color: white;
-               font-size: 26px; font-weight: 700; letter-spacing: 0.04em;}
+.regime-badge {display: inline-block; padding: 5px 16px; border-radius: 10px; color: white;
+               font-size: 23px; font-weight: 700; letter-spacing: 0.04em;}
 .regime-shakedown {background: #0072B2;} .regime-ratcheting {background: #D55E00;}
 .regime-none, .regime-undetermined {background: #6b6b6b;}
-.regime-note {font-size: 15px; color: #333; margin-top: 6px; line-height: 1.35;}
+.regime-note {font-size: 13px; color: #333; margin-top: 4px; line-height: 1.3;}
+.strip {display: flex; flex-wrap: wrap; gap: 2px 18px; font-size: 15px; line-height: 1.35;}
+.strip .item {white-space: nowrap;} .strip .more {color: #1f5f99; cursor: pointer; white-space: nowrap;} .strip .k {color: #444;} .strip .v {font-weight: 600;}
+.regime-note details.why {display: inline;} .regime-note details.why[open] {display: block;}
+.regime-note summary {display: inline; cursor: pointer; color: #1f5f99; text-decoration: underline;}
+.strip .pending {color: #6b6b6b; font-style: italic; font-weight: 400;}
 .cards {display: grid; grid-template-columns: repeat(auto-fill, minmax(235px, 1fr)); gap: 0 22px;
         font-size: 15px;}
 .cards div {display: flex; justify-content: space-between; gap: 10px; border-bottom: 1px solid #eee;
             padding: 2px 0;}
 .cards .k {color: #444;} .cards .v {font-weight: 600; text-align: right;}
 .cards .pending {color: #6b6b6b; font-style: italic; font-weight: 400;}
-.readout {font-size: 15px; color: #222;}
+.readout {font-size: 14px; color: #222;}
 .caption {font-size: 14px; color: #333; margin: 0 10px 14px 10px;}
+.caption ul {margin: 2px 0 0 0; padding-left: 20px;}
 """
 #: Document-level CSS (outside every shadow root). The math fonts are declared here because Chromium
 #: ignores @font-face inside a shadow root, where Panel renders the equations; presentation mode
