@@ -23,7 +23,7 @@ __all__ = ["CardsMixin", "prediction", "limit_name", "cards_html", "strip_html",
 #: group that is present).
 STRIP_KEYS = ((("margin ft / ft_lim", "ft/ft_lim"),), (("margin w / w_lim", "w/w_lim"),),
               (("c_sd numerical", "c_sd"), ("c_sd numerical (y = 0)", "c_sd (y = 0)")),
-              (("Δu last period", "Δu last period"), ("creep per period (last)", "creep per period")),
+              (("Δu last period", "Δu/period"), ("creep per period (last)", "creep/period")),
               (("grid error of Δu", "grid error"),))
 
 
@@ -68,7 +68,7 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
                grid_error=None) -> list:
     """The rows of a point contact's cards: the inputs in physical units, the exact limits of this body and of
     the cylinder (eq 35), and the run's numbers (``wait``: why they are not shown, or None). ``grid_error``:
-    the estimated discretisation error of the last increment (a :class:`core.grid_error.GridError`), if known."""
+    the estimated discretisation error of the last increment (a :class:`core.grid_estimate.GridEstimate`), if known."""
     rows = []
     c = None
     if contact is not None:
@@ -94,21 +94,24 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
                  (f"creep after {count(cycles)} periods", fmt(um * cycles / 1e3, "mm", 3))]
     else:
         rows.append(("Δu last period", f"{inc:.3g} μFn/(E*a)"))
-    if grid_error is not None:
-        rows.append(("grid error of Δu", grid_error_text(grid_error, inc)))
+    scale, unit = (c.displacement_unit * 1e6, "µm") if physical else (1.0, "μFn/(E*a)")
+    rows.append(("grid error of Δu", "estimating…" if grid_error is None
+                 else grid_error_text(grid_error, inc, scale, unit)))
     nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
     rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{round(1 / result.dx):d}), "
                           f"{result.xc.size} steps"))
     return rows
 
 
-def grid_error_text(estimate, inc: float) -> str:
-    """The estimated discretisation error of the last increment ``inc``, as the cards show it."""
+def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "") -> str:
+    """The estimated discretisation error of the last increment ``inc`` (relative, and in ``unit``: the error
+    times ``scale``), as the cards show it."""
     err = float(estimate.error)
     if not math.isfinite(err):
         return "not estimated"
     rel = err / abs(inc) if inc else math.inf
-    return f"±{err:.2g} ({100 * rel:.0f} %)" if math.isfinite(rel) else f"±{err:.2g}"
+    absolute = f"±{err * scale:.2g} {unit}".rstrip()
+    return f"±{100 * rel:.0f} % ({absolute})" if math.isfinite(rel) else absolute
 
 
 def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6) -> list:

@@ -20,6 +20,7 @@ from . import panes, plots, point_view, slides
 from .compare import Pins
 from .figures import GRID, KEY_FIGURES
 from .paper_figures import paper_figures_tab
+from .state import MAX_POINT_RESOLUTION
 from .styles import A11Y_JS, CSS, KATEX_CSS, PAGE_CSS, MathFonts
 from .widgets import filled_when
 
@@ -92,8 +93,24 @@ class LayoutMixin:
         return warnings
 
     def _grid_action(self) -> pn.viewable.Viewable:
-        """The point contacts' 'Refine grid' action beside the strip (nothing for the cylinder)."""
-        return pn.Column(sizing_mode="stretch_width", margin=0)
+        """The point contacts' 'Refine grid' button under the strip (whose 'grid error' is the run's estimated
+        discretisation error): one click doubles the elements per a and re-runs."""
+        button = pn.widgets.Button(label="Refine grid", width=230, css_classes=["refine-grid"], margin=(2, 10),
+                                   visible=self.state.param.body.rx() != "cylinder")
+
+        def label(resolution):
+            finer = min(2 * resolution, MAX_POINT_RESOLUTION)
+            button.param.update(label=f"Refine grid: a/{resolution} → a/{finer}" if finer > resolution
+                                else f"Finest grid (a/{resolution})", disabled=finer <= resolution)
+
+        label(self.state.point_resolution)
+        self.state.param.watch(lambda e: label(e.new), "point_resolution")
+        button.on_click(lambda e: self.refine_grid())
+        return button
+
+    def refine_grid(self) -> None:
+        """Re-run the point contact on a grid twice as fine (up to the finest the app accepts)."""
+        self.state.point_resolution = min(2 * self.state.point_resolution, MAX_POINT_RESOLUTION)
 
     #: The tabs built only when first shown (most visitors never open them): title, builder.
     _LAZY_TABS: ClassVar[dict] = {"Paper's figures": lambda self: paper_figures_tab(),
