@@ -1,38 +1,28 @@
-"""Compare runs: pin the current run and overlay up to four pinned runs on the displacement, increment and
-traction figures (the paper's Figs 6 and 7 show three amplitudes at once), with a table of the pinned runs'
+"""Compare runs: pin the current run and overlay up to four pinned runs on the figures of their body (the
+cylinder's displacement, increment and traction; a point contact's displacement, increment and cut along
+``y = 0``; the paper's Figs 6 and 7 show three amplitudes at once), with a table of the pinned runs'
 parameters and verdicts.
 
-A pinned run is a :class:`Pin` (the solver result, its contact and its inputs), kept per session by
-:class:`Pins` (a ``pn.viewable.Viewer``: the pin / clear buttons and the table with an unpin button per
-row). The figures of :mod:`app.plots` add the layers of :func:`specs` and :func:`layers` after their own:
-always :data:`MAX_PINS` layers, empty where no run is pinned (their legend entries are then hidden). No
-physics here: the curves are the pinned runs' own arrays.
+:class:`Pins` (a ``pn.viewable.Viewer``: the pin / clear buttons and the table, with an unpin menu) keeps
+the session's :class:`~app.pinned.Pin` list; the layers they add to the figures are :mod:`app.pinned`'s.
 """
 
 from __future__ import annotations
 
 import html
 import math
-from typing import NamedTuple
 
-import holoviews as hv
-import numpy as np
 import panel as pn
 import param
 
 import core
 
 from . import panes
-from .live import Layer
+from .cards import prediction
+from .pinned import MAX_PINS, PIN_STYLES, Pin, label
 
-__all__ = ["MAX_PINS", "PIN_STYLES", "Pin", "Pins", "specs", "layers", "pin_units"]
+__all__ = ["MAX_PINS", "PIN_STYLES", "Pin", "Pins", "table_html"]
 
-#: At most this many pinned runs are drawn at once.
-MAX_PINS = 4
-#: Colour and dash of pinned run k (Okabe-Ito colours the current run does not use, and a dash of its own: a
-#: second cue besides colour).
-PIN_STYLES = (("#56B4E9", "dashed"), ("#009E73", "dotdash"), ("#CC79A7", "dotted"), ("#000000", "dashdot"))
-_EMPTY = (np.zeros(0), np.zeros(0))
 _CSS = """
 .pins {border-collapse: collapse; font-size: 15px; margin: 4px 0; max-width: 100%;}
 .pins-wrap {overflow-x: auto; max-width: 100%;}
@@ -45,79 +35,15 @@ _CSS = """
 """
 
 
-class Pin(NamedTuple):
-    """A pinned run: the solver's result, its contact (SI) and the inputs it was solved for."""
-
-    result: core.CycleResult
-    contact: core.Contact | None
-    inputs: dict
-
-    @property
-    def key(self) -> tuple:
-        """What makes two pins the same run."""
-        return tuple(sorted(self.inputs.items()))
-
-
-def pin_units(pin: Pin, units):
-    """The display units of ``pin`` in the current unit system (its own a, p0 and U0)."""
-    from .plots import make_units  # plots imports this module
-
-    geometry = None if pin.contact is None else pin.contact.replace(ft=0.0, w=0.0)
-    return make_units(units.system, geometry, pin.result.kernel, pin.result.u0)
-
-
-def _label(k: int) -> str:
-    return f"pin {k + 1}"
-
-
-def specs(kind: str, kd, vd) -> list:
-    """The pinned runs' layers of figure ``kind`` ("displacement", "increments" or "traction")."""
-    width = 2 if kind == "increments" else 3
-    return [Layer(hv.Curve, (kd,), (vd,), _label(k), dict(color=c, line_dash=d, line_width=width))
-            for k, (c, d) in enumerate(PIN_STYLES)]
-
-
-_MEMO: dict = {}  # (kind, id(result), units) -> (result, data): a pinned layer is the same object until it changes
-
-
-def _curve(kind: str, pin: Pin | None, units) -> tuple:
-    """The data of ``pin``'s layer in figure ``kind``, memoised by identity (the live figure then skips it)."""
-    if pin is None:
-        return _EMPTY
-    key = (kind, id(pin.result), units)
-    hit = _MEMO.get(key)
-    if hit is not None and hit[0] is pin.result:
-        return hit[1]
-    if len(_MEMO) > 64:
-        _MEMO.clear()
-    data = _data(kind, pin, units)
-    _MEMO[key] = (pin.result, data)
-    return data
-
-
-def _data(kind: str, pin: Pin, units) -> tuple:
-    r, u = pin.result, pin_units(pin, units)
-    if kind == "displacement":
-        from .plots import time_axis
-
-        return time_axis(r), r.displacement * u.u
-    if kind == "increments":
-        inc = np.abs(r.increment_per_period) * abs(u.u)
-        top = float(inc.max()) if inc.size and inc.max() > 0 else 1.0
-        return np.arange(1, inc.size + 1), np.maximum(inc, top * 1e-12)  # as the current run (log scale)
-    if kind == "traction":  # the last step's traction (shaken down, or the last of a ratcheting run), as stairs
-        return np.repeat(r.edges * u.x, 2)[1:-1], np.repeat(u.q * r.traction[-1], 2)
-    raise ValueError(f"kind must be one of displacement, increments, traction, got {kind!r}")
-
-
-def layers(kind: str, pins: tuple, units) -> tuple:
-    """The data of the :data:`MAX_PINS` pinned layers of figure ``kind`` (empty where nothing is pinned)."""
-    pins = tuple(pins)[:MAX_PINS]
-    return tuple(_curve(kind, pins[k] if k < len(pins) else None, units) for k in range(MAX_PINS))
-
-
 def _fmt(v, digits=3) -> str:
     return "–" if v is None or not math.isfinite(v) else f"{v:.{digits}g}"
+
+
+def _body(result) -> str:
+    """The body of a run (a cylinder's run: its kernel too)."""
+    if isinstance(result, core.PointContactResult):
+        return result.body.name
+    return f"cylinder, {result.kernel}"
 
 
 def table_html(pins) -> str:
@@ -126,19 +52,22 @@ def table_html(pins) -> str:
         return ("<div class='pins-empty'>No run pinned: pinned runs stay on the displacement, increment and "
                 "traction figures.</div>")
     head = ("<tr><th>run</th><th>ft, w</th><th>μ</th><th>periods</th><th>solver</th>"
-            "<th>eq 35</th><th>c_sd / a</th><th>|Δu| last</th></tr>")
+            "<th>exact limit</th><th>c_sd / a</th><th>|Δu| last</th></tr>")
     rows = []
     for k, p in enumerate(pins):
         r, i = p.result, p.inputs
         color, dash = PIN_STYLES[k]
         style = {"dashed": "dashed", "dotted": "dotted"}.get(dash, "dashed" if "dash" in dash else "solid")
         inc = abs(float(r.increment_per_period[-1])) if r.increment_per_period.size else math.nan
-        inc_text = f"{inc / r.u0:.3g} U0" if r.u0 else f"{inc:.3g} μP/E*"
+        u0 = getattr(r, "u0", None)
+        point = isinstance(r, core.PointContactResult)
+        inc_text = f"{inc / u0:.3g} U0" if u0 else f"{inc:.3g} {'μFn/(E*a)' if point else 'μP/E*'}"
+        predicted, rule = prediction(i["ft"], i["w"], r.body.name if point else "cylinder")
         rows.append(
             f"<tr data-pin='{k + 1}'><td><span class='swatch' style='border-top: 4px {style} {color}'></span>"
-            f"{_label(k)} <small>{html.escape(str(r.kernel))}</small></td><td>{i['ft']:.2f}, {i['w']:.2f}</td>"
+            f"{label(k)} <small>{html.escape(_body(r))}</small></td><td>{i['ft']:.2f}, {i['w']:.2f}</td>"
             f"<td>{i['mu']:.2f}</td><td>{r.periods}</td><td><b>{html.escape(str(r.regime))}</b></td>"
-            f"<td>{html.escape(str(core.classify_regime(i['ft'], i['w'])))}</td>"
+            f"<td title='{html.escape(rule)}'>{html.escape(predicted)}</td>"
             f"<td>{_fmt(r.stick_halfwidth)}</td><td>{inc_text}</td></tr>")
     return f"<div class='pins-wrap'><table class='pins'>{head}{''.join(rows)}</table></div>"
 
@@ -182,7 +111,7 @@ class Pins(pn.viewable.Viewer):
             return False
         pin = Pin(r, ex.contact, dict(ft=float(r.params.get("ft", ex.state.ft)),
                                       w=float(r.params.get("w", ex.state.w)), mu=float(ex.state.mu),
-                                      kernel=str(r.kernel), periods=int(r.periods), dx=float(r.dx),
+                                      body=_body(r), periods=int(r.periods), dx=float(r.dx),
                                       R=ex.state.R, L=ex.state.L, Fn=ex.state.Fn, E2=ex.state.E2))
         if any(p.key == pin.key for p in self.pins):
             self.message = "This run is pinned already."
@@ -214,7 +143,7 @@ class Pins(pn.viewable.Viewer):
         self.explorer.pinned = tuple(self.pins)
         self.table.object = table_html(self.pins)
         self.clear_button.disabled = n == 0
-        self.unpin.param.update(options=["–", *[_label(k) for k in range(n)]], value="–", disabled=n == 0)
+        self.unpin.param.update(options=["–", *[label(k) for k in range(n)]], value="–", disabled=n == 0)
 
     @param.depends("message", watch=True)
     def _show_message(self):

@@ -20,7 +20,6 @@ A layer whose glyph colour encodes a state is a :class:`~app.live.Styled`.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -31,8 +30,9 @@ import numpy as np
 import core
 from core import approximations as approx
 
-from . import compare, sketch
+from . import pinned, sketch
 from .live import Layer, Styled, overlay
+from .units import Units, make_units, time_axis
 
 __all__ = ["Units", "make_units", "Inputs", "FIGURES", "figure", "layers", "specs", "group",
            "pressure_curves", "pressure_step", "traction_zones", "traction_run", "traction_bounds",
@@ -49,6 +49,17 @@ hv.plotting.bokeh.BokehRenderer.webgl = False
 FONT = {"title": 17, "labels": 16, "xticks": 14, "yticks": 14, "legend": 14, "cticks": 13}
 LINE = 3
 HEIGHT = 480
+#: Height of a figure of the first screen [px] (:data:`app.figures.KEY_FIGURES`): three fit above the fold at
+#: 1280x720 and at 1024x768, two or three in a row.
+KEY_HEIGHT = 290
+
+
+def key_opts(legend: str = "top_right") -> dict:
+    """Options of a first-screen figure: lower, its legend inside the frame (at ``legend``), one column, smaller."""
+    return dict(height=KEY_HEIGHT, legend_position=legend, legend_cols=1, fontsize={**FONT, "title": 14, "labels": 15},
+                backend_opts={**_BASE["backend_opts"], "plot.toolbar.autohide": True},  # no toolbar over the title
+                legend_opts={"label_text_font_size": "12px", "spacing": 0, "padding": 4, "margin": 4,
+                             "label_height": 14, "glyph_height": 14, "background_fill_alpha": 0.75})
 #: Okabe and Ito's colour-blind-safe palette (distinct under deuteranopia, protanopia and tritanopia).
 OKABE_ITO = {"orange": "#E69F00", "sky": "#56B4E9", "green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
              "vermillion": "#D55E00", "purple": "#CC79A7", "black": "#000000", "grey": "#999999"}
@@ -88,46 +99,6 @@ def _line(label, color, kd, vd, dash="solid", width=LINE, alpha=1.0) -> Layer:
 
 def _dim(name: str, label: str) -> hv.Dimension:
     return hv.Dimension(name, label=label)
-
-
-@dataclass(frozen=True)
-class Units:
-    """Scales from the normalised results of :mod:`core` to the displayed units, and axis labels."""
-
-    system: str
-    x: float = 1.0
-    x_label: str = "x / a"
-    p: float = 1.0
-    p_label: str = "p / p0"
-    q: float = 1.0
-    q_label: str = "q / (μ p0)"
-    u: float = 1.0
-    u_label: str = "U [μ P/E*]"
-    mu: float = 1.0
-
-
-def make_units(system: str, contact: core.Contact | None, kernel: str, u0: float | None = None) -> Units:
-    """Units of the plots.
-
-    Parameters
-    ----------
-    system : {"normalised", "physical"}
-        Physical units need ``contact``; without one they fall back to normalised.
-    contact : Contact or None
-        The current contact (SI units).
-    kernel : {"strip", "plane"}
-        With the strip kernel, normalised displacements are shown as ``U/U0``.
-    u0 : float, optional
-        ``U0`` of the strip kernel [μ P/E*].
-    """
-    mu = 1.0 if contact is None else contact.mu
-    if system == "physical" and contact is not None:
-        return Units("physical", x=contact.a * 1e3, x_label="x [mm]", p=contact.p0 / 1e6, p_label="p [MPa]",
-                     q=contact.traction_unit / 1e6, q_label="q [MPa]", u=contact.displacement_unit * 1e6,
-                     u_label="U [µm]", mu=mu)
-    if kernel == "strip" and u0:
-        return Units("normalised", u=1.0 / u0, u_label="u = U / U0", mu=mu)
-    return Units("normalised", mu=mu)
 
 
 def _x_grid(w: float) -> np.ndarray:
@@ -252,7 +223,7 @@ def _traction_specs(units: Units) -> list:
         _line("", "black", kd, vd, dash="dotted", width=2),
         _line("closure (paper, eqs 22–30)", _C["blue"], kd, vd, dash="dashed", width=LINE + 1),
         _line("numerical", _C["vermillion"], kd, vd),
-        *compare.specs("traction", kd, vd),
+        *pinned.specs("traction", kd, vd),
     ]
 
 
@@ -311,20 +282,13 @@ def traction_run(units: Units, result: core.CycleResult | None = None, frame: in
 def _traction_layers(i: Inputs) -> tuple:
     *zones_and_bounds, numerical = traction_run(i.units, i.result, i.frame)
     return (*zones_and_bounds, *traction_bounds(i.w, i.units), traction_closure(i.ft, i.w, i.units), numerical,
-            *compare.layers("traction", i.pinned, i.units))
+            *pinned.layers("traction", i.pinned, i.units))
 
 
 # --------------------------------------------------------------------------
 # the space-time map of element states
 # --------------------------------------------------------------------------
 _MAX_ROWS = 1500
-
-
-def time_axis(result: core.CycleResult) -> np.ndarray:
-    """Time of each step in periods: period ``p`` spans ``(p, p + 1]``, the loading ends at 0."""
-    m = max(1, int(np.count_nonzero(result.period == 0)))
-    n_load = int(np.count_nonzero(result.period < 0))
-    return (np.arange(result.xc.size) + 1 - n_load) / m
 
 
 def _state_colorbar(plot, element) -> None:
@@ -410,7 +374,7 @@ def _displacement_specs(units: Units) -> list:
         Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=LINE)),
         Layer(hv.HLines, (vd,), (), "u_sd (eq 34, regression)",
               dict(color=_C["blue"], line_dash="dashed", line_width=2)),
-        *compare.specs("displacement", kd, vd),
+        *pinned.specs("displacement", kd, vd),
         Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color=_C["yellow"], size=12, line_color="black")),
     ]
 
@@ -437,7 +401,7 @@ def displacement_step(units: Units, result: core.CycleResult | None = None, fram
 
 
 def _displacement_layers(i: Inputs) -> tuple:
-    return (*displacement_curves(i.result, i.units), *compare.layers("displacement", i.pinned, i.units),
+    return (*displacement_curves(i.result, i.units), *pinned.layers("displacement", i.pinned, i.units),
             displacement_step(i.units, i.result, i.frame))
 
 
@@ -453,7 +417,7 @@ def _increments_specs(units: Units) -> list:
         Layer(hv.Scatter, (kd,), (vd,), "", dict(color=_C["vermillion"], size=9)),
         Layer(hv.HLines, (vd,), (), "eq 38 (regression)",
               dict(color=_C["blue"], line_dash="dashed", line_width=2)),
-        *compare.specs("increments", kd, vd),
+        *pinned.specs("increments", kd, vd),
     ]
 
 
@@ -475,7 +439,7 @@ def increment_layers(result: core.CycleResult | None, units: Units) -> tuple:
 
 
 def _increments_layers(i: Inputs) -> tuple:
-    return (*increment_layers(i.result, i.units), *compare.layers("increments", i.pinned, i.units))
+    return (*increment_layers(i.result, i.units), *pinned.layers("increments", i.pinned, i.units))
 
 
 # --------------------------------------------------------------------------
@@ -600,16 +564,16 @@ FIGURES = {
                    caption="What you see: the rocking cylinder (not to scale) at the player's step: its contact 2a, "
                            "the way it rolls and the trailing edge, where the contact lets go.",
                    specs=sketch.specs, layers=sketch.layers, inputs=("result", "frame")),
-    "pressure": dict(opts=dict(title="Pressure (Hertz, uncoupled)"),
+    "pressure": dict(opts=dict(title="Pressure (Hertz, uncoupled)", **key_opts("top_right")),
                 caption="What you see: the Hertz pressure moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
-    "traction": dict(opts=dict(title="Traction: numerical vs closure"),
+    "traction": dict(opts=dict(title="Traction: numerical vs closure", **key_opts("top_right")),
                 caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: stick, slip (hatched), no contact.", specs=_traction_specs,
                      layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame", "pinned")),
     "states": dict(opts=dict(title="Element states over the run"),
                 caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,
                    layers=_states_layers, inputs=("units", "result", "frame")),
-    "displacement": dict(opts=dict(title="Displacement of the cylinder"),
+    "displacement": dict(opts=dict(title="Displacement of the cylinder", **key_opts("bottom_right")),
                 caption="What you see: the cylinder's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),

@@ -26,10 +26,6 @@ No physics here: every number comes from :mod:`core`.
 from __future__ import annotations
 
 import functools
-import html
-import io
-import json
-import math
 
 import holoviews as hv
 import numpy as np
@@ -38,14 +34,15 @@ import panel as pn
 import core
 from core.point_contact import hertz_pressure_3d
 
-from . import plots
+from . import pinned, plots
 from .live import Layer, Styled
 from .plots import LINE, OKABE_ITO as _C, ZONE_COLORS, ZONE_HATCH, Units
 from .state import POINT_RESOLUTION
+from .units import along_ft
+from .widgets import IntSlider, filled_when
 
-__all__ = ["FIGURES", "shown", "prediction", "limit_name", "cards", "cards_html", "body_inputs", "stored_step", "zone_codes",
-           "pressure_map", "traction_map", "zone_map", "cut_layers", "displacement_layers", "increment_layers",
-           "to_csv", "to_json", "ZONE_NAMES"]
+__all__ = ["FIGURES", "shown", "body_inputs", "stored_step", "zone_codes", "pressure_map", "traction_map",
+           "zone_map", "cut_layers", "displacement_layers", "increment_layers", "ZONE_NAMES"]
 
 #: Zones of the zone map, by code: never in contact, released (in contact earlier, not now), stick, slip.
 ZONE_NAMES = ("never in contact", "released", "stick", "slip +x", "slip −x")
@@ -231,9 +228,10 @@ def _cut_specs(units):
     def line(label, color, dash="solid", width=LINE):
         return Layer(hv.Curve, (kd,), (vd,), label, dict(color=color, line_dash=dash, line_width=width))
     return [*zones,
-            line("±μ p (Hertz, this step)", "#555555", "dashed", 2), line("", "#555555", "dashed", 2),
-            line("±μ p_min (exact bound of shakedown)", "black", "dotted", 2), line("", "black", "dotted", 2),
-            line("q_y numerical", _C["sky"], width=2), line("q_x numerical", _C["vermillion"])]
+            line("±μ p (this step)", "#555555", "dashed", 2), line("", "#555555", "dashed", 2),
+            line("±μ p_min (exact bound)", "black", "dotted", 2), line("", "black", "dotted", 2),
+            line("q_y numerical", _C["sky"], width=2), line("q_x numerical", _C["vermillion"]),
+            *pinned.specs("point_cut", kd, vd)]
 
 
 @functools.lru_cache(maxsize=8)
@@ -264,28 +262,25 @@ def _pmin_cut(w: float, units: Units, reach: float) -> tuple:
     return (x * units.x, low), (x * units.x, -low)
 
 
-@_figure("point_cut", "Cut along y = 0 at the player's step",
+@_figure("point_cut", "Traction on y = 0 at the step",
          "What you see: the traction on the line y = 0 at the player's step (stairs: elements) inside ±μ p, and "
          "±μ p_min, the exact bound a shaken-down traction stays within; shaded: stick, slip (hatched), released.",
-         ("w", "units", "result", "frame"), _cut_specs)
+         ("w", "units", "result", "frame", "pinned"), _cut_specs, **plots.key_opts("top_right"))
 def _cut_layers(i):
     *zones, up, down, qy, qx = cut_layers(i.units, i.result, i.frame)
     reach = 1.0 + i.w if i.result is None else float(max(abs(i.result.x_edges[0]), i.result.x_edges[-1]))
-    return (*zones, up, down, *_pmin_cut(float(i.w), i.units, reach), qy, qx)
+    return (*zones, up, down, *_pmin_cut(float(i.w), i.units, reach), qy, qx,
+            *pinned.layers("point_cut", i.pinned, i.units))
 
 
 # --------------------------------------------------------------------------
 # displacement and increments
 # --------------------------------------------------------------------------
-def _along(result) -> np.ndarray:
-    """The rigid-body displacement along Ft after each step [mu Fn/(E* a)]."""
-    return result.displacement @ np.array([math.cos(result.angle), math.sin(result.angle)])
-
-
 def _displacement_specs(units):
     lab = _labels(units)
     kd, vd = hv.Dimension("t", label="time [periods]"), hv.Dimension("u", label=lab["u"])
     return [Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=LINE)),
+            *pinned.specs("point_displacement", kd, vd),
             Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color=_C["yellow"], size=12, line_color="black"))]
 
 
@@ -294,23 +289,26 @@ def displacement_layers(units: Units, result=None, frame=None) -> tuple:
     """The displacement along Ft over the run, and the player's step on it."""
     if result is None:
         return _EMPTY, _EMPTY
-    t, u = plots.time_axis(result), _along(result) * units.u
+    t, u = plots.time_axis(result), along_ft(result) * units.u
     k = _step(result, frame)
     return (t, u), ([t[k]], [u[k]])
 
 
-@_figure("point_displacement", "Displacement of the body along Ft",
+@_figure("point_displacement", "Body displacement along Ft",
          "What you see: the body's rigid-body displacement along Ft over the periods: it levels off (shakedown) "
-         "or keeps walking (ratcheting).", ("units", "result", "frame"), _displacement_specs)
+         "or keeps walking (ratcheting).", ("units", "result", "frame", "pinned"), _displacement_specs,
+         **plots.key_opts("bottom_right"))
 def _displacement_layers(i):
-    return displacement_layers(i.units, i.result, i.frame)
+    curve, step = displacement_layers(i.units, i.result, i.frame)
+    return (curve, *pinned.layers("point_displacement", i.pinned, i.units), step)
 
 
 def _increments_specs(units):
     lab = _labels(units)
-    kd, vd = hv.Dimension("period", label="period"), hv.Dimension("du", label=f"|Δ{lab['u']}| per period")
+    kd, vd = hv.Dimension("period", label="period"), hv.Dimension("du", label=f"|Δu| per period [{lab['u'].split('[')[-1]}")
     return [Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=2)),
-            Layer(hv.Scatter, (kd,), (vd,), "", dict(color=_C["vermillion"], size=9))]
+            Layer(hv.Scatter, (kd,), (vd,), "", dict(color=_C["vermillion"], size=9)),
+            *pinned.specs("point_increments", kd, vd)]
 
 
 @functools.lru_cache(maxsize=8)
@@ -324,97 +322,25 @@ def increment_layers(units: Units, result=None) -> tuple:
     return pts, pts
 
 
-@_figure("point_increments", "Displacement per period (log scale)",
+@_figure("point_increments", "Increment per period (log)",
          "What you see: how far the body walks along Ft in each period (from 1); it falls to zero at shakedown "
-         "and settles at a constant step when it ratchets.", ("units", "result"), _increments_specs, logy=True)
+         "and settles at a constant step when it ratchets.", ("units", "result", "pinned"), _increments_specs, logy=True,
+         **plots.key_opts("top_right"))
 def _increment_layers(i):
-    return increment_layers(i.units, i.result)
+    return (*increment_layers(i.units, i.result), *pinned.layers("point_increments", i.pinned, i.units))
 
 
 plots.FIGURES.update(FIGURES)
-hv.opts.defaults(*[hv.opts.Overlay(plots.group(name), legend_position="bottom", legend_cols=2, **{
-    **plots._BASE, **f["opts"]}) for name, f in FIGURES.items()])
+hv.opts.defaults(*[hv.opts.Overlay(plots.group(name), **{
+    "legend_position": "bottom", "legend_cols": 2, **plots._BASE, **f["opts"]}) for name, f in FIGURES.items()])
 
 
 # --------------------------------------------------------------------------
-# the verdict, the cards, the inputs
+# the inputs
 # --------------------------------------------------------------------------
-def limit_name(body: str) -> str:
-    """How the exact limit of ``body`` is cited."""
-    return "eq 35" if body == "cylinder" else f"the {body}'s exact limit (1 − w)²(2 + w)/2"
-
-
-def prediction(ft: float, w: float, body: str) -> tuple[str, str]:
-    """The regime the exact limit of ``body`` predicts for ``ft``, ``w``, and how that limit is cited."""
-    if body == "cylinder":
-        return str(core.classify_regime(ft, w)), limit_name(body)
-    lim = float(core.ft_limit(w, body=body))
-    return ("shakedown" if ft <= lim else "ratcheting"), limit_name(body)
-
-
-def _fmt(v, unit="", digits=4) -> str:
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
-        return "–"
-    return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
-
-
-def _count(n: int) -> str:
-    """A number of cycles, short: 1000, 2.5×10⁶."""
-    if n < 10**4:
-        return str(n)
-    e = int(math.floor(math.log10(n)))
-    m = n / 10**e
-    power = "10" + str(e).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
-    return power if abs(m - 1) < 1e-9 else f"{m:.3g}×{power}"
-
-
-def cards(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, body="sphere") -> str:
-    """The summary cards of a point contact (HTML): the inputs in physical units, the exact limits of this
-    body and of the cylinder (eq 35), and the run's numbers (``wait``: why they are not shown, or None)."""
-    rows = []
-    c = None
-    if contact is not None:
-        c = contact.replace(mu=mu, ft=ft, w=w)
-        rows += [("Ft (tangential force)", _fmt(c.Ft, "N")), ("W (rocking amplitude)", _fmt(c.W * 1e6, "µm")),
-                 ("a (semi-axis along x)", _fmt(c.a * 1e3, "mm")), ("b (semi-axis along y)", _fmt(c.b * 1e3, "mm")),
-                 ("p0 (peak pressure)", _fmt(c.p0 / 1e6, "MPa")), ("ν of the half-space kernel", _fmt(c.nu, "", 3))]
-    lim, wlim = float(core.ft_limit(w, body=body)), float(core.w_limit(ft, body=body))
-    rows += [(f"ft_lim(w), {body} (exact)", _fmt(lim)), (f"w_lim(ft), {body} (exact)", _fmt(wlim)),
-             ("ft_lim(w), cylinder (eq 35)", _fmt(float(core.ft_limit(w)))),
-             ("margin ft / ft_lim", _fmt(ft / lim, "", 3) if lim > 0 else "–"),
-             ("margin w / w_lim", _fmt(w / wlim, "", 3) if wlim > 0 else "–")]
-    if wait:
-        rows += [("c_sd numerical (y = 0)", wait), ("Δu last period", wait), ("solve", wait)]
-    else:
-        physical = units == "physical" and c is not None
-        scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
-        rows.append(("c_sd numerical (y = 0)", _fmt(result.stick_halfwidth * scale, unit, 3)))
-        inc = float(result.increment_per_period[-1])
-        if physical:
-            um = inc * c.displacement_unit * 1e6
-            rows += [("creep per period (last)", _fmt(um, "µm", 3)),
-                     (f"creep after {_count(cycles)} periods", _fmt(um * cycles / 1e3, "mm", 3))]
-        else:
-            rows.append(("Δu last period", f"{inc:.3g} μFn/(E*a)"))
-        nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
-        rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{round(1 / result.dx):d}), "
-                              f"{result.xc.size} steps"))
-    return cards_html(rows, wait)
-
-
-def cards_html(rows, wait=None) -> str:
-    """Summary cards (HTML) of ``(name, value)`` rows; values equal to ``wait`` are shown as pending."""
-    body = "".join(
-        f"<div><span class='k'>{html.escape(k)}</span><span class='v{' pending' if v == wait else ''}'>"
-        f"{html.escape(v)}</span></div>" for k, v in rows)
-    return f"<div class='cards'>{body}</div>"
-
-
 def body_inputs(state) -> list:
     """The body selector, the ellipsoid's ratio and the point-contact grid (widgets over ``state``; the last two
     are put in the page when a point contact is first chosen)."""
-    from .explorer import IntSlider, _filled_when  # the explorer's prompt slider (no 50 ms wait)
-
     select = pn.widgets.RadioButtonGroup.from_param(state.param.body, button_type="primary", button_style="outline",
                                                     sizing_mode="stretch_width", css_classes=["body-select"])
     ratio = pn.widgets.FloatInput.from_param(state.param.ratio, sizing_mode="stretch_width",
@@ -427,44 +353,5 @@ def body_inputs(state) -> list:
         visible=state.param.body.rx() != "cylinder")
     point = state.param.body.rx() != "cylinder"  # built when first needed: most pages are a cylinder's
     return [pn.pane.Markdown("### Body"), select,
-            _filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=point), point,
+            filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=point), point,
                          lambda: [ratio, grid, note])]
-
-
-# --------------------------------------------------------------------------
-# downloads
-# --------------------------------------------------------------------------
-def to_csv(result: core.PointContactResult, table: str = "steps") -> str:
-    """A point-contact run as CSV: ``"steps"`` (centre, displacement), ``"periods"`` (increments) or
-    ``"final"`` (the final traction and state on ``y = 0``); normalised units, in the header."""
-    head = (f"# point contact: {result.body.name}, Ry/Rx = {result.body.ratio:g}; lengths in a, tractions in "
-            f"mu p0, displacements in mu Fn/(E* a)\n")
-    buf = io.StringIO()
-    buf.write(head)
-    if table == "periods":
-        buf.write("period,increment\n")
-        for n, inc in enumerate(result.increment_per_period, start=1):
-            buf.write(f"{n},{inc:.10g}\n")
-    elif table == "final":
-        buf.write("x,qx,qy,state\n")
-        q, s = result.traction_cut[-1], result.state_cut[-1]
-        for x, qx, qy, st in zip(result.x, q[0], q[1], s):
-            buf.write(f"{x:.10g},{qx:.10g},{qy:.10g},{int(st)}\n")
-    else:
-        buf.write("step,period,xc,ux,uy,dissipation\n")
-        for k in range(result.xc.size):
-            ux, uy = result.displacement[k]
-            buf.write(f"{k},{int(result.period[k])},{result.xc[k]:.10g},{ux:.10g},{uy:.10g},"
-                      f"{result.dissipation[k]:.10g}\n")
-    return buf.getvalue()
-
-
-def to_json(result: core.PointContactResult) -> str:
-    """A point-contact run's summary and per-period increments as JSON (normalised units)."""
-    def plain(v):
-        if isinstance(v, np.generic):
-            v = v.item()
-        return None if isinstance(v, float) and not math.isfinite(v) else v
-    out = {k: plain(v) for k, v in result.summary().items()}
-    out["increment_per_period"] = [plain(v) for v in result.increment_per_period]
-    return json.dumps(out, indent=1)

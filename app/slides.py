@@ -71,7 +71,7 @@ def figure_titles() -> dict[str, str]:
     return {f["opts"]["title"]: stem(name) for name, f in plots.FIGURES.items()}
 
 
-def save_svg(names: dict[str, str], run: dict | None = None) -> pn.FlexBox:
+def save_svg(names: dict[str, str], run: dict | None = None, offered: list[str] | None = None) -> pn.FlexBox:
     """A figure menu and a 'Save as SVG' button (drawn in the browser, no server work).
 
     Parameters
@@ -81,6 +81,9 @@ def save_svg(names: dict[str, str], run: dict | None = None) -> pn.FlexBox:
     run : dict, optional
         File-name key -> a widget with a numeric ``value`` (e.g. ``{"ft": slider}``): appended to the
         name as ``_ft0.30``, so a file says which run it shows.
+    offered : list of str, optional
+        The titles the menu offers (default: all of ``names``); the menu is the box's ``figure_menu`` attribute,
+        whose options can change later (e.g. with the body shown) within ``names``.
 
     Returns
     -------
@@ -88,9 +91,12 @@ def save_svg(names: dict[str, str], run: dict | None = None) -> pn.FlexBox:
     """
     if not names:
         raise ValueError("names: at least one figure title is needed")
+    offered = list(names) if offered is None else list(offered)
+    if not offered or not set(offered) <= set(names):
+        raise ValueError(f"offered: a non-empty subset of the names' titles is needed, got {offered}")
     # wide enough for the longest title (about 9 px a character at 15 px), so the menu does not cut it
     width = min(480, max(300, 9 * max(map(len, names)) + 40))
-    select = pn.widgets.Select(options=list(names), value=next(iter(names)), width=width, margin=(8, 10),
+    select = pn.widgets.Select(options=offered, value=offered[0], width=width, margin=(8, 10),
                                css_classes=["svg-figure"], stylesheets=[":host select {font-size: 15px;}"])
     button = pn.widgets.Button(label="Save as SVG", width=120, margin=(8, 10), css_classes=["save-svg"],
                                color="light")
@@ -102,5 +108,7 @@ def save_svg(names: dict[str, str], run: dict | None = None) -> pn.FlexBox:
     button.js_on_click(args=dict(select=select, names=dict(names), **run), code=SVG_JS.replace("SUFFIX", suffix))
     note = pn.pane.HTML("<span style='font-size: 15px'>For slides: the toolbar's ⤓ saves a PNG; as SVG:</span>",
                         margin=(14, 0, 0, 10))
-    return pn.FlexBox(note, select, button, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width",
-                      css_classes=["save-svg-row"])
+    box = pn.FlexBox(note, select, button, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width",
+                     css_classes=["save-svg-row"])
+    box.figure_menu = select
+    return box

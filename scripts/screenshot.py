@@ -2,6 +2,11 @@
 
 Usage: python scripts/screenshot.py [--query "?ft=0.3&w=0.5"] [--pin 0.26 --pin 0.77] [--tab "Paper's figures"]
                                    [--width 1920 --height 1080] [--out docs/screenshot.png]
+       python scripts/screenshot.py --first-screens   # docs/screenshot.png and docs/screenshot_{body}_{size}.png
+
+``--first-screens`` takes the first screen of the cylinder and of the sphere at 1280x720 and 1024x768
+(``docs/screenshot_cylinder_1280x720.png`` ...; ``docs/screenshot.png`` is the cylinder at 1280x720) and
+prints where the verdict and each key figure start (y, CSS pixels).
 
 Serves ``app/main.py`` on a free loopback port, opens it in headless Chromium at a projector's
 1280x720 CSS pixels, waits until the solver's verdict and the figures are drawn, pins the runs at the
@@ -19,8 +24,13 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from app.serving import ROOT, chromium, served_app, wait_until  # noqa: E402
+from app.slides import FIGURE_VIEWS_JS  # noqa: E402
 
-BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
+BADGE = "[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"
+#: The page's top (y) of the figure titled ``title`` once drawn (null before).
+_TOP = "(title) => {" + FIGURE_VIEWS_JS + """
+  const v = figure_views().find((v) => v.model.title && v.model.title.text === title);
+  return v ? v.el.getBoundingClientRect().y : null; }"""
 #: Reads (and with SET replaced by assignments, sets) the w slider in the browser.
 _SLIDER = """(v) => { for (const m of Bokeh.documents[0].all_models)
     if (m.title === 'w = W/a' && 'value_throttled' in m) { SET return m.value; } }"""
@@ -36,12 +46,17 @@ def main(argv=None) -> int:
     ap.add_argument("--full-page", action="store_true", help="capture the whole page, not the viewport")
     ap.add_argument("--tab", default="Explorer", help="the tab to show, e.g. \"Paper's figures\"")
     ap.add_argument("--pin", type=float, action="append", default=[], help="pin the run at this w first (repeatable)")
+    ap.add_argument("--first-screens", action="store_true",
+                    help="the first screens of the cylinder and the sphere at 1280x720 and 1024x768 (docs/)")
     args = ap.parse_args(argv)
+    if args.first_screens:
+        return first_screens()
     with served_app() as url, chromium() as browser:
         page = browser.new_page(viewport={"width": args.width, "height": args.height})
         page.goto(url + args.query, timeout=180_000)
         page.locator(BADGE).first.wait_for(timeout=60_000)
-        wait_until(lambda: page.locator(".bk-Canvas, canvas").count() >= 6, 30, message="the figures")
+        _wait_key_figures(page, "sphere" if "body=sphere" in args.query else
+                          "ellipsoid" if "body=ellipsoid" in args.query else "cylinder")
         if args.pin:
             w0 = page.evaluate(_SLIDER.replace("SET", ""), None)
             for k, w in enumerate([*args.pin, w0]):
@@ -57,7 +72,25 @@ def main(argv=None) -> int:
         page.evaluate("(y) => { const m = document.getElementById('main'); if (m) m.scrollTop = y; }", args.scroll)
         page.wait_for_timeout(1500)  # let the last figures paint (one-off script, not a test)
         png = page.screenshot(full_page=args.full_page)
-    out = Path(args.out)
+    _save(png, Path(args.out))
+    return 0
+
+
+def _titles(body: str) -> list[str]:
+    from app.figures import key_figures
+    from app.plots import FIGURES
+
+    return [FIGURES[name]["opts"]["title"] for name in key_figures(body)]
+
+
+def _wait_key_figures(page, body: str) -> list[float]:
+    """Wait until the first-screen figures of ``body`` are drawn; their tops (y) in the page."""
+    titles = _titles(body)
+    return wait_until(lambda: (lambda ys: ys if all(y is not None for y in ys) else None)(
+        [page.evaluate(_TOP, t) for t in titles]), 60, message="the first-screen figures")
+
+
+def _save(png: bytes, out: Path) -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
     try:
         from PIL import Image
@@ -67,6 +100,27 @@ def main(argv=None) -> int:
     except ImportError:
         out.write_bytes(png)
     print(f"wrote {out} ({out.stat().st_size / 1024:.0f} KB)")
+
+
+def first_screens() -> int:
+    """The first screens of the cylinder and the sphere at 1280x720 and 1024x768, with the figures' tops."""
+    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "180"}) as url, chromium() as browser:
+        for body in ("cylinder", "sphere"):
+            for width, height in ((1280, 720), (1024, 768)):
+                page = browser.new_page(viewport={"width": width, "height": height})
+                page.goto(url + f"?body={body}&ft=0.3&w=0.5", timeout=180_000)
+                page.locator(BADGE).first.wait_for(timeout=180_000)
+                tops = _wait_key_figures(page, body)
+                page.wait_for_timeout(1500)  # let the figures paint (one-off script, not a test)
+                tops = [page.evaluate(_TOP, t) for t in _titles(body)]
+                badge = page.locator("[data-regime]").first.bounding_box()["y"]
+                print(f"{body} {width}x{height}: badge y = {badge:.0f}, "
+                      + ", ".join(f"{t!r} y = {y:.0f}" for t, y in zip(_titles(body), tops)))
+                png = page.screenshot()
+                _save(png, ROOT / "docs" / f"screenshot_{body}_{width}x{height}.png")
+                if body == "cylinder" and width == 1280:
+                    _save(png, ROOT / "docs" / "screenshot.png")
+                page.close()
     return 0
 
 

@@ -7,7 +7,13 @@ import numpy as np
 import pytest
 
 import core
-from app import compare, plots, sketch
+import io
+import json
+
+import pandas as pd
+
+from app import compare, pinned, plots, sketch, slides
+from app.state import BODIES
 from app.explorer import Explorer
 
 
@@ -53,7 +59,7 @@ def test_a_pinned_layer_is_sent_once():
     r = core.simulate_cycles(0.3, 0.5, periods=2)
     pin = compare.Pin(r, None, dict(ft=0.3, w=0.5, mu=0.58))
     units = plots.make_units("normalised", None, "plane")
-    assert compare.layers("displacement", (pin,), units)[0] is compare.layers("displacement", (pin,), units)[0]
+    assert pinned.layers("displacement", (pin,), units)[0] is pinned.layers("displacement", (pin,), units)[0]
 
 
 def test_the_engineers_inputs_move_the_sliders(explorer):
@@ -104,3 +110,60 @@ def test_the_sketch_rolls_with_the_centre():
     assert np.isclose((circle[0].max() + circle[0].min()) / 2, xc) and np.isclose(circle[1].min(), 0.0, atol=1e-3)
     assert trailing[0][0] == pytest.approx(xc - 1.0)  # rolling towards +x: the trailing edge is at xc − a
     assert arrow[0][1] > xc  # the arrow points the way it rolls
+
+
+@pytest.fixture(scope="module", params=BODIES)
+def body_explorer(request, scroll_through):
+    """An explorer of each body the app offers (a body added to app.state.BODIES is tested too), drawn."""
+    ex = Explorer(query=f"body={request.param}&ft=0.3&w=0.5&periods=2&point_resolution=4&kernel=plane")
+    ex.template()
+    return scroll_through(ex)
+
+
+def test_pin_compare_and_downloads_work_for_every_body(body_explorer):
+    """Pin two runs of the body, see them on its figures and in the table, download its CSV and JSON (written by
+    core.export: the same text as core's own, periods numbered as the player)."""
+    ex = body_explorer
+    body = ex.state.body
+    point = body != "cylinder"
+    ex.pins.clear()
+    first = ex.result
+    assert ex.pins.pin(), ex.pins.message
+    ex.state.w = 0.4
+    ex.solve_now()
+    assert ex.pins.pin(), ex.pins.message
+    assert [p.result for p in ex.pinned] == [first, ex.result]
+    table = ex.pins.table.object
+    assert "pin 1" in table and "pin 2" in table and (body in table)
+    # the pinned runs are drawn on the figures of their body: the displacement along Ft over time
+    name = "point_displacement" if point else "displacement"
+    live = ex._live[name]
+    curves = [s.data for s in live.sources() if "u" in s.data and len(s.data["u"]) == first.xc.size]
+    along = first.displacement @ np.array([1.0, 0.0]) if point else first.displacement
+    assert any(np.allclose(d["u"], along) for d in curves), name
+    increments = "point_increments" if point else "increments"
+    assert any(len(s.data.get("du", ())) == first.periods for s in ex._live[increments].sources()[-compare.MAX_PINS:])
+    # downloads: core's export of the run shown, for each table
+    for table_name in ("steps", "periods", "final"):
+        ex.csv_table.value = table_name
+        text = ex._csv().getvalue()
+        df = pd.read_csv(io.StringIO(text), comment="#")
+        assert len(df) > 0 and f"# body = {body}" in text if point else len(df) > 0
+        assert ex.csv_download.filename.startswith(f"shakedown_{table_name}")
+        if table_name == "periods":
+            assert list(df["period"]) == list(range(1, ex.result.periods + 1))  # as on the player
+        if table_name == "final" and not point:
+            assert "closure_traction_mu_p0" in df.columns  # core's column, not the app's
+    data = json.loads(ex._json().getvalue())
+    assert set(data) == {"parameters", "steps", "periods", "final"}
+    assert data["parameters"]["regime"] == ex.result.regime
+    ex.pins.clear()
+
+
+def test_the_svg_chooser_offers_the_bodys_own_figures(body_explorer):
+    ex = body_explorer
+    offered = list(ex.svg_select.options)
+    own = [plots.FIGURES[n]["opts"]["title"] for n in ex._figures_of(ex.state.body)]
+    assert offered == own
+    assert ("The cylinder at the player's step" in offered) == (ex.state.body == "cylinder")
+    assert set(offered) <= set(slides.figure_titles())

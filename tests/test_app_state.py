@@ -286,21 +286,22 @@ def test_figures_are_drawn_when_the_browser_scrolls_near_them():
 
     ex = Explorer()
     ex.main_area()
-    grid = ex._grid
-    assert ex._live == {} and all(isinstance(o, WhenShown) for o in grid.objects)
-    assert len(grid.objects) == len(ex._figures_of("cylinder")) < len(plots.FIGURES)
-    assert set(Explorer._GRID) == set(plots.FIGURES)  # every figure has a place
+    key, grid = ex._key_grid, ex._grid  # the first screen's figures, the others
+    assert ex._live == {} and all(isinstance(o, WhenShown) for o in key.objects + grid.objects)
+    assert len(key.objects) + len(grid.objects) == len(ex._figures_of("cylinder")) < len(plots.FIGURES)
+    assert len(key.objects) == 3
+    assert sorted(Explorer._GRID) == sorted(plots.FIGURES)  # every figure has one place
     ex.sentinels["pressure"].shown = True
     assert list(ex._live) == ["pressure"]
-    cell = grid.objects[1]
+    cell = key.objects[0]
     assert ex._panes["pressure"] in cell.objects and ex._panes["pressure"].object is ex._live["pressure"].figure
-    assert isinstance(grid.objects[0], WhenShown), "the others keep waiting"
+    assert isinstance(key.objects[1], WhenShown), "the others keep waiting"
     ex.state.body = "sphere"  # the point contact's places come in (not drawn until they are seen)
-    assert len(grid.objects) == len(ex._figures_of("sphere")) and "point_pressure" not in ex._live
+    assert len(key.objects) + len(grid.objects) == len(ex._figures_of("sphere")) and "point_pressure" not in ex._live
     ex.sentinels["point_pressure"].shown = True
     assert "point_pressure" in ex._live
     ex.state.body = "cylinder"
-    assert grid.objects[1] is cell, "a drawn figure keeps its cell"
+    assert key.objects[0] is cell, "a drawn figure keeps its cell"
 
 
 def test_explorer_pushes_only_what_changed(scroll_through):
@@ -593,13 +594,15 @@ def test_point_runs_are_cached_and_downloaded(sphere_explorer):
     ex.csv_table.value = "periods"
     text = ex._csv().read()
     rows = [line for line in text.splitlines() if not line.startswith("#")]
-    assert rows[0] == "period,increment" and len(rows) == 1 + r.periods
+    assert rows[0].startswith("period,increment_muFn_Estar_a") and len(rows) == 1 + r.periods
     assert float(rows[-1].split(",")[1]) == pytest.approx(r.increment_per_period[-1], rel=1e-9)
     ex.csv_table.value = "steps"
-    assert len(ex._csv().read().splitlines()) == 2 + r.xc.size
+    rows = [line for line in ex._csv().read().splitlines() if not line.startswith("#")]
+    assert len(rows) == 1 + r.xc.size
     import json
     data = json.loads(ex._json().read())
-    assert data["body"] == "sphere" and data["regime"] == r.regime and len(data["increment_per_period"]) == r.periods
+    p = data["parameters"]
+    assert p["body"] == "sphere" and p["regime"] == r.regime and len(data["periods"]["period"]) == r.periods
 
 
 def test_fig14_and_the_map_show_both_bodies_exact_limits():

@@ -1,0 +1,250 @@
+"""The verdict badge, the summary cards and the model's warnings, as HTML (no physics: numbers from :mod:`core`).
+
+The cards come in two forms: :func:`strip_html`, a one-line strip of the few numbers a class looks at
+(the margins, the stick zone, the last increment), always on the first screen, and :func:`cards_html`, every
+number, one click away. :class:`CardsMixin` gives the explorer its ``_badge``, ``_cards`` and ``_warnings``.
+"""
+
+from __future__ import annotations
+
+import functools
+import html
+import math
+import re
+
+import numpy as np
+
+import core
+
+__all__ = ["CardsMixin", "prediction", "limit_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
+           "fmt", "count", "STRIP_KEYS"]
+
+#: The rows of the cards shown in the strip, in its order, with their short names there (the first row of each
+#: group that is present).
+STRIP_KEYS = ((("margin ft / ft_lim", "ft/ft_lim"),), (("margin w / w_lim", "w/w_lim"),),
+              (("c_sd numerical", "c_sd"), ("c_sd numerical (y = 0)", "c_sd (y = 0)")),
+              (("Δu last period", "Δu/period"), ("creep per period (last)", "creep/period")),
+              (("grid error of Δu", "grid error"),))
+
+
+@functools.lru_cache(maxsize=4096)
+def _closure(ft: float, w: float) -> tuple[float, float, float]:
+    """The cylinder's closed forms the cards show: c_sd (eq 30), ft_lim(w) and w_lim(ft) (eq 35). Memoised:
+    the cards are redrawn several times per slider move, and w_lim is a root search (about 1 ms)."""
+    return (float(core.shakedown_stick_halfwidth(ft, w)), float(core.ft_limit(w)), float(core.w_limit(ft)))
+
+
+def limit_name(body: str) -> str:
+    """How the exact limit of ``body`` is cited."""
+    return "eq 35" if body == "cylinder" else f"the {body}'s exact limit (1 − w)²(2 + w)/2"
+
+
+def prediction(ft: float, w: float, body: str) -> tuple[str, str]:
+    """The regime the exact limit of ``body`` predicts for ``ft``, ``w``, and how that limit is cited."""
+    if body == "cylinder":
+        return str(core.classify_regime(ft, w)), limit_name(body)
+    lim = float(core.ft_limit(w, body=body))
+    return ("shakedown" if ft <= lim else "ratcheting"), limit_name(body)
+
+
+def fmt(v, unit="", digits=4) -> str:
+    """``v`` to ``digits`` significant digits with its unit; '–' for None and non-finite values."""
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "–"
+    return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
+
+
+def count(n: int) -> str:
+    """A number of cycles, short: 1000, 2.5×10⁶."""
+    if n < 10**4:
+        return str(n)
+    e = int(math.floor(math.log10(n)))
+    m = n / 10**e
+    power = "10" + str(e).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return power if abs(m - 1) < 1e-9 else f"{m:.3g}×{power}"
+
+
+def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, body="sphere",
+               grid_error=None) -> list:
+    """The rows of a point contact's cards: the inputs in physical units, the exact limits of this body and of
+    the cylinder (eq 35), and the run's numbers (``wait``: why they are not shown, or None). ``grid_error``:
+    the estimated discretisation error of the last increment (a :class:`core.grid_estimate.GridEstimate`), if known."""
+    rows = []
+    c = None
+    if contact is not None:
+        c = contact.replace(mu=mu, ft=ft, w=w)
+        rows += [("Ft (tangential force)", fmt(c.Ft, "N")), ("W (rocking amplitude)", fmt(c.W * 1e6, "µm")),
+                 ("a (semi-axis along x)", fmt(c.a * 1e3, "mm")), ("b (semi-axis along y)", fmt(c.b * 1e3, "mm")),
+                 ("p0 (peak pressure)", fmt(c.p0 / 1e6, "MPa")), ("ν of the half-space kernel", fmt(c.nu, "", 3))]
+    lim, wlim = float(core.ft_limit(w, body=body)), float(core.w_limit(ft, body=body))
+    rows += [(f"ft_lim(w), {body} (exact)", fmt(lim)), (f"w_lim(ft), {body} (exact)", fmt(wlim)),
+             ("ft_lim(w), cylinder (eq 35)", fmt(float(core.ft_limit(w)))),
+             ("margin ft / ft_lim", fmt(ft / lim, "", 3) if lim > 0 else "–"),
+             ("margin w / w_lim", fmt(w / wlim, "", 3) if wlim > 0 else "–")]
+    if wait:
+        rows += [("c_sd numerical (y = 0)", wait), ("Δu last period", wait), ("solve", wait)]
+        return rows
+    physical = units == "physical" and c is not None
+    scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
+    rows.append(("c_sd numerical (y = 0)", fmt(result.stick_halfwidth * scale, unit, 3)))
+    inc = float(result.increment_per_period[-1])
+    if physical:
+        um = inc * c.displacement_unit * 1e6
+        rows += [("creep per period (last)", fmt(um, "µm", 3)),
+                 (f"creep after {count(cycles)} periods", fmt(um * cycles / 1e3, "mm", 3))]
+    else:
+        rows.append(("Δu last period", f"{inc:.3g} μFn/(E*a)"))
+    scale, unit = (c.displacement_unit * 1e6, "µm") if physical else (1.0, "μFn/(E*a)")
+    rows.append(("grid error of Δu", "estimating…" if grid_error is None
+                 else grid_error_text(grid_error, inc, scale, unit)))
+    nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
+    rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{round(1 / result.dx):d}), "
+                          f"{result.xc.size} steps"))
+    return rows
+
+
+def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "") -> str:
+    """The estimated discretisation error of the last increment ``inc`` (relative, and in ``unit``: the error
+    times ``scale``), as the cards show it."""
+    err = float(estimate.error)
+    if not math.isfinite(err):
+        return "not estimated"
+    rel = err / abs(inc) if inc else math.inf
+    absolute = f"±{err * scale:.2g} {unit}".rstrip()
+    return f"±{100 * rel:.0f} % ({absolute})" if math.isfinite(rel) else absolute
+
+
+def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6) -> list:
+    """The rows of the cylinder's cards: inputs in physical units, the closure's and the solver's numbers, the
+    margins (``wait``: why the solver's are not shown, or None)."""
+    rows = []
+    physical = units == "physical"
+    c = None if contact is None else contact.replace(mu=mu, ft=ft, w=w)
+    if c is not None:
+        rows += [("Ft (tangential force)", fmt(ft * mu * c.Fn, "N")), ("W (rocking amplitude)", fmt(w * c.a * 1e6, "µm")),
+                 ("a (half-width)", fmt(c.a * 1e3, "mm")), ("p0 (peak pressure)", fmt(c.p0 / 1e6, "MPa")),
+                 ("d (indentation, eq 6)", fmt(c.d * 1e3, "mm")), ("Dundurs β", fmt(c.beta, "", 3))]
+    u0 = None if wait else result.u0
+    if u0 is not None and c is not None:
+        rows.append(("U0 (ft = 1, strip)", fmt(u0 * c.displacement_unit * 1e6, "µm")))
+    csd, ft_lim, w_lim = _closure(ft, w)
+    scale, unit = (c.a * 1e3, "mm") if (physical and c is not None) else (1.0, "a")
+    rows += [("c_sd closure (eq 30)", fmt(csd * scale, unit, 3) if math.isfinite(csd) else "none (ft > ft_lim)"),
+             ("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
+             ("ft_lim(w) (eq 35)", fmt(ft_lim, "", 4)),
+             ("w_lim(ft) (eq 35)", fmt(w_lim, "", 4)),
+             ("margin ft / ft_lim", fmt(ft / ft_lim, "", 3) if ft_lim > 0 else "–"),
+             ("margin w / w_lim", fmt(w / w_lim, "", 3) if w_lim > 0 else "–")]
+    if wait:
+        rows += [("Δu last period", wait), ("solve", wait)]
+        return rows
+    inc = float(result.increment_per_period[-1])
+    if physical and c is not None:
+        um = inc * c.displacement_unit * 1e6
+        rows.append(("creep per period (last)", fmt(um, "µm", 3)))
+        rows.append((f"creep after {count(cycles)} periods", fmt(um * cycles / 1e3, "mm", 3)))
+    else:
+        unit_u = "U0" if result.u0 else "μP/E*"
+        rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
+    rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., {result.xc.size} steps"))
+    return rows
+
+
+def cards_html(rows, wait=None) -> str:
+    """Summary cards (HTML) of ``(name, value)`` rows; values equal to ``wait`` are shown as pending."""
+    body = "".join(
+        f"<div><span class='k'>{html.escape(k)}</span><span class='v{' pending' if v == wait else ''}'>"
+        f"{html.escape(v)}</span></div>" for k, v in rows)
+    return f"<div class='cards'>{body}</div>"
+
+
+def strip_html(rows, wait=None) -> str:
+    """The compact strip (HTML): the rows named in :data:`STRIP_KEYS` on one line, that wraps when narrow."""
+    found = dict(rows)
+    items = []
+    for names in STRIP_KEYS:
+        for name, short in names:
+            if name in found:
+                v = found[name]
+                items.append(f"<span class='item' title='{html.escape(name)}'><span class='k'>{html.escape(short)}</span> "
+                             f"<span class='v{' pending' if v == wait else ''}'>{html.escape(v)}</span></span>")
+                break
+    items.append("<span class='more'>all numbers ▾</span>")
+    return f"<div class='strip'>{''.join(items)}</div>"
+
+
+class CardsMixin:
+    """The explorer's badge, cards and warnings (methods of :class:`app.explorer.Explorer`)."""
+
+    @staticmethod
+    def _shows(result, ft, w, point: bool | None = None) -> bool:
+        """Whether ``result`` is the run of the inputs ``ft``, ``w`` the sliders show and, if ``point`` is given,
+        of a point contact or not (a body switch changes the contact before the new body's run is there)."""
+        return (result is not None and abs(float(result.params.get("ft", math.nan)) - ft) < 1e-9
+                and abs(float(result.params.get("w", math.nan)) - w) < 1e-9
+                and (point is None or isinstance(result, core.PointContactResult) == point))
+
+    def _badge(self, ft, w, result, error, pending=False):
+        body = getattr(getattr(self, "state", None), "body", "cylinder")  # (also called on the class, headless)
+        predicted, rule = prediction(ft, w, body)
+        if error:
+            return ('<span class="regime-badge regime-none" data-regime="invalid">INVALID INPUT</span>'
+                    f'<div class="regime-note">{html.escape(error)}</div>')
+        point = getattr(getattr(self, "state", None), "point", None)
+        if pending or not self._shows(result, ft, w, point):
+            what = "SOLVING…" if pending or result is None else "RELEASE TO SOLVE"
+            return (f'<span class="regime-badge regime-none" data-regime="pending">{what}</span>'
+                    f'<div class="regime-note">{rule} predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}</div>')
+        regime = str(result.regime)
+        note = f"solver, {result.periods} periods"
+        if result.shakedown_period is not None:
+            note += f"; shaken down after period {result.shakedown_period}"
+        if regime == "undetermined":  # the periods run cannot tell: why, one click away
+            note += f" <details class='why'><summary>why undetermined</summary>{html.escape(str(result.regime_reason))}</details>"
+        else:
+            note += "<br>"
+        note += f"{html.escape(rule)} predicts {html.escape(str(predicted))} for ft = {ft:.2f}, w = {w:.2f}"
+        css = re.sub(r"[^a-z]", "", regime.lower()) or "none"
+        return (f'<span class="regime-badge regime-{css}" data-regime="{html.escape(regime)}">'
+                f'{html.escape(regime.upper())}</span><div class="regime-note">{note}</div>')
+
+    def _card_rows(self, ft, w, mu, contact, result, pending=False, units="normalised", cycles=10**6,
+                   grid_error=None) -> tuple[list, str | None]:
+        """The cards' rows and why the run's numbers are not shown (None when they are)."""
+        point = self.state.point
+        fresh = not pending and self._shows(result, ft, w, point)
+        wait = None if fresh else ("solving…" if pending or result is None else "release the slider")
+        if isinstance(contact, core.PointContact) or point:
+            error = grid_error if (grid_error is not None and fresh and grid_error.result is result) else None
+            return point_rows(ft, w, mu, contact, result, wait, units, cycles, self.state.body, error), wait
+        return cylinder_rows(ft, w, mu, contact, result, wait, units, cycles), wait
+
+    def _cards(self, ft, w, mu, contact, result, pending=False, units="normalised", cycles=10**6, grid_error=None):
+        """Every summary card (HTML). Numerical values are shown only when the run shown is the current inputs'
+        run (else 'solving…')."""
+        return cards_html(*self._card_rows(ft, w, mu, contact, result, pending, units, cycles, grid_error))
+
+    def _strip(self, ft, w, mu, contact, result, pending=False, units="normalised", cycles=10**6, grid_error=None):
+        """The compact strip of the key numbers (HTML)."""
+        return strip_html(*self._card_rows(ft, w, mu, contact, result, pending, units, cycles, grid_error))
+
+    def _warnings(self, ft, w, contact, result):
+        out = [] if contact is None else list(getattr(contact, "warnings", ()))
+        if result is not None and isinstance(result, core.PointContactResult) != self.state.point:
+            result = None  # the other body's run, until the new body's comes (a body switch)
+        if w > 0.95:
+            out.append(f"w = {w:.2f}: b = a − W = {1 - w:.2f} a is tiny; the always-in-contact band spans "
+                       f"{(1 - w) / self.state.dx * 2:.0f} elements.")
+        if result is not None and result.params.get("history") == "normal":
+            out.append(f"the normal force oscillates by ±{100 * float(result.params.get('amplitude', 0)):.0f} %: "
+                       "eq 35, the closure and the Hertz curves are those of the mean force; the solver's "
+                       "verdict is the one to trust.")
+        if result is not None:
+            n_b = 2 * (1 - float(result.params.get("w", w))) / result.dx
+            if n_b < 8:
+                out.append(f"only {n_b:.0f} elements resolve b = a − W: raise the resolution.")
+            inc = np.abs(result.increment_per_period)
+            if result.regime == "ratcheting" and inc.size >= 2 and inc[-1] < 0.7 * inc[-2]:
+                out.append("the increment per period is still falling: run more periods to tell slow "
+                           "shakedown from ratcheting.")
+        return out

@@ -1,0 +1,186 @@
+"""Figure lifecycle: the explorer's figures rendered once, drawn when shown, updated in place.
+
+:class:`FiguresMixin` renders each figure of :data:`app.plots.FIGURES` the current body shows as a
+:class:`~app.live.LiveFigure` when the browser first scrolls near its place (a :class:`~app.live.WhenShown`
+sentinel keeps the place until then), and pushes only the layers whose inputs changed (:meth:`_redraw`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import html
+import os
+
+import panel as pn
+
+from . import plots, point_view
+from .live import LiveFigure, WhenShown
+from .styles import CSS
+
+__all__ = ["FiguresMixin", "FIGURE_INPUTS", "KEY_FIGURES", "KEY_HEIGHT", "key_figures"]
+
+#: The figures of the first screen, by kind of body: the pressure with μ p_min, the traction with the stick and
+#: slip zones, the displacement per period (a point contact: the cut along y = 0 shows the pressure bound μ p,
+#: μ p_min, the traction and the stick and slip zones; then its displacement and its increment per period).
+KEY_FIGURES = {"cylinder": ("pressure", "traction", "displacement"),
+               "point": ("point_cut", "point_displacement", "point_increments")}
+#: Height of a first-screen figure [px] (set by its options in :mod:`app.plots`).
+KEY_HEIGHT = plots.KEY_HEIGHT
+#: The other figures, in the order they are laid out below the first screen.
+GRID = ("sketch", "states", "increments", "point_pressure", "point_traction", "point_zones", "map")
+
+
+def key_figures(body: str) -> tuple[str, ...]:
+    """The first-screen figures of ``body`` (any body the app offers: the cylinder, or a point contact)."""
+    return KEY_FIGURES["cylinder" if body == "cylinder" else "point"]
+
+#: The explorer parameter behind each input of the figures (:class:`app.plots.Inputs`).
+FIGURE_INPUTS = {"ft": "ft_live", "w": "w_live", "units": "plot_units", "result": "result", "frame": "frame",
+                  "table": "map_table", "pinned": "pinned"}
+#: Range padding (x, y) of the axes that follow the data; None: the figure's own fixed ranges.
+_CELL_STYLE = {"flex": "1 1 560px", "min-width": "min(300px, 100%)"}
+#: A first-screen figure's cell: three in a row from 3 x 280 px, two (and one) in a row below.
+_KEY_STYLE = {"flex": "1 1 280px", "min-width": "min(260px, 100%)"}
+_PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
+
+
+class FiguresMixin:
+    """The explorer's figures (methods of :class:`app.explorer.Explorer`)."""
+
+    def _compute_units(self, result=None) -> plots.Units:
+        result = self.result if result is None else result
+        g = self.geometry
+        geometry = None if g is None else g.replace(mu=self.mu_slider.value)
+        kernel = getattr(result, "kernel", self.state.kernel)
+        return plots.make_units(self.state.units, geometry, kernel, getattr(result, "u0", None))
+
+    def _update_units(self, *_):
+        units = self._compute_units()
+        if units != self.plot_units:
+            with self._held():
+                self.plot_units = units
+
+    def _inputs(self) -> plots.Inputs:
+        return plots.Inputs(**{field: getattr(self, name) for field, name in FIGURE_INPUTS.items()})
+
+    def _redraw(self, *events):
+        """Push the layers that changed into the figures that depend on the changed inputs."""
+        changed = {e.name for e in events}
+        inputs, rebuilt = self._inputs(), []
+        with self._held():
+            for name, live in self._live.items():
+                if changed.intersection(FIGURE_INPUTS[i] for i in plots.FIGURES[name]["inputs"]):
+                    if live.update(plots.specs(name, inputs.units), plots.layers(name, inputs)):
+                        rebuilt.append(name)
+            if rebuilt:  # new axis labels (units): new figures, one model-graph recomputation for all
+                doc = self._doc
+                with (doc.models.freeze() if doc is not None else contextlib.nullcontext()):
+                    for name in rebuilt:
+                        self._panes[name].object = self._live[name].figure
+
+    def figures(self, when_shown: bool = False) -> dict[str, pn.pane.Bokeh]:
+        """The figures: Bokeh figures rendered once, then updated in place (:class:`~app.live.LiveFigure`).
+
+        Only the figures of the current body are drawn (the other body's are
+        hidden; they are drawn when the body changes). With ``when_shown``
+        (the served page, :meth:`explorer_tab`) none is drawn here: each is
+        drawn once the browser scrolls near its place (:attr:`sentinels`), so
+        that a visitor who never scrolls down costs the server only the
+        figures at the top, and the page comes sooner. Without it (notebooks,
+        tests of the Python objects) they are drawn here.
+        """
+        if os.environ.get("SHAKEDOWN_FIGURES") == "dynamicmap":  # the idiomatic path, measured by benchmarks/app.py
+            self._live, self.sentinels, self._when_shown = {}, {}, False
+            self._panes = {name: pn.pane.HoloViews(plots.dynamic(name, self._inputs, **{
+                i: self.param[FIGURE_INPUTS[i]] for i in plots.FIGURES[name]["inputs"]}), sizing_mode="stretch_width")
+                for name in plots.FIGURES}
+            return self._panes
+        self._live = {}
+        self._panes = {} if when_shown else {name: pn.pane.Bokeh(None, sizing_mode="stretch_width")
+                                             for name in plots.FIGURES}  # (served: made when drawn)
+        self.sentinels, self._when_shown = {}, when_shown  # (sentinels: made with the grid, see _slots)
+        if not when_shown:
+            self._draw_figures(self._figures_of(self.state.body))
+        self.state.param.watch(lambda e: self._show_figures(self._figures_of(e.new)), "body")
+        return self._panes
+
+    @staticmethod
+    def _figures_of(body: str) -> list[str]:
+        return [name for name in plots.FIGURES if point_view.shown(name, body)]
+
+    def _draw_figures(self, names) -> None:
+        """Render the figures ``names`` not rendered yet and show them in their panes."""
+        inputs = self._inputs()
+        for name in names:
+            if name not in self._live:
+                self._live[name] = LiveFigure(plots.specs(name, inputs.units), plots.layers(name, inputs),
+                                              plots.group(name), padding=_PADDING.get(name, (0.0, 0.1)))
+                if name in self._panes:
+                    self._panes[name].object = self._live[name].figure
+                else:
+                    self._panes[name] = pn.pane.Bokeh(self._live[name].figure, sizing_mode="stretch_width")
+
+
+
+    def _show_figures(self, names) -> None:
+        """Draw the figures ``names`` that the current body shows and, on the served page, that the browser has
+        scrolled near; put each in the page in place of its sentinel (one recomputation of the document's model
+        graph for all)."""
+        body = self.state.body
+        names = [n for n in names if point_view.shown(n, body)
+                 and (not self._when_shown or (n in self.sentinels and self.sentinels[n].shown))]
+        doc = self._doc
+        with (doc.models.freeze() if doc is not None else contextlib.nullcontext()):
+            self._draw_figures(names)
+            for key, grid in ((True, getattr(self, "_key_grid", None)), (False, getattr(self, "_grid", None))):
+                if grid is not None and self._when_shown:
+                    slots = self._slots(key)
+                    if slots != grid.objects:
+                        grid.objects = slots
+
+    def _grid_names(self, key: bool) -> list[str]:
+        """The figures of the current body in the first-screen grid (``key``) or in the grid below."""
+        body = self.state.body
+        names = key_figures(body) if key else [n for n in GRID if n not in key_figures(body)]
+        return [n for n in names if point_view.shown(n, body)]
+
+    def _slots(self, key: bool = False) -> list:
+        """What a figure grid holds: for each of its figures of the current body, its cell once drawn, else
+        the sentinel that keeps its place (the other body's figures are not in the page)."""
+        for name in self._live:
+            if name not in self._cells:
+                self._cells[name] = self._cell(name)
+        return [self._cells.get(name) or self._sentinel(name) for name in self._grid_names(key)]
+
+    def _sentinel(self, name: str) -> WhenShown:
+        """The sentinel that keeps figure ``name``'s place until the browser scrolls near it (made once)."""
+        if name not in self.sentinels:
+            key = name in KEY_FIGURES["cylinder"] or name in KEY_FIGURES["point"]
+            self.sentinels[name] = WhenShown(height=(KEY_HEIGHT if key else plots.HEIGHT) + 40,
+                                             styles=_KEY_STYLE if key else _CELL_STYLE, css_classes=[f"figure-{name}"])
+            self.sentinels[name].param.watch(lambda e: self._show_figures([name]), "shown")
+        return self.sentinels[name]
+
+    def _cell(self, name: str) -> pn.Column:
+        """Figure ``name`` with its caption (and, for the map, its controls), shown while the body shows it. The
+        first-screen figures' captions are together under them (:meth:`key_captions`), so the three figures
+        start on the same line and the next row starts right below."""
+        key = name in KEY_FIGURES["cylinder"] or name in KEY_FIGURES["point"]
+        caption = [] if key else [pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}"
+                                               "</div>", stylesheets=[CSS], sizing_mode="stretch_width", margin=0)]
+        extra = [self.map_controls()] if name == "map" else []
+        return pn.Column(self._panes[name], *caption, *extra, sizing_mode="stretch_width",
+                         styles=_KEY_STYLE if key else _CELL_STYLE,
+                         visible=pn.bind(point_view.shown, name, self.state.param.body))
+
+    @staticmethod
+    def _key_captions_html(body: str) -> str:
+        items = "".join(f"<li><b>{html.escape(plots.FIGURES[n]['opts']['title'])}</b>: "
+                        f"{html.escape(plots.FIGURES[n]['caption'].removeprefix('What you see: '))}</li>"
+                        for n in key_figures(body))
+        return f"<div class='caption'><b>What you see</b><ul class='key-captions'>{items}</ul></div>"
+
+    def key_captions(self) -> pn.viewable.Viewable:
+        """The first-screen figures' captions, as a list under them (they follow the body)."""
+        return pn.pane.HTML(pn.bind(self._key_captions_html, self.state.param.body), stylesheets=[CSS],
+                            sizing_mode="stretch_width", margin=0, css_classes=["key-captions"])

@@ -1,0 +1,220 @@
+"""The explorer's layout: the main area (verdict, cards, player, figures), the sidebar of inputs, the tabs and
+the served page's template.
+
+:class:`LayoutMixin` puts together what the other modules build: the badge and cards of :mod:`app.cards`,
+the player of :mod:`app.player`, the figures of :mod:`app.figures`, the compare controls of
+:mod:`app.compare`, the SVG chooser of :mod:`app.slides`, the map controls of :mod:`app.mapview` and the
+downloads of :mod:`app.downloads`.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+from pathlib import Path
+from typing import ClassVar
+
+import panel as pn
+
+from . import panes, plots, point_view, slides
+from .compare import Pins
+from .figures import GRID, KEY_FIGURES
+from .paper_figures import paper_figures_tab
+from .state import MAX_POINT_RESOLUTION
+from .styles import A11Y_JS, CSS, KATEX_CSS, PAGE_CSS, MathFonts
+from .widgets import filled_when
+
+__all__ = ["LayoutMixin"]
+
+_ABOUT = Path(__file__).with_name("about.md")
+#: When the model applies (one sentence, under the inputs).
+_APPLIES = ("*When the model applies:* a long cylinder (L ≫ a) rocking without macroscopic sliding "
+            "(Ft < μ Fn) on an elastic half-space, slowly (no inertia), with one constant friction coefficient, "
+            "elastic bodies whose normal and tangential problems are uncoupled (Dundurs β ≈ 0).")
+
+
+class LayoutMixin:
+    """The explorer's page (methods of :class:`app.explorer.Explorer`)."""
+
+    # ------------------------------------------------------------------ layout
+    def __panel__(self):
+        return self.template()
+
+    def main_area(self) -> pn.viewable.Viewable:
+        """The badge, the key numbers, the tabs with the player and the figures, without the sidebar (for notebooks).
+
+        The first screen (1280x720 or 1024x768) shows the verdict, a strip of the key numbers (every number one
+        click away, in a folded card built when first opened), the cycle player and, under it, the three figures
+        it drives that tell the story (:data:`app.figures.KEY_FIGURES`)."""
+        live = dict(ft=self.param.ft_live, w=self.param.w_live)
+        badge = panes.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error,
+                                   pending=self.param.pending),
+                           css_classes=["regime"], margin=(4, 10), sizing_mode="stretch_width", stylesheets=[CSS])
+        numbers = dict(**live, mu=self.mu_slider.param.value, contact=self.param.contact, result=self.param.result,
+                       pending=self.param.pending, units=self.state.param.units, cycles=self.engineer.param.cycles,
+                       grid_error=self.param.grid_error)
+        strip = panes.HTML(pn.bind(self._strip, **numbers), css_classes=["summary-strip"], margin=(2, 4),
+                           sizing_mode="stretch_width", stylesheets=[CSS])
+        # the strip is the header of the folded card of every number: one click opens it
+        details = pn.Card(header=strip, collapsed=True, sizing_mode="stretch_width", margin=(2, 10),
+                          css_classes=["all-numbers"], header_background="#f3f6fa",
+                          title="Every number: click the strip")
+        # the cards are built and kept up to date only once opened (most visitors read the strip)
+        filled_when(details, details.param.collapsed.rx.not_(), lambda: [panes.HTML(
+            pn.bind(self._cards, **numbers), css_classes=["summary-cards"], margin=(0, 4),
+            sizing_mode="stretch_width", stylesheets=[CSS])])
+        self._warnings_pane = self._alerts(live)
+        top = pn.FlexBox(
+            pn.Column(badge, pn.Row(self.spinner, self.status), sizing_mode="stretch_width",
+                      styles={"flex": "0 1 350px", "min-width": "250px"}, margin=0),
+            pn.Column(details, self._grid_action(), *self._input_alerts, sizing_mode="stretch_width",
+                      styles={"flex": "1 1 280px", "min-width": "250px"}, margin=0),
+            flex_wrap="wrap", sizing_mode="stretch_width", css_classes=["first-row"])
+        tabs = pn.Tabs(("Explorer", self.explorer_tab()), *self._lazy_tabs(), sizing_mode="stretch_width",
+                       dynamic=True, margin=(0, 5))  # a tab's models are sent only when shown
+        tabs.param.watch(lambda e: self._fill_tab(tabs, e.new), "active")
+        return pn.Column(top, tabs, sizing_mode="stretch_width")
+
+    def _alerts(self, live) -> pn.viewable.Viewable:
+        """The invalid-input and URL alerts (:attr:`_input_alerts`, at the top) and the model's warnings (returned:
+        under the first-screen figures, so that they do not push the figures down)."""
+        model_warnings = pn.bind(self._warnings, **live, contact=self.param.contact, result=self.param.result)
+        warnings = panes.Alert(pn.bind(lambda m: "\n".join(f"- {html.escape(x)}" for x in m), model_warnings),
+                               visible=pn.bind(bool, model_warnings), alert_type="warning",
+                               sizing_mode="stretch_width", css_classes=["model-warnings"])
+        errors = panes.Alert(pn.bind(lambda e: f"**Invalid input:** {html.escape(e)}", self.param.error),
+                             alert_type="danger", visible=self.param.error.rx.bool(),
+                             sizing_mode="stretch_width", css_classes=["input-error"])
+        notices = panes.Alert(pn.bind(lambda n: "**Some URL parameters were not applied:**\n\n"
+                                      + "\n".join(f"- {html.escape(m)}" for m in n), self.param.notices),
+                              alert_type="warning", visible=self.param.notices.rx.bool(),
+                              sizing_mode="stretch_width", css_classes=["url-notice"])
+        self._input_alerts = [errors, notices]
+        return warnings
+
+    def _grid_action(self) -> pn.viewable.Viewable:
+        """The point contacts' 'Refine grid' button under the strip (whose 'grid error' is the run's estimated
+        discretisation error): one click doubles the elements per a and re-runs."""
+        button = pn.widgets.Button(label="Refine grid", width=230, css_classes=["refine-grid"], margin=(2, 10),
+                                   visible=self.state.param.body.rx() != "cylinder")
+
+        def label(resolution):
+            finer = min(2 * resolution, MAX_POINT_RESOLUTION)
+            button.param.update(label=f"Refine grid: a/{resolution} → a/{finer}" if finer > resolution
+                                else f"Finest grid (a/{resolution})", disabled=finer <= resolution)
+
+        label(self.state.point_resolution)
+        self.state.param.watch(lambda e: label(e.new), "point_resolution")
+        button.on_click(lambda e: self.refine_grid())
+        return button
+
+    def refine_grid(self) -> None:
+        """Re-run the point contact on a grid twice as fine (up to the finest the app accepts)."""
+        self.state.point_resolution = min(2 * self.state.point_resolution, MAX_POINT_RESOLUTION)
+
+    #: The tabs built only when first shown (most visitors never open them): title, builder.
+    _LAZY_TABS: ClassVar[dict] = {"Paper's figures": lambda self: paper_figures_tab(),
+                                  "About the model": lambda self: self.about()}
+
+    def _lazy_tabs(self) -> list:
+        self._unbuilt = dict(self._LAZY_TABS)
+        return [(title, pn.Column(name=title, sizing_mode="stretch_width")) for title in self._LAZY_TABS]
+
+    def _fill_tab(self, tabs: pn.Tabs, index: int) -> None:
+        holder = tabs[index]
+        build = self._unbuilt.pop(holder.name, None)
+        if build is not None:
+            holder.objects = [build(self)]
+
+    #: Every figure's place: the first-screen figures, then the others.
+    _GRID = (*KEY_FIGURES["cylinder"], *KEY_FIGURES["point"], *GRID)
+
+    def explorer_tab(self) -> pn.Column:
+        """The player, under it the first-screen figures it drives, then the compare and SVG controls and the other
+        figures, each with a one-line caption; the figures wrap to fewer columns when narrow. A figure, its
+        caption and its controls are built when the browser first scrolls near their place."""
+        self.figures(when_shown=True)
+        keys = (*KEY_FIGURES["cylinder"], *KEY_FIGURES["point"])
+        if self._when_shown:
+            self._key_grid = pn.FlexBox(*self._slots(True), flex_wrap="wrap", sizing_mode="stretch_width",
+                                        css_classes=["key-figures"])
+            self._grid = pn.FlexBox(*self._slots(False), flex_wrap="wrap", sizing_mode="stretch_width")
+        else:
+            self._key_grid = pn.FlexBox(*[self._cell(n) for n in keys], flex_wrap="wrap",
+                                        sizing_mode="stretch_width", css_classes=["key-figures"])
+            self._grid = pn.FlexBox(*[self._cell(n) for n in GRID], flex_wrap="wrap", sizing_mode="stretch_width")
+        self.pins = Pins(self)
+        svg = slides.save_svg(slides.figure_titles(), run=dict(ft=self.ft_slider, w=self.w_slider),
+                              offered=self._svg_titles(self.state.body))
+        self.svg_select = svg.figure_menu
+        self.state.param.watch(lambda e: self.svg_select.param.update(
+            options=self._svg_titles(e.new), value=self._svg_titles(e.new)[0]), "body")
+        warnings = getattr(self, "_warnings_pane", None)
+        return pn.Column(self.player_controls(), self._key_grid, self.key_captions(),
+                         *([warnings] if warnings is not None else []),
+                         self.pins, svg, self._grid, sizing_mode="stretch_width", name="Explorer")
+
+    def _svg_titles(self, body: str) -> list[str]:
+        """The titles of the figures ``body`` shows, as the SVG menu offers them (in the grid's order)."""
+        return [plots.FIGURES[name]["opts"]["title"] for name in self._figures_of(body)]
+
+    def sidebar(self) -> list:
+        """The input widgets."""
+        physical = self.state.param.units.rx() == "physical"
+        solver_card = pn.Card(title="Solver", collapsed=True, sizing_mode="stretch_width")
+        return [
+            self.preset, self.preset_note, *point_view.body_inputs(self.state),
+            pn.pane.Markdown("### Loads"), self.ft_slider, self.w_slider, self.mu_slider,
+            pn.pane.Markdown("### Units"), self.units_toggle,
+            # the loads in physical units are shown with the physical units, the solver's options when their
+            # card is opened: both are sent to the browser only then (most visitors never open them)
+            filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=physical), physical,
+                         lambda: [self.engineer]),
+            pn.Card(*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs,
+                    title="Geometry and materials", collapsed=False, sizing_mode="stretch_width"),
+            filled_when(solver_card, solver_card.param.collapsed.rx.not_(), lambda: self.solver_inputs),
+            pn.pane.Markdown("### Download the run"), self.csv_table, self.csv_download, self.json_download,
+            pn.pane.Markdown(_APPLIES, styles={"font-size": "14px"}, css_classes=["model-applies"]),
+        ]
+
+    @staticmethod
+    def about() -> pn.Column:
+        """The 'About the model' tab: Markdown with KaTeX equations."""
+        parts = re.split(r"^\$\$(.+?)\$\$$", _ABOUT.read_text(encoding="utf-8"), flags=re.M | re.S)
+        objs = []
+        for i, part in enumerate(parts):
+            if i % 2:
+                objs.append(pn.pane.LaTeX(f"$${part.strip()}$$", renderer="katex", styles={"font-size": "20px"},
+                                          margin=(0, 30), stylesheets=KATEX_CSS, sizing_mode="stretch_width"))
+            elif part.strip():
+                objs.append(pn.pane.Markdown(part, styles={"font-size": "17px"}, sizing_mode="stretch_width"))
+        return pn.Column(*objs, name="About the model", max_width=1100, sizing_mode="stretch_width")
+
+    def template(self) -> pn.template.BaseTemplate:
+        """The served page: sidebar, header with the presentation-mode switch, the main area."""
+        present = pn.widgets.Toggle(label="Presentation mode", width=170, css_classes=["presentation-toggle"],
+                                    button_type="light", margin=(8, 10))
+        present.jscallback(value="""
+            const on = cb_obj.active;
+            document.documentElement.classList.toggle('presenting', on);
+            window.dispatchEvent(new Event('resize'));
+        """)
+        template = pn.template.BootstrapTemplate(
+            title="Shakedown Explorer: rocking contacts with Coulomb friction",
+            # the sidebar is one root, not one per input: the template renders each root in a `config.set`
+            # block that reads and restores every Panel setting (15% of a page's build with 20 roots)
+            sidebar=[pn.Column(*self.sidebar(), sizing_mode="stretch_width", margin=0)], main=[self.main_area()],
+            header=[present], sidebar_width=340,
+            header_background="#1f5f99",
+            # Panel's busy indicator follows the whole process (any session's callback) and is updated in every
+            # session on every event: with 10 sessions sliding it took a third of the server's CPU. The run's
+            # own spinner (beside the verdict) says when this session's solve is running.
+            busy_indicator=None,
+        )
+        template.config.raw_css.append(PAGE_CSS)
+        doc = self._doc
+        if doc is not None:
+            from bokeh.models import CustomJS
+
+            doc.js_on_event("document_ready", CustomJS(code=A11Y_JS % MathFonts.url))
+        return template

@@ -1,0 +1,175 @@
+"""Solve scheduling: a solve per change of the inputs, in the worker pool, the stale answers dropped.
+
+:class:`SolveMixin` gives the explorer its solve requests (:meth:`~SolveMixin._request_solve`: cached, else in
+the bounded worker pool of :mod:`app.runs`, with a spinner after :data:`SPINNER_DELAY_MS`), the hand-over of a
+finished run to the session (:meth:`~SolveMixin._finish`) and the batching of a change's updates
+(:meth:`~SolveMixin._held`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+
+import panel as pn
+from panel.io.state import set_curdoc
+
+import core
+from core.grid_estimate import increment_error
+
+from .runs import RESULTS, run_key, solve, submit
+
+__all__ = ["SolveMixin", "SPINNER_DELAY_MS"]
+
+#: A solve shows the loading indicator only after this long [ms].
+SPINNER_DELAY_MS = 150
+
+
+class SolveMixin:
+    """Solving the explorer's inputs (methods of :class:`app.explorer.Explorer`)."""
+
+    @contextlib.contextmanager
+    def _held(self):
+        """Batch the updates of one change: apply them now, in this session's document, held, and send them
+        to the browser together when the block ends. (Not a model freeze: leaving a freeze recomputes the
+        document's whole model graph, 40 ms, even when only data changed.)"""
+        doc = self._doc
+        if doc is None or doc.session_context is None:
+            yield
+            return
+        with set_curdoc(doc), pn.io.hold(doc):
+            yield
+
+    def _in_session(self, fn, *args, **kwargs) -> None:
+        """Run ``fn`` in a Bokeh callback of this session (document locked), so its changes are sent at once.
+
+        Work finished in a thread or a coroutine must come back this way: changes made outside a
+        locked callback wait for the next one before they reach the browser. Thread-safe.
+        """
+        doc = self._doc
+        if doc is None or doc.session_context is None:
+            fn(*args, **kwargs)
+        else:
+            doc.add_next_tick_callback(functools.partial(fn, *args, **kwargs))
+
+    # ------------------------------------------------------------------ solving
+    def _inputs_changed(self, *events):
+        with self._held():
+            self._update_contact()
+            self._request_solve()
+
+    def _update_contact(self):
+        try:
+            contact = self.state.contact()
+        except ValueError as e:
+            self.param.update(contact=None, error=str(e))
+            return
+        geometry = contact.replace(ft=0.0, w=0.0)
+        self.param.update(contact=contact, error="",
+                          **({} if geometry == self.geometry else {"geometry": geometry}))
+
+    def _request_solve(self):
+        """Solve the current inputs (cached, else in the worker pool); drop the answer if the inputs moved on."""
+        token = self._generation.next()
+        if self.contact is None:
+            self.param.update(solving=False, pending=False)
+            return
+        contact, options = self.contact, self.state.solver_options()
+        cached = RESULTS.get(run_key(contact, options))
+        doc = self._doc
+        if cached is not None or doc is None or doc.session_context is None:
+            # cached, or headless (tests, notebooks without a server): solve here
+            self._finish(token, contact, options, cached)
+            return
+
+        self.pending = True  # every card and the badge say so at once: no old verdict beside new inputs
+
+        def show_spinner():  # only if the solve is not over in a blink (saves two page updates)
+            if self._generation.is_current(token) and self.result_token != token:
+                self.solving = True
+
+        doc.add_timeout_callback(show_spinner, SPINNER_DELAY_MS)
+
+        def stale():
+            return not self._generation.is_current(token)
+
+        def failed(message):
+            if not stale():  # a stale run was cancelled on purpose: say nothing
+                self.param.update(error=f"solver: {message}", solving=False, pending=False)
+
+        def done(future):  # in the solver thread
+            try:
+                result = future.result()
+            except (core.SolverError, core.SolveCancelled, ValueError) as e:
+                self._in_session(failed, str(e))
+            else:
+                self._in_session(self._finish, token, contact, options, result)
+
+        submit(contact, options, cancel=stale).add_done_callback(done)
+
+    def _finish(self, token, contact, options, result=None):
+        if result is None:
+            try:
+                result = solve(contact, options)
+            except (core.SolverError, core.SolveCancelled, ValueError) as e:
+                self.error = f"solver: {e}"
+                return
+        if not self._generation.is_current(token):
+            return  # a newer request is pending: never overwrite it with this stale run
+        self.result_token = token
+        with self._held():
+            self.play.value = False
+            self._sync_player(result)  # the widgets follow the run (ranges too); the frame is set once, below
+            self.param.update(result=result, frame=result.xc.size - 1, plot_units=self._compute_units(result),
+                              solving=False, pending=False)
+            self._name_downloads()
+        if isinstance(result, core.PointContactResult):
+            self._estimate_grid_error(token, contact, options, result)
+
+    def _estimate_grid_error(self, token, contact, options, result) -> None:
+        """The discretisation error of a point contact's increment (:func:`core.grid_estimate.increment_error`):
+        the same run at twice the element width (an eighth of the cost), solved like any run (cached, in the
+        worker pool), then shown on the run card (:attr:`grid_error`)."""
+        if 2 * result.dx > 0.5:
+            return
+        coarse_options = {**options, "dx": 2 * float(options.get("dx", result.dx))}
+        doc = self._doc
+
+        def show(coarse):
+            if self._generation.is_current(token) and self.result is result:
+                try:
+                    estimate = increment_error(result, coarse)
+                except ValueError:  # the runs do not pair (never expected): no error bar rather than a wrong one
+                    return
+                with self._held():
+                    self.grid_error = estimate
+
+        cached = RESULTS.get(run_key(contact, coarse_options))
+        if cached is not None or doc is None or doc.session_context is None:
+            try:
+                show(cached if cached is not None else solve(contact, coarse_options))
+            except (core.SolverError, core.SolveCancelled, ValueError):
+                pass
+            return
+
+        def done(future):  # in the solver thread
+            try:
+                coarse = future.result()
+            except (core.SolverError, core.SolveCancelled, ValueError):
+                return
+            self._in_session(show, coarse)
+
+        submit(contact, coarse_options, cancel=lambda: not self._generation.is_current(token)).add_done_callback(done)
+
+    def solve_now(self) -> core.CycleResult | None:
+        """Solve the current inputs synchronously (headless use) and return the result."""
+        self._update_contact()
+        if self.contact is not None:
+            self._finish(self._generation.next(), self.contact, self.state.solver_options())
+        return self.result
+
+    def _show_spinner(self, *_):
+        """Show the spinner while this session's solve runs (watches ``solving``)."""
+        self.spinner.param.update(value=self.solving, visible=self.solving)
+        self.status.param.update(object="solving…" if self.solving else "", visible=self.solving)
+
