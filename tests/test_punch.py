@@ -112,7 +112,7 @@ def test_runs_bracket_the_limit(flat):
 def test_numerical_normal_gives_the_exact_increments(body, factor):
     """normal='numerical' (solved once, 4x finer, element means) against the closed form: every increment per
     period within 0.1 % of the largest (measured <= 0.011 %), and those above 1 % of the largest within 0.5 %
-    each (measured <= 0.05 %; the decaying shakedown tail below 1 % of the first differs by up to 0.7 % of
+    each (measured <= 0.063 %; the decaying shakedown tail below 1 % of the first differs by up to 0.7 % of
     itself at flat 0.8, 3e-6 mu P/E*)."""
     ft = factor * float(core.ft_limit(0.3, body=body))
     exact = core.simulate_cycles(ft, 0.3, periods=12, body=body, normal="exact").increment_per_period
