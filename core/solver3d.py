@@ -231,7 +231,10 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     rmax = np.abs(r).max()
     its = 0
     # the vector updates in fused loops (no temporaries): a third of a step's time went to them
-    while its < maxiter and rmax > tol:
+    # rz == 0: the preconditioned residual vanishes (a zero residual, or one so small that r.z underflows, as with
+    # the huge Newton curvatures of elements whose bound is a tiny numerically solved pressure): CG can make no
+    # progress and beta = rz_new / rz would divide by zero, so it stops (the caller checks the KKT conditions)
+    while its < maxiter and rmax > tol and rz != 0.0:
         its += 1
         Kp = _convolve(p, spec[0], spec[1], spec[2], spec[3], spec[4], mirror)
         for c in range(2):
@@ -261,6 +264,8 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
             for i in range(ny):
                 for j in range(nx):
                     rz_new += r[c, i, j] * z[c, i, j]
+        if rz_new == 0.0:
+            break
         beta = rz_new / rz
         for c in range(2):
             for i in range(ny):
