@@ -300,8 +300,9 @@ def _add_solver_options(parser, kernel_default="plane"):
         help="--body sphere or ellipsoid: the angle of Ft to the rocking direction [degrees], in [-180, 180] "
              "(default 0)")
     add("--normal", type=_choice("normal", _NORMALS), action=_Once,
-        help="the pressure of a line contact: exact (closed form), numerical (the normal problem solved by "
-             "constrained conjugate gradients) or auto (the closed form where there is one; the default)")
+        help="the pressure: exact (closed form), numerical (the normal problem solved by constrained conjugate "
+             "gradients) or auto (the default: a line contact's closed form where there is one; a point contact's "
+             "discrete normal problem on the grid)")
     add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
         help="the loading history, a name core.simulate_cycles accepts: rocking (the default: constant Ft, "
              "the centre rocked between -W and +W), normal (the same under a normal force 1 + 0.2 sin(2 pi t)) "
