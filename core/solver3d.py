@@ -1097,8 +1097,8 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         Steps (``xc`` [a], ``P`` [nominal Fn], ``Q = Ft/(mu Fn0)``, period).
     dx : float
         Element side [a], in [0.005, 0.5].
-    body : Ellipsoid
-        The body.
+    body : Ellipsoid or core.heightmap.HeightMap
+        The body (a height map runs on its own grid: ``dx`` its spacing).
     nu : float
         Substrate's Poisson ratio, in [0, 0.5].
     angle : float
@@ -1136,8 +1136,8 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     """
     if not isinstance(schedule, Schedule):
         raise ValueError(f"schedule must be a core.Schedule, got {type(schedule).__name__}")
-    if not isinstance(body, Ellipsoid):
-        raise ValueError(f"body must be a core.Ellipsoid, got {type(body).__name__}")
+    if not (isinstance(body, Ellipsoid) or hasattr(body, "grid_pressure")):
+        raise ValueError(f"body must be a core.Ellipsoid or a core.heightmap.HeightMap, got {type(body).__name__}")
     dx = check_scalar("dx", dx, 0.005, 0.5)
     nu = check_scalar("nu", nu, 0.0, 0.5)
     angle = check_scalar("angle", angle, -math.pi, math.pi)
@@ -1148,7 +1148,10 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     params = dict(params or {}, normal=normal)
     t0 = time.perf_counter()
     scales = np.cbrt(schedule.P)
-    xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
+    if hasattr(body, "run_grid"):  # a height map: its own grid
+        xe, ye = body.run_grid(float(np.max(np.abs(schedule.xc))), float(scales.max()), dx)
+    else:
+        xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
     ny, nx = ye.size - 1, xe.size - 1
     window = _Window(ny, nx, dx, nu, body.kernel_scale)
     dA = dx * dx
