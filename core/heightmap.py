@@ -185,6 +185,11 @@ class HeightMap:
         return cls(-np.asarray(topography.heights(), dtype=float).T / height_unit, px / length_unit)
 
     @property
+    def default_dx(self) -> float:
+        """A run's element side [a]: the map's spacing (it runs on its own grid, :func:`core.resolution.default_dx`)."""
+        return self.spacing
+
+    @property
     def parameters(self) -> dict:
         return {"shape": self.heights.shape, "spacing": self.spacing, "data": _digest(self.heights)}
 

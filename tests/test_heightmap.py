@@ -122,3 +122,34 @@ def test_non_hertzian_map_brackets_its_limit(name, heights, limit):
     assert lim == pytest.approx(limit, abs=1e-3)
     assert core.simulate_cycles(0.9 * lim, 0.3, periods=30, body=m).regime == "shakedown"
     assert core.simulate_cycles(1.1 * lim, 0.3, periods=30, body=m).regime == "ratcheting"
+
+
+def _cli(*args):
+    import os
+    import subprocess
+    import sys
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    return subprocess.run([sys.executable, "-m", "core.cli", *args], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": root}, timeout=600, cwd=root)
+
+
+def test_cli_runs_a_height_map_file(tmp_path):
+    """shakedown run --body heightmap --file map.nc: the flat-top paraboloid as a 'measured' map in micrometres
+    (a = 100 um, P/(E* a) = 2 um) written to NetCDF by SurfaceTopography; 10 % below its limit it shakes down,
+    and the run prints the map's Melan limit (0.5312, as from the array)."""
+    st = pytest.importorskip("SurfaceTopography")
+    n, dx = 35, 0.1
+    x = (np.arange(n) - n // 2) * dx
+    X, Y = np.meshgrid(x, x, indexing="ij")  # SurfaceTopography indexes (x, y)
+    topo = st.Topography(-2.0 * 0.375 * np.maximum(X**2 + Y**2 - 0.25, 0.0), (n * dx * 100.0,) * 2, unit="um")
+    path = tmp_path / "map.nc"
+    topo.to_netcdf(str(path))
+    p = _cli("run", "--ft", "0.478", "--w", "0.3", "--body", "heightmap", "--file", str(path), "--length-unit", "100",
+             "--height-unit", "2", "--periods", "30")
+    assert p.returncode == 0, p.stderr
+    assert "heightmap2d, 3D half-space" in p.stdout and "shakedown" in p.stdout
+    assert "exact limit at this w      0.5312" in p.stdout and "dx = 0.1 a" in p.stdout
+    for args, message in ((("--body", "heightmap"), "heightmap' needs a"),
+                          (("--body", "sphere", "--file", str(path)), "--file is for --body heightmap")):
+        p = _cli("run", "--ft", "0.3", "--w", "0.3", "--periods", "2", *args)
+        assert p.returncode != 0 and message in p.stderr, p.stderr
