@@ -184,6 +184,10 @@ class HeightMap:
         # SurfaceTopography's arrays are indexed (x, y): rows along y here
         return cls(-np.asarray(topography.heights(), dtype=float).T / height_unit, px / length_unit)
 
+    def __repr__(self):
+        ny, nx = self.heights.shape
+        return f"HeightMap({ny}x{nx}, spacing={self.spacing:g}, data={_digest(self.heights)})"
+
     @property
     def default_dx(self) -> float:
         """A run's element side [a]: the map's spacing (it runs on its own grid, :func:`core.resolution.default_dx`)."""
@@ -275,11 +279,24 @@ class HeightMap:
     def ft_limit(self, w):
         """Melan's limit when the map translates along x over ``[-w, w]`` [a]: ``integral p_min / integral p``.
 
-        ``w`` is rounded to whole grid steps (at least one step in [0, 1)).
+        ``p_min`` is the lowest pressure over the positions ``j spacing``
+        (``|j spacing| <= w``, the pressure shifted by whole elements) and the
+        turning points ``+-w`` (for a ``w`` between whole elements, the map's
+        heights interpolated to the fractional offset and solved again, as in a
+        run). It is continuous in ``w``; a run at ``dW = spacing`` and ``w`` a
+        multiple of it sees exactly these positions.
         """
         w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
         p = self.solve().pressure
-        k = int(round(w / self.spacing))
-        pad = np.pad(p, ((0, 0), (k, k)))
-        p_min = minimum_filter1d(pad, 2 * k + 1, axis=1, mode="constant", cval=0.0) if k else pad
+        h = self.spacing
+        k = math.floor(w / h + 1e-9)
+        frac = w / h - k
+        pad = np.pad(p, ((0, 0), (k + 1, k + 1)))
+        p_min = minimum_filter1d(pad, 2 * k + 1, axis=1, mode="constant", cval=0.0) if k else pad.copy()
+        if frac > 1e-9:
+            nx = p.shape[1]
+            for sign in (1, -1):  # the turning points: the body displaced by +-(k + frac) elements
+                q = np.zeros_like(pad)
+                q[:, k + 1 + sign * k:k + 1 + sign * k + nx] = self._pressure_at(sign * frac, 1.0)
+                p_min = np.minimum(p_min, q)
         return float(p_min.sum() / p.sum())
