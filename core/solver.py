@@ -371,7 +371,8 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         ``"cylinder"`` (default) and ``"punch"`` (:data:`core.bodies.BODIES`, or
         objects: ``core.Punch(flat=0.8)``, any :class:`core.bodies.Body`) are
         line contacts on the 1D engine; the point contacts (``"sphere"``,
-        ``"ellipsoid"``, ``core.Ellipsoid``) run
+        ``"ellipsoid"``, ``core.Ellipsoid``, a :class:`core.heightmap.HeightMap`
+        on its own grid) run
         :func:`core.solver3d.simulate_point_contact` (with ``ratio = Ry/Rx`` of
         an ellipsoid and ``angle`` of Ft to the rocking direction [rad]; ``dx``
         is the element side, ``nu`` the substrate's; ``kernel`` and ``L_over_a``

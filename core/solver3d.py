@@ -1,7 +1,8 @@
 """The 3D incremental tangential problem of a rocking point contact, matrix-free.
 
-At each step the pressure ``p`` is Hertz's at the current centre (uncoupled,
-Dundurs beta = 0) and the unknowns are the element tractions ``q`` (a vector
+At each step the pressure ``p`` is the body's at the current centre (uncoupled,
+Dundurs beta = 0: Hertz's for the sphere and ellipsoids, solved on the grid or
+sampled, ``normal=``; a height map's solved numerically, :mod:`core.heightmap`) and the unknowns are the element tractions ``q`` (a vector
 per element) and the rigid-body displacement increment ``lam = (lam_x,
 lam_y)``. With ``K`` the half-space operator (:mod:`core.halfspace`) and
 ``dq = q - q_prev``, the slip increment of an element is ``s = lam - K dq``
@@ -733,9 +734,6 @@ def _centred_edges(reach, h):
     return h * (np.arange(2 * half + 2) - half - 0.5)
 
 
-# the traction bound: the pressure of the discrete normal problem on the grid (True, as CONTACT) or the element
-# means of Hertz's pressure (False; the bound before issue 21, kept for the comparison in benchmarks/solver3d.py)
-_DISCRETE_PRESSURE = True
 # Polonsky-Keer iterations: relative change of the load distribution at which the normal solve stops, and its cap
 _NORMAL_RTOL = 1e-13
 _NORMAL_MAXITER = 2000
@@ -797,7 +795,7 @@ _NORMAL_CACHE = {}
 def _pressure(x_edges, y_edges, xc, body, scale=1.0, normal="numerical"):
     """The traction bound's pressure on a point-contact grid at centre ``xc`` and load scale ``scale`` [p0].
 
-    With :data:`_DISCRETE_PRESSURE` the pressure of the discrete normal
+    With ``normal="numerical"`` (the default) the pressure of the discrete normal
     problem on the grid (:class:`_NormalWindow`), as CONTACT computes it: on
     the sphere at ft 0.6, w 0.3 it moved the increment per period from 1.6 %
     to 0.3 % below CONTACT's at 40 elements across the contact
@@ -805,12 +803,12 @@ def _pressure(x_edges, y_edges, xc, body, scale=1.0, normal="numerical"):
     the pressure is Hertz's up to the discretization; the solve runs on a
     window around the contact and is cached by the centre's offset from its
     nearest element (a translate serves every aligned centre) and the scale.
-    With ``normal="exact"`` (or without :data:`_DISCRETE_PRESSURE`), the element means of Hertz's pressure
+    With ``normal="exact"``, the element means of Hertz's pressure
     (:func:`core.point_contact.hertz_element_means`).
     """
     if hasattr(body, "grid_pressure"):  # a body that solves its own normal problem (core.heightmap.HeightMap)
         return body.grid_pressure(x_edges, y_edges, xc, scale)
-    if normal == "exact" or not _DISCRETE_PRESSURE:
+    if normal == "exact":
         return hertz_element_means(x_edges, y_edges, xc, body.kappa, scale)
     h = float(x_edges[1] - x_edges[0])
     xs = 0.5 * (x_edges[1:] + x_edges[:-1])
