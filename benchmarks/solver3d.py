@@ -24,7 +24,18 @@ grid convergence.
    w = W/a with a the half-width or the radius): exact limits and solver verdicts.
 5. Grid convergence of the increment per period of a ratcheting sphere.
 6. The increment per period against CONTACT's (ft 0.6, w 0.3) at 20 to 80 elements across the contact, with
-   the traction bound from the discrete normal problem (the default) and from element means of Hertz's pressure.
+   the traction bound from the discrete normal problem (normal="numerical", the default) and from element means
+   of Hertz's pressure (normal="exact").
+7. The discrete bound's normal solve alone. Since it is core.normal.solve_normal (one normal solver, issue 21;
+   preconditioned by the inverse continuous symbol), measured back to back, twice, at load average 3.4: one
+   window 14.3-14.9, 69-71, 466-497 ms at a/20, a/40, a/80 with the bound's own unpreconditioned CG before,
+   7.7-7.8, 30, 165-173 ms after (the same pressures to 2e-12); the timed cases of 1: a/20 1.49 s CPU before,
+   1.42 s after; a/40 18.9 s and 18.4 s CPU (identical increments and iterations: the solve is a few windows
+   a run).
+8. A height map (a rough paraboloid; at a/20 a rougher surface, the same rms per sample) on the 3D solver: its
+   pressure shifted by whole elements (dW = dx) or solved again per fractional offset (dW = 0.6 dx). A normal
+   solve is 17-18 ms (35x35 map, a/10) and 29-61 ms (71x71, a/20) against 0.4-4.5 s for a 10-period run: the
+   per-offset solves cost < 7 % of a run, the shift is exact (the discrete problem is translation-invariant).
 
 Run: python benchmarks/solver3d.py [--quick] [--no-fine]
 """
@@ -149,7 +160,6 @@ def contact_comparison(elements=(20, 40, 60, 80), ft=0.6, w=0.3, periods=10):
     """The increment per period against CONTACT's, with the traction bound from the discrete normal problem (the
     default, as CONTACT) and from the element means of Hertz's pressure (the bound before issue 21)."""
     import core
-    import core.solver3d as s3
 
     print(f"\nagainst CONTACT: sphere ft={ft}, w={w}, {periods} periods, nu = 0.5, dW = dx; increment per period "
           "[1e-2 mu Fn/(E* a)]")
@@ -157,15 +167,55 @@ def contact_comparison(elements=(20, 40, 60, 80), ft=0.6, w=0.3, periods=10):
     for n in elements:
         row = []
         for discrete in (True, False):
-            s3._DISCRETE_PRESSURE = discrete
-            try:
-                inc = float(core.simulate_cycles(ft, w, periods, dx=2 / n, body="sphere").increment_per_period[-1])
-            finally:
-                s3._DISCRETE_PRESSURE = True
+            inc = float(core.simulate_cycles(ft, w, periods, dx=2 / n, body="sphere",
+                                             normal="numerical" if discrete else "exact").increment_per_period[-1])
             ref = CONTACT_INCREMENT.get(n)
             row.append(f"{100 * inc:11.4f} {'' if ref is None else f'{(inc - ref) / ref:+.2%}':>11}")
         ref = CONTACT_INCREMENT.get(n)
         print(f"{n:8d} {'' if ref is None else f'{100 * ref:.3f}':>8} {row[0]} {row[1]}")
+
+
+def normal_solve(dxs=(1 / 20, 1 / 40, 1 / 80)):
+    """The discrete bound's normal solve alone (core.solver3d._pressure, cache cleared): one window of the sphere."""
+    import core.solver3d as s3
+    from core.point_contact import Ellipsoid
+
+    print("\nthe sphere's discrete normal solve on one window (core.normal.solve_normal), best of 3:")
+    for dx in dxs:
+        xe, ye = s3._centred_edges(1.7, dx), s3._centred_edges(1.0, dx)
+        best = np.inf
+        for _ in range(3):
+            s3._NORMAL_CACHE.clear()
+            t = time.perf_counter()
+            s3._pressure(xe, ye, 0.1 + 0.3 * dx, Ellipsoid(1.0))
+            best = min(best, time.perf_counter() - t)
+        print(f"  a/{round(1 / dx)}: {1e3 * best:.1f} ms")
+
+
+def height_maps(quick=False):
+    """A rough paraboloid (0.375 r^2 + 0.01 N(0, 1) per sample, P/(E* a)) on the 3D solver, 10 % above its Melan
+    limit at w = 0.3: the pressure solved once and shifted (dW = dx) or solved again per fractional offset
+    (dW = 0.6 dx), beside the cost of one normal solve."""
+    import core
+    from core.heightmap import HeightMap
+
+    print("\nheight map (rough paraboloid), ft = 1.1 ft_lim(0.3), 10 periods:")
+    for dx, n in ((0.1, 35),) if quick else ((0.1, 35), (0.05, 71)):
+        x = (np.arange(n) - n // 2) * dx
+        X, Y = np.meshgrid(x, x)
+        heights = 0.375 * (X**2 + Y**2) + 0.01 * np.random.default_rng(7).standard_normal(X.shape)
+        m = HeightMap(heights, dx)
+        t = time.perf_counter()
+        m.solve()
+        solve = time.perf_counter() - t
+        lim = m.ft_limit(0.3)
+        for dW in (dx, 0.6 * dx):
+            m = HeightMap(heights, dx)
+            t = time.perf_counter()
+            r = core.simulate_cycles(1.1 * lim, 0.3, periods=10, body=m, dW=dW)
+            print(f"  a/{round(1 / dx)} ({n}x{n} map; one normal solve {1e3 * solve:.0f} ms), dW = {dW / dx:.1f} dx: "
+                  f"{time.perf_counter() - t:.2f} s, {1 + len(m._shifted)} normal solves, {r.xc.size} steps, "
+                  f"limit {lim:.4f}, last increment {r.increment_per_period[-1]:.5f} ({r.regime})")
 
 
 def main(quick=False, fine=True):
@@ -175,6 +225,8 @@ def main(quick=False, fine=True):
     cylinder_vs_sphere()
     grid_convergence(dxs=(0.2, 0.1) if quick else ((0.2, 0.1, 0.05, 0.025) if fine else (0.2, 0.1, 0.05)))
     contact_comparison(elements=(20, 40) if quick else ((20, 40, 60, 80) if fine else (20, 40, 60)))
+    normal_solve()
+    height_maps(quick)
 
 
 if __name__ == "__main__":

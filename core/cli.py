@@ -52,8 +52,9 @@ _KERNELS = ("plane", "strip")
 _SHAPES = ("triangle", "sine")
 _NORMALS = ("auto", "exact", "numerical")
 # the body flags: which body each belongs to (core/registry.py lists the bodies and their parameters)
-_BODY_FLAGS = {"flat": ("punch",), "ratio": ("ellipsoid",), "angle": ("sphere", "ellipsoid")}
-_BODY_NAMES = ("cylinder", "punch", "sphere", "ellipsoid")  # core.registry.REGISTRY's names
+_BODY_FLAGS = {"flat": ("punch",), "ratio": ("ellipsoid",), "angle": ("sphere", "ellipsoid", "heightmap"),
+               "file": ("heightmap",), "length_unit": ("heightmap",), "height_unit": ("heightmap",)}
+_BODY_NAMES = ("cylinder", "punch", "sphere", "ellipsoid", "heightmap")  # core.registry.REGISTRY's names
 _DEFAULT_DX = 1.0 / 40.0  # core.resolution.DEFAULT_DX_LINE: the cylinder's default grid
 _DEFAULT_DX_POINT = 1.0 / 20.0  # core.resolution.DEFAULT_DX_POINT: the point contacts' default grid
 _MAX_ELEMENTS = 16384  # core.solver.MAX_FFT_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many
@@ -290,7 +291,8 @@ def _add_solver_options(parser, kernel_default="plane"):
     add = g.add_argument
     add("--body", type=_arg(lambda text: _text("body", text)), action=_Once, metavar="NAME",
         help=f"the rocking body: {', '.join(_BODY_NAMES)} (core/registry.py; default {_PASS_THROUGH['body']}); "
-             "its parameters: --flat (punch), --ratio and --angle (ellipsoid)")
+             "its parameters: --flat (punch), --ratio and --angle (ellipsoid), --file, --length-unit and "
+             "--height-unit (heightmap)")
     add("--flat", type=_number("flat", 0.0, 1.0, hi_closed=False), action=_Once, metavar="B/A",
         help="--body punch: the flat's half-width over the contact half-width, in [0, 1) (default 0.5; 0 is the "
              "cylinder)")
@@ -299,9 +301,17 @@ def _add_solver_options(parser, kernel_default="plane"):
     add("--angle", type=_number("angle", -180.0, 180.0), action=_Once, metavar="DEG",
         help="--body sphere or ellipsoid: the angle of Ft to the rocking direction [degrees], in [-180, 180] "
              "(default 0)")
+    add("--file", type=_arg(lambda text: _text("file", text)), action=_Once, metavar="PATH",
+        help="--body heightmap: the height map, a file SurfaceTopography reads (NetCDF, profilometer formats); "
+             "the body's gap is -height/height_unit, rows along y, rocked along x, run on its own grid (dx = pixel)")
+    add("--length-unit", dest="length_unit", type=_number("length_unit", 0.0, None, lo_closed=False), action=_Once,
+        metavar="A", help="--body heightmap: the length a in the file's length unit (default 1)")
+    add("--height-unit", dest="height_unit", type=_number("height_unit", 0.0, None, lo_closed=False), action=_Once,
+        metavar="U", help="--body heightmap: P/(E* a) in the file's height unit (default 1)")
     add("--normal", type=_choice("normal", _NORMALS), action=_Once,
-        help="the pressure of a line contact: exact (closed form), numerical (the normal problem solved by "
-             "constrained conjugate gradients) or auto (the closed form where there is one; the default)")
+        help="the pressure: exact (closed form), numerical (the normal problem solved by constrained conjugate "
+             "gradients) or auto (the default: a line contact's closed form where there is one; a point contact's "
+             "discrete normal problem on the grid)")
     add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
         help="the loading history, a name core.simulate_cycles accepts: rocking (the default: constant Ft, "
              "the centre rocked between -W and +W), normal (the same under a normal force 1 + 0.2 sin(2 pi t)) "
@@ -336,7 +346,8 @@ _SOLVER_DESTS = ("body", "normal", "history", "periods", "dx", "dW", "kernel", "
                  "shakedown_rtol", "time_budget")
 # every parameter name a library message may use, spelled as a flag by flag_names
 _FLAGGED = (*_SOLVER_DESTS, "ft", "w", "tol", "max_runs", "workers", "max_workers", "scheduler", "R1", "L", "Fn",
-            "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W", "flat", "ratio", "angle")
+            "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W", "flat", "ratio", "angle", "file", "length_unit",
+            "height_unit")
 
 
 def _add_execution_options(parser):
@@ -477,6 +488,10 @@ def _body_options(args, options) -> None:
     if "flat" in given:
         from .registry import make_body
         options["body"] = make_body(body, flat=given["flat"])
+    if body == "heightmap":
+        from .registry import make_body
+        options["body"] = make_body(body, **{k: given[k] for k in ("file", "length_unit", "height_unit")
+                                             if k in given})
     if "ratio" in given:
         options["ratio"] = given["ratio"]
     if "angle" in given:

@@ -10,8 +10,9 @@ and its limit is Melan's (:mod:`core.melan`).
 the half-space (the patch normal solve, :func:`core.normal.solve_patch`) and
 rocked along x like the sphere: its exact shakedown limit is Melan's,
 ``ft_lim = integral p_min / integral p`` with ``p_min`` the sliding minimum of
-the translating pressure along x. (The 3D transient solver, :mod:`core.solver3d`,
-takes Hertz's pressure only: a height map does not run there yet.)
+the translating pressure along x; ``core.simulate_cycles(..., body=HeightMap(...))``
+runs its cycles on the 3D solver (:mod:`core.solver3d`) with its numerically
+solved pressure.
 
 Units: as the bodies they stand beside. A profile's heights are in ``P/E*``
 and its positions in ``a`` (Hertz's cylinder is ``(2/pi) x^2``); a map's
@@ -116,7 +117,18 @@ class HeightProfile(Body):
 
 
 class HeightMap:
-    """A rigid surface sampled on a square grid, rocked along x: its normal solution and its shakedown limit.
+    """A rigid surface sampled on a square grid, rocked along x like the sphere: its normal solution, its
+    shakedown limit, and its cycles on the 3D solver.
+
+    ``core.simulate_cycles(ft, w, periods, body=HeightMap(...))`` runs it on
+    :func:`core.solver3d.solve_point_schedule` on the map's own grid (``dx`` =
+    ``spacing``): the element ``(i, j)`` sits at ``x = (j - nx // 2) spacing``,
+    ``y = (i - ny // 2) spacing`` when the body is centred, and the body
+    translates by ``xc`` along x. Its pressure is solved once
+    (:meth:`solve`) and shifted by whole elements when ``xc`` is a multiple
+    of ``spacing`` (the discrete problem is translation-invariant); otherwise
+    the heights are interpolated linearly along x to the fractional offset and
+    the normal problem is solved again (once per offset, cached).
 
     Parameters
     ----------
@@ -140,7 +152,10 @@ class HeightMap:
     dim = 2
     #: Nominal load [p0 a^2] and kernel factor of the sphere's units (:mod:`core.point_contact`).
     load = 2.0 * math.pi / 3.0
+    total_load = load
     kernel_scale = 1.5 / math.pi**2
+    #: No semi-axis ratio (a point body's summary field).
+    ratio = None
 
     def __init__(self, heights, spacing):
         h = np.array(heights, dtype=float)
@@ -150,6 +165,7 @@ class HeightMap:
         self.heights.setflags(write=False)
         self.spacing = check_scalar("spacing", spacing, 0.0, None, lo_closed=False)
         self._solution = None
+        self._shifted = {}
 
     @classmethod
     def from_topography(cls, topography, length_unit, height_unit):
@@ -167,6 +183,15 @@ class HeightMap:
             raise ValueError(f"the topography's pixels must be square, got {px:g} x {py:g}")
         # SurfaceTopography's arrays are indexed (x, y): rows along y here
         return cls(-np.asarray(topography.heights(), dtype=float).T / height_unit, px / length_unit)
+
+    def __repr__(self):
+        ny, nx = self.heights.shape
+        return f"HeightMap({ny}x{nx}, spacing={self.spacing:g}, data={_digest(self.heights)})"
+
+    @property
+    def default_dx(self) -> float:
+        """A run's element side [a]: the map's spacing (it runs on its own grid, :func:`core.resolution.default_dx`)."""
+        return self.spacing
 
     @property
     def parameters(self) -> dict:
@@ -189,14 +214,89 @@ class HeightMap:
             self._solution = sol
         return self._solution
 
+    def _pressure_at(self, frac, scale):
+        """Element pressures [p0] on the map's grid of the body displaced by ``frac`` elements along x (|frac| <= 1/2)
+        under the load ``load * scale^3``: :meth:`solve` shifted, or solved again for a fractional offset."""
+        if frac == 0.0 and scale == 1.0:
+            return self.solve().pressure
+        key = (round(frac, 9), round(scale, 12))
+        p = self._shifted.get(key)
+        if p is None:
+            from .normal import solve_patch
+            H = np.asarray(self.heights)
+            if frac > 0:  # the height at x - frac h: between the element and its left neighbour
+                H = (1.0 - frac) * H + frac * np.concatenate([H[:, :1], H[:, :-1]], axis=1)
+            elif frac < 0:
+                H = (1.0 + frac) * H - frac * np.concatenate([H[:, 1:], H[:, -1:]], axis=1)
+            sol = solve_patch(H, self.spacing, load=self.load * scale**3, scale=self.kernel_scale,
+                              initial=self.solve().pressure)
+            c = sol.contact
+            if c[0].any() or c[-1].any() or c[:, 0].any() or c[:, -1].any():
+                raise ValueError("the contact reaches the edge of the height map: sample a larger area")
+            if len(self._shifted) >= 64:
+                self._shifted.clear()
+            p = self._shifted[key] = sol.pressure
+        return p
+
+    def run_grid(self, reach_x, scale, h):
+        """The edges ``(x_edges, y_edges)`` [a] of a point-contact run whose centre reaches ``|xc| <= reach_x``:
+        the map's elements that carry pressure, one more around them, and ``reach_x`` more along x.
+
+        Raises
+        ------
+        ValueError
+            If ``h`` is not the map's spacing.
+        """
+        if not math.isclose(h, self.spacing, rel_tol=1e-9):
+            raise ValueError(f"dx must be the height map's spacing {self.spacing:g} for a run on it, got {h:g}")
+        rows, cols = np.nonzero(self.solve().contact)
+        ny, nx = self.heights.shape
+        half_y = int(max(ny // 2 - rows.min(), rows.max() - ny // 2)) + 1
+        if scale > 1.0 + 1e-12:
+            raise ValueError(f"a height map runs at loads up to its nominal one, got a load scale {scale:g}")
+        half_x = int(max(nx // 2 - cols.min(), cols.max() - nx // 2)) + 1 + math.ceil(reach_x / h - 1e-9)
+        return h * (np.arange(2 * half_x + 2) - half_x - 0.5), h * (np.arange(2 * half_y + 2) - half_y - 0.5)
+
+    def grid_pressure(self, x_edges, y_edges, xc, scale=1.0):
+        """Element pressures [p0] on a run grid (:meth:`run_grid`) with the body's centre at ``xc`` [a]."""
+        h = self.spacing
+        k = math.floor(xc / h + 0.5)
+        frac = xc / h - k
+        if abs(frac) < 1e-9:
+            frac = 0.0
+        p = self._pressure_at(frac, scale)
+        ny, nx = self.heights.shape
+        out = np.zeros((y_edges.size - 1, x_edges.size - 1))
+        half_y, half_x = out.shape[0] // 2, out.shape[1] // 2
+        rows, cols = np.nonzero(p > 0)
+        r = rows - ny // 2 + half_y
+        c = cols - nx // 2 + k + half_x
+        if r.min() < 0 or c.min() < 0 or r.max() >= out.shape[0] or c.max() >= out.shape[1]:
+            raise ValueError(f"the contact at xc = {xc:g} leaves the run's grid")
+        out[r, c] = p[rows, cols]
+        return out
+
     def ft_limit(self, w):
         """Melan's limit when the map translates along x over ``[-w, w]`` [a]: ``integral p_min / integral p``.
 
-        ``w`` is rounded to whole grid steps (at least one step in [0, 1)).
+        ``p_min`` is the lowest pressure over the positions ``j spacing``
+        (``|j spacing| <= w``, the pressure shifted by whole elements) and the
+        turning points ``+-w`` (for a ``w`` between whole elements, the map's
+        heights interpolated to the fractional offset and solved again, as in a
+        run). It is continuous in ``w``; a run at ``dW = spacing`` and ``w`` a
+        multiple of it sees exactly these positions.
         """
         w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
         p = self.solve().pressure
-        k = int(round(w / self.spacing))
-        pad = np.pad(p, ((0, 0), (k, k)))
-        p_min = minimum_filter1d(pad, 2 * k + 1, axis=1, mode="constant", cval=0.0) if k else pad
+        h = self.spacing
+        k = math.floor(w / h + 1e-9)
+        frac = w / h - k
+        pad = np.pad(p, ((0, 0), (k + 1, k + 1)))
+        p_min = minimum_filter1d(pad, 2 * k + 1, axis=1, mode="constant", cval=0.0) if k else pad.copy()
+        if frac > 1e-9:
+            nx = p.shape[1]
+            for sign in (1, -1):  # the turning points: the body displaced by +-(k + frac) elements
+                q = np.zeros_like(pad)
+                q[:, k + 1 + sign * k:k + 1 + sign * k + nx] = self._pressure_at(sign * frac, 1.0)
+                p_min = np.minimum(p_min, q)
         return float(p_min.sum() / p.sum())

@@ -102,6 +102,8 @@ def ft_limit_numerical(w, body, dx=None, normal="auto"):
     >>> round(float(ft_limit_numerical(0.26, core.Cylinder())), 4)
     0.6727
     """
+    if getattr(body, "dim", 1) == 2 and hasattr(body, "grid_pressure"):  # a height map: its own grid and solve
+        return body.ft_limit(w)
     if getattr(body, "dim", 1) == 2:
         w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
         dx = _step(w, check_scalar("dx", 1.0 / 400.0 if dx is None else dx, 1e-4, 0.1))
@@ -124,7 +126,7 @@ def _resolve(body):
         return "cylinder"
     if isinstance(body, Ellipsoid) or (isinstance(body, str) and body in POINT_BODIES):
         return "point"
-    if isinstance(body, Body):
+    if isinstance(body, Body) or hasattr(body, "grid_pressure"):  # a line body or a height map
         return body
     return resolve_body(body)
 

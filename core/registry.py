@@ -3,7 +3,8 @@
 Each entry names a body, how to build it from its parameters, its
 parameters (default, range, meaning) and its kind: ``"line"`` (a line
 contact on the 1D engine, :class:`core.bodies.Body`) or ``"point"`` (a point
-contact on the 3D solver, :class:`core.point_contact.Ellipsoid`).
+contact on the 3D solver, :class:`core.point_contact.Ellipsoid` or
+:class:`core.heightmap.HeightMap`).
 :func:`make_body` builds a body from a name and parameters;
 :func:`describe` lists them (``shakedown`` prints it in its help).
 
@@ -17,7 +18,7 @@ Examples
 >>> make_body("punch", flat=0.8), make_body("ellipsoid", ratio=2.0)
 (Punch(flat=0.8), Ellipsoid(ratio=2.0))
 >>> sorted(REGISTRY)
-['cylinder', 'ellipsoid', 'punch', 'sphere']
+['cylinder', 'ellipsoid', 'heightmap', 'punch', 'sphere']
 """
 
 from __future__ import annotations
@@ -40,9 +41,15 @@ class Parameter:
     hi: float
     doc: str
     hi_closed: bool = True
+    #: A path to a file (``--file``), not a number: ``default`` None, no range.
+    path: bool = False
 
-    def check(self, value) -> float:
-        """The value as a float, or ValueError naming the parameter and its range."""
+    def check(self, value):
+        """The value as a float (a path: a str), or ValueError naming the parameter and its range."""
+        if self.path:
+            if not isinstance(value, (str, bytes)) and not hasattr(value, "__fspath__"):
+                raise ValueError(f"{self.name} must be a path, got {type(value).__name__}")
+            return value
         return check_scalar(self.name, value, self.lo, self.hi, hi_closed=self.hi_closed)
 
 
@@ -72,6 +79,13 @@ def _ellipsoid(ratio=2.0):
     return Ellipsoid(ratio)
 
 
+def _heightmap(file=None, length_unit=1.0, height_unit=1.0):
+    if file is None:
+        raise ValueError("body 'heightmap' needs a file: a profilometer map SurfaceTopography reads (--file PATH)")
+    from .heightmap import HeightMap
+    return HeightMap.from_topography(file, length_unit=length_unit, height_unit=height_unit)
+
+
 def _sphere():
     from .point_contact import Ellipsoid
     return Ellipsoid(1.0)
@@ -99,6 +113,11 @@ register(BodyEntry("punch", _punch, "line", "the rounded flat punch (plane strai
 register(BodyEntry("sphere", _sphere, "point", "the rocking sphere (Hertz point contact)"))
 register(BodyEntry("ellipsoid", _ellipsoid, "point", "the rocking ellipsoid, rocked along its x axis",
                    (Parameter("ratio", 2.0, 0.05, 20.0, "Ry/Rx, its principal relative radii's ratio"),)))
+register(BodyEntry("heightmap", _heightmap, "point", "a measured or designed surface (a height map read by "
+                   "SurfaceTopography), rocked along x like the sphere on its own grid",
+                   (Parameter("file", None, 0.0, 0.0, "the map's file (any format SurfaceTopography reads)", path=True),
+                    Parameter("length_unit", 1.0, 1e-12, 1e12, "a in the file's length unit"),
+                    Parameter("height_unit", 1.0, 1e-12, 1e12, "P/(E* a) in the file's height unit"))))
 
 
 def make_body(name, **parameters):
@@ -129,7 +148,8 @@ def describe() -> str:
     """One line per body: its name, kind, parameters with defaults and ranges, and what it is."""
     lines = []
     for e in REGISTRY.values():
-        params = ", ".join(f"--{p.name} {p.default:g} in [{p.lo:g}, {p.hi:g}{']' if p.hi_closed else ')'}"
+        params = ", ".join(f"--{p.name.replace('_', '-')} PATH" if p.path else
+                           f"--{p.name.replace('_', '-')} {p.default:g} in [{p.lo:g}, {p.hi:g}{']' if p.hi_closed else ')'}"
                            for p in e.parameters)
         lines.append(f"{e.name} ({e.kind}{'; ' + params if params else ''}): {e.doc}")
     return "\n".join(lines)

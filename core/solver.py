@@ -371,7 +371,8 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         ``"cylinder"`` (default) and ``"punch"`` (:data:`core.bodies.BODIES`, or
         objects: ``core.Punch(flat=0.8)``, any :class:`core.bodies.Body`) are
         line contacts on the 1D engine; the point contacts (``"sphere"``,
-        ``"ellipsoid"``, ``core.Ellipsoid``) run
+        ``"ellipsoid"``, ``core.Ellipsoid``, a :class:`core.heightmap.HeightMap`
+        on its own grid) run
         :func:`core.solver3d.simulate_point_contact` (with ``ratio = Ry/Rx`` of
         an ellipsoid and ``angle`` of Ft to the rocking direction [rad]; ``dx``
         is the element side, ``nu`` the substrate's; ``kernel`` and ``L_over_a``
@@ -392,7 +393,10 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     normal : {"auto", "exact", "numerical"}
         The pressure of a line contact (see :func:`solve_schedule`): ``"auto"``
         (the default) takes the closed form where the body has one. Point
-        contacts accept ``"auto"`` and ``"exact"`` only (Hertz).
+        contacts: ``"numerical"`` (and ``"auto"``, the default) bound the
+        traction by the discrete normal problem on the run's grid (as CONTACT
+        does), ``"exact"`` by the element means of Hertz's pressure (see
+        :func:`core.solver3d.solve_point_schedule`).
 
     Returns
     -------
@@ -417,9 +421,6 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         if solver != "auto":
             raise ValueError(f"solver={solver!r:.20} is for the line contacts; body={body!r:.40} runs the 3D "
                              "active-set solver (core.solver3d), so solver must be 'auto'")
-        if normal == "numerical":
-            raise ValueError(f"normal='numerical' is for the line contacts ({', '.join(sorted(BODIES))} or a "
-                             f"core.bodies.Body); body={body!r:.40} runs with Hertz's pressure")
         if not (isinstance(history, str) and history == "rocking"):
             raise ValueError(f"history must be 'rocking' for a point contact (body={body!r:.40}), "
                              f"got {history!r:.60}")
@@ -427,7 +428,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         return simulate_point_contact(ft, w, periods, dx, dW, body=body, ratio=ratio, angle=angle, nu=nu, shape=shape,
                                       load_steps=load_steps, detect_periodic=detect_periodic,
                                       tol=tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget, cancel=cancel,
-                                      progress=progress)
+                                      progress=progress, normal=normal)
     if ratio is not None or angle != 0.0:
         raise ValueError(f"ratio and angle are the point contacts' (body='ellipsoid' or 'sphere'), not "
                          f"body={body!r:.40}'s: got ratio={ratio!r}, angle={angle!r}")

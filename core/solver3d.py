@@ -1,7 +1,8 @@
 """The 3D incremental tangential problem of a rocking point contact, matrix-free.
 
-At each step the pressure ``p`` is Hertz's at the current centre (uncoupled,
-Dundurs beta = 0) and the unknowns are the element tractions ``q`` (a vector
+At each step the pressure ``p`` is the body's at the current centre (uncoupled,
+Dundurs beta = 0: Hertz's for the sphere and ellipsoids, solved on the grid or
+sampled, ``normal=``; a height map's solved numerically, :mod:`core.heightmap`) and the unknowns are the element tractions ``q`` (a vector
 per element) and the rigid-body displacement increment ``lam = (lam_x,
 lam_y)``. With ``K`` the half-space operator (:mod:`core.halfspace`) and
 ``dq = q - q_prev``, the slip increment of an element is ``s = lam - K dq``
@@ -67,12 +68,12 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-import scipy.fft as sfft
 from scipy.special import ellipe, ellipk
 
 from ._validate import check_int, check_scalar
 from ._jit import jit
-from .halfspace import HalfSpaceOperator, convolve, convolve_mirror, rectangle_integrals
+from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
+from .normal import PatchOperator, solve_normal
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
 from .resolution import DEFAULT_DX_POINT, default_dx
 from .result import PeriodVerdict, SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth
@@ -231,7 +232,10 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     rmax = np.abs(r).max()
     its = 0
     # the vector updates in fused loops (no temporaries): a third of a step's time went to them
-    while its < maxiter and rmax > tol:
+    # rz == 0: the preconditioned residual vanishes (a zero residual, or one so small that r.z underflows, as with
+    # the huge Newton curvatures of elements whose bound is a tiny numerically solved pressure): CG can make no
+    # progress and beta = rz_new / rz would divide by zero, so it stops (the caller checks the KKT conditions)
+    while its < maxiter and rmax > tol and rz != 0.0:
         its += 1
         Kp = _convolve(p, spec[0], spec[1], spec[2], spec[3], spec[4], mirror)
         for c in range(2):
@@ -261,6 +265,8 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
             for i in range(ny):
                 for j in range(nx):
                     rz_new += r[c, i, j] * z[c, i, j]
+        if rz_new == 0.0:
+            break
         beta = rz_new / rz
         for c in range(2):
             for i in range(ny):
@@ -728,9 +734,6 @@ def _centred_edges(reach, h):
     return h * (np.arange(2 * half + 2) - half - 0.5)
 
 
-# the traction bound: the pressure of the discrete normal problem on the grid (True, as CONTACT) or the element
-# means of Hertz's pressure (False; the bound before issue 21, kept for the comparison in benchmarks/solver3d.py)
-_DISCRETE_PRESSURE = True
 # Polonsky-Keer iterations: relative change of the load distribution at which the normal solve stops, and its cap
 _NORMAL_RTOL = 1e-13
 _NORMAL_MAXITER = 2000
@@ -756,13 +759,15 @@ def _gap_curvatures(kappa):
 
 
 class _NormalWindow:
-    """The discrete normal problem of a Hertz contact on a window of the grid (Polonsky-Keer CG, FFT products).
+    """The discrete normal problem of a Hertz contact on a window of the grid: :func:`core.normal.solve_normal`.
 
     Piecewise-constant pressures on the grid's square elements, gaps
     collocated at their centres, the Boussinesq influence coefficients
     ``(1/(pi E*)) integral of 1/rho`` over each element (exact,
-    :func:`core.halfspace.rectangle_integrals`), the total load prescribed.
-    This is CONTACT's normal problem (Kalker; Vollebregt): the traction bound
+    :func:`core.halfspace.rectangle_integrals`, in :class:`core.normal.PatchOperator`),
+    the total load prescribed, solved by the one normal solver of the package
+    (Polonsky-Keer's constrained CG, preconditioned by the inverse continuous
+    symbol). This is CONTACT's normal problem (Kalker; Vollebregt): the traction bound
     ``mu p`` of an element is then the pressure that the same discrete
     elasticity gives it, instead of a mean of the continuous Hertz field.
     """
@@ -770,57 +775,27 @@ class _NormalWindow:
     def __init__(self, half_y, half_x, h):
         self.shape = (2 * half_y + 1, 2 * half_x + 1)
         self.h = h
-        ny, nx = self.shape
-        iy = np.arange(-(ny - 1), ny)[:, None]
-        ix = np.arange(-(nx - 1), nx)[None, :]
-        kern = rectangle_integrals(ix * h, iy * h, h)[0] / math.pi
-        self.pad = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
-        big = np.zeros(self.pad)
-        big[:ny, :nx] = kern[ny - 1:, nx - 1:]
-        big[-(ny - 1):, :nx] = kern[:ny - 1, nx - 1:] if ny > 1 else big[-(ny - 1):, :nx]
-        big[:ny, -(nx - 1):] = kern[ny - 1:, :nx - 1] if nx > 1 else big[:ny, -(nx - 1):]
-        if ny > 1 and nx > 1:
-            big[-(ny - 1):, -(nx - 1):] = kern[:ny - 1, :nx - 1]
-        self.hat = sfft.rfft2(big).real
+        self.op = PatchOperator(*self.shape, h, 1.0 / math.pi)
 
     def apply(self, p):
-        return sfft.irfft2(sfft.rfft2(p, self.pad) * self.hat, self.pad)[:self.shape[0], :self.shape[1]]
+        return self.op.apply(p)
 
     def solve(self, gap, load, guess):
         """Pressures >= 0 with ``sum p h^2 = load``, gap + displacement constant where ``p > 0``, >= it elsewhere."""
-        dA = self.h * self.h
-        p = np.maximum(guess, 0.0)
-        p *= load / (p.sum() * dA)
-        t = np.zeros_like(p)
-        g_old, conj = 1.0, False
-        for _ in range(_NORMAL_MAXITER):
-            c = p > 0
-            g = self.apply(p) + gap
-            g -= g[c].mean()
-            G = float(np.sum(g[c] ** 2))
-            t = np.where(c, g + (G / g_old) * t if conj else g, 0.0)
-            g_old = G
-            r = self.apply(t)
-            r -= r[c].mean()
-            tau = float(np.sum(g[c] * t[c]) / np.sum(r[c] * t[c]))
-            p_old = p
-            p = np.maximum(np.where(c, p - tau * t, 0.0), 0.0)
-            overlap = (p == 0) & (g < 0)  # penetration outside the contact: enter it
-            conj = not overlap.any()
-            p[overlap] -= tau * g[overlap]
-            p *= load / (p.sum() * dA)
-            if np.abs(p - p_old).sum() * dA <= _NORMAL_RTOL * load:
-                return p
-        raise RuntimeError(f"the normal problem did not converge in {_NORMAL_MAXITER} iterations")
+        try:
+            return solve_normal(gap, load, self.op, self.h * self.h, tol=_NORMAL_RTOL, maxiter=_NORMAL_MAXITER,
+                                initial=guess).pressure.copy()
+        except ValueError as e:
+            raise RuntimeError(f"the normal problem did not converge: {e}") from e
 
 
 _NORMAL_CACHE = {}
 
 
-def _pressure(x_edges, y_edges, xc, body, scale=1.0):
+def _pressure(x_edges, y_edges, xc, body, scale=1.0, normal="numerical"):
     """The traction bound's pressure on a point-contact grid at centre ``xc`` and load scale ``scale`` [p0].
 
-    With :data:`_DISCRETE_PRESSURE` the pressure of the discrete normal
+    With ``normal="numerical"`` (the default) the pressure of the discrete normal
     problem on the grid (:class:`_NormalWindow`), as CONTACT computes it: on
     the sphere at ft 0.6, w 0.3 it moved the increment per period from 1.6 %
     to 0.3 % below CONTACT's at 40 elements across the contact
@@ -828,10 +803,12 @@ def _pressure(x_edges, y_edges, xc, body, scale=1.0):
     the pressure is Hertz's up to the discretization; the solve runs on a
     window around the contact and is cached by the centre's offset from its
     nearest element (a translate serves every aligned centre) and the scale.
-    Without it, the element means of Hertz's pressure
+    With ``normal="exact"``, the element means of Hertz's pressure
     (:func:`core.point_contact.hertz_element_means`).
     """
-    if not _DISCRETE_PRESSURE:
+    if hasattr(body, "grid_pressure"):  # a body that solves its own normal problem (core.heightmap.HeightMap)
+        return body.grid_pressure(x_edges, y_edges, xc, scale)
+    if normal == "exact":
         return hertz_element_means(x_edges, y_edges, xc, body.kappa, scale)
     h = float(x_edges[1] - x_edges[0])
     xs = 0.5 * (x_edges[1:] + x_edges[:-1])
@@ -865,6 +842,16 @@ def _pressure(x_edges, y_edges, xc, body, scale=1.0):
     if total > 0:  # the load that fell off the grid's edge (none where the grid covers the contact)
         out *= body.total_load * scale**3 / total
     return out
+
+
+def _normal_mode(normal, body):
+    """``"exact"`` or ``"numerical"`` for ``normal`` (``"auto"``: numerical, the discrete bound on the grid)."""
+    if normal not in ("auto", "exact", "numerical"):
+        raise ValueError(f"normal must be one of ('auto', 'exact', 'numerical'), got {normal!r:.60}")
+    if normal == "exact" and not isinstance(body, Ellipsoid):
+        raise ValueError(f"normal='exact' needs a closed-form pressure (a sphere or an ellipsoid); "
+                         f"{type(body).__name__} has none: use normal='numerical' or 'auto'")
+    return "exact" if normal == "exact" else "numerical"
 
 
 def _grid(body, reach_x, scale, h):
@@ -988,7 +975,8 @@ class PointContactResult(PeriodVerdict, _GridFields):
 
     def pressure(self, step):
         """Element pressure at ``step`` [p0], shape (ny, nx): the traction bound in mu p0 (:func:`_pressure`)."""
-        return _pressure(self.x_edges, self.y_edges, float(self.xc[step]), self.body, float(self.P[step]) ** (1.0 / 3.0))
+        return _pressure(self.x_edges, self.y_edges, float(self.xc[step]), self.body, float(self.P[step]) ** (1.0 / 3.0),
+                         self.params.get("normal", "numerical"))
 
     @property
     def final_traction(self):
@@ -1054,7 +1042,7 @@ def _turning_points(schedule):
 
 def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, detect_periodic=True,
                          periodic_tol=PERIODIC_TOL, shakedown_rtol=1e-3, params=None, time_budget=None, cancel=None,
-                         progress=None, chunk=50):
+                         progress=None, chunk=50, normal="auto"):
     """Solve a loading :class:`~core.schedule.Schedule` for a point contact, step by step.
 
     Parameters
@@ -1063,8 +1051,8 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         Steps (``xc`` [a], ``P`` [nominal Fn], ``Q = Ft/(mu Fn0)``, period).
     dx : float
         Element side [a], in [0.005, 0.5].
-    body : Ellipsoid
-        The body.
+    body : Ellipsoid or core.heightmap.HeightMap
+        The body (a height map runs on its own grid: ``dx`` its spacing).
     nu : float
         Substrate's Poisson ratio, in [0, 0.5].
     angle : float
@@ -1082,6 +1070,12 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         Recorded on the result.
     time_budget, cancel, progress, chunk :
         As in :func:`core.solver.solve_schedule`.
+    normal : {"auto", "exact", "numerical"}
+        The traction bound's pressure: ``"numerical"`` (and ``"auto"``, the
+        default) the discrete normal problem on the run's grid, solved by
+        :func:`core.normal.solve_normal` (CONTACT's bound); ``"exact"`` the
+        element means of Hertz's closed form. A height map has no closed form:
+        ``"exact"`` is refused for it.
 
     Returns
     -------
@@ -1096,17 +1090,22 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     """
     if not isinstance(schedule, Schedule):
         raise ValueError(f"schedule must be a core.Schedule, got {type(schedule).__name__}")
-    if not isinstance(body, Ellipsoid):
-        raise ValueError(f"body must be a core.Ellipsoid, got {type(body).__name__}")
+    if not (isinstance(body, Ellipsoid) or hasattr(body, "grid_pressure")):
+        raise ValueError(f"body must be a core.Ellipsoid or a core.heightmap.HeightMap, got {type(body).__name__}")
     dx = check_scalar("dx", dx, 0.005, 0.5)
     nu = check_scalar("nu", nu, 0.0, 0.5)
     angle = check_scalar("angle", angle, -math.pi, math.pi)
     tol = check_scalar("tol", tol, 1e-13, 1e-4)
     periodic_tol = check_scalar("periodic_tol", periodic_tol, 0.0, 1e-2)
     chunk = check_int("chunk", chunk, 1, 10**7)
+    normal = _normal_mode(normal, body)
+    params = dict(params or {}, normal=normal)
     t0 = time.perf_counter()
     scales = np.cbrt(schedule.P)
-    xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
+    if hasattr(body, "run_grid"):  # a height map: its own grid
+        xe, ye = body.run_grid(float(np.max(np.abs(schedule.xc))), float(scales.max()), dx)
+    else:
+        xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
     ny, nx = ye.size - 1, xe.size - 1
     window = _Window(ny, nx, dx, nu, body.kernel_scale)
     dA = dx * dx
@@ -1146,7 +1145,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         key = (float(schedule.xc[k]), float(scales[k]))
         g = pressure_cache.get(key)
         if g is None:
-            g = pressure_cache[key] = _pressure(xe, ye, key[0], body, key[1])
+            g = pressure_cache[key] = _pressure(xe, ye, key[0], body, key[1], normal)
         per = int(schedule.period[k])
         pmin[per] = g if per not in pmin else np.minimum(pmin[per], g)
         target = schedule.Q[k] * body.total_load * direction
@@ -1211,13 +1210,13 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         Q=np.array(schedule.Q), period=np.array(schedule.period), displacement=disp, traction_cut=tcut,
         state_cut=scut, snapshot_steps=np.array(snap_all, dtype=np.int64), traction_snapshots=tsnap,
         state_snapshots=ssnap, lowest_pressure=pmin[last_period], dissipation=diss, iterations=iters,
-        cg_iterations=cg, residuals=res, periodic_from=periodic_from, params=dict(params or {}), tol=tol,
+        cg_iterations=cg, residuals=res, periodic_from=periodic_from, params=params, tol=tol,
         shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0)
 
 
 def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
                            shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=PERIODIC_TOL,
-                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None):
+                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, normal="auto"):
     """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
 
     Parameters
@@ -1247,7 +1246,7 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
         As in :func:`core.schedule.rocking_schedule`.
     tol : float, optional
         KKT tolerance of every step; default :data:`TOL_3D`.
-    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress :
+    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress, normal :
         As in :func:`solve_point_schedule`.
 
     Returns
@@ -1262,16 +1261,22 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     >>> r.regime
     'shakedown'
     """
-    body = resolve_body(body, ratio)
+    if hasattr(body, "grid_pressure"):  # a height map: its own grid
+        if ratio is not None:
+            raise ValueError(f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
+        dx = body.spacing if dx is None else dx
+    else:
+        body = resolve_body(body, ratio)
     tol = TOL_3D if tol is None else tol
     dx = check_scalar("dx", default_dx(body) if dx is None else dx, 0.005, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
-    params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name, ratio=body.ratio,
-                  angle=float(angle), nu=float(nu), shape=shape, load_steps=int(load_steps))
+    params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name,
+                  ratio=getattr(body, "ratio", None), angle=float(angle), nu=float(nu), shape=shape,
+                  load_steps=int(load_steps))
     return solve_point_schedule(schedule, dx, body, nu=nu, angle=angle, tol=tol, detect_periodic=detect_periodic,
                                 periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget,
-                                cancel=cancel, progress=progress)
+                                cancel=cancel, progress=progress, normal=normal)
 
 
 # --------------------------------------------------------------------------

@@ -45,7 +45,7 @@ def test_sweep_punch():
     (("--flat", "0.8"), "--flat is for --body punch"),
     (("--body", "punch", "--flat", "1.0"), "flat"),
     (("--body", "punch", "--ratio", "2"), "--ratio is for --body ellipsoid"),
-    (("--body", "sphere", "--normal", "numerical"), "normal"),
+    (("--body", "sphere", "--normal", "closed"), "normal"),
     (("--body", "punch", "--normal", "closed"), "normal"),
 ])
 def test_bad_body_flags(args, message):
