@@ -90,8 +90,8 @@ TOL_3D = 1e-8
 #: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
 PERIODIC_TOL = 1e-6
 #: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
-#: w = 0.6) is 0.1589, 0.1731, 0.1771, 0.1788 at a/5, a/10, a/20, a/40 (benchmarks/solver3d.py): a/20 is
-#: 1 % below a/40 and about 2 % below the extrapolated limit, at an eighth of a/40's cost.
+#: w = 0.6) is 0.1742, 0.1779, 0.1790, 0.1797 at a/5, a/10, a/20, a/40 with the discrete normal bound
+#: (benchmarks/solver3d.py): a/20 is 0.4 % below a/40, at an eighth of its cost.
 DEFAULT_DX_3D = DEFAULT_DX_POINT  # one place for every body's default grid: core/resolution.py
 #: Largest grid (elements) a point-contact run accepts.
 MAX_GRID_ELEMENTS = 200_000
@@ -1230,8 +1230,8 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     dx : float, optional
         Element side over ``a``, in [0.005, 0.5]; default: the body's grid,
         :func:`core.resolution.default_dx` (:data:`DEFAULT_DX_3D` = 1/20: 40
-        elements across the contact; the increment per period is about 2 %
-        below its grid limit there, ``benchmarks/solver3d.py``).
+        elements across the contact; the increment per period is 0.4 % below
+        a/40's there, ``benchmarks/solver3d.py``).
     dW : float, optional
         Rocking step over ``a``; defaults to ``dx``.
     body : {"sphere", "ellipsoid"} or Ellipsoid
