@@ -71,7 +71,7 @@ class LayoutMixin:
                       styles={"flex": "1 1 280px", "min-width": "250px"}, margin=0),
             flex_wrap="wrap", sizing_mode="stretch_width", css_classes=["first-row"])
         tabs = pn.Tabs(("Explorer", self.explorer_tab()), *self._lazy_tabs(), sizing_mode="stretch_width",
-                       dynamic=True, margin=(0, 5))  # a tab's models are sent only when shown
+                       dynamic=True)  # a tab's models are sent only when shown
         tabs.param.watch(lambda e: self._fill_tab(tabs, e.new), "active")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
 
