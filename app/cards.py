@@ -36,7 +36,7 @@ def _closure(ft: float, w: float) -> tuple[float, float, float]:
 
 def limit_name(body: str) -> str:
     """How the exact limit of ``body`` is cited."""
-    return "eq 35" if body == "cylinder" else f"the {body}'s exact limit (1 − w)²(2 + w)/2"
+    return "eq 35" if body == "cylinder" else f"the {body}'s exact limit"
 
 
 def prediction(ft: float, w: float, body: str) -> tuple[str, str]:
@@ -165,7 +165,7 @@ def strip_html(rows, wait=None) -> str:
     for names in STRIP_KEYS:
         for name, short in names:
             if name in found:
-                v = found[name]
+                v = found[name] if name != "grid error of Δu" else found[name].split(" (")[0]  # short: relative
                 items.append(f"<span class='item' title='{html.escape(name)}'><span class='k'>{html.escape(short)}</span> "
                              f"<span class='v{' pending' if v == wait else ''}'>{html.escape(v)}</span></span>")
                 break
