@@ -169,7 +169,9 @@ def strip_html(rows, wait=None) -> str:
                 items.append(f"<span class='item' title='{html.escape(name)}'><span class='k'>{html.escape(short)}</span> "
                              f"<span class='v{' pending' if v == wait else ''}'>{html.escape(v)}</span></span>")
                 break
-    items.append("<span class='more'>all numbers ▾</span>")
+    solve = found.get("solve")  # the run's size, as a tooltip (and what a load test's client reads)
+    tip = f" title='every number; solve: {html.escape(solve)}'" if solve and solve != wait else ""
+    items.append(f"<span class='more'{tip}>all numbers ▾</span>")
     return f"<div class='strip'>{''.join(items)}</div>"
 
 
