@@ -83,10 +83,11 @@ class FiguresMixin:
 
         Only the figures of the current body are drawn (the other body's are
         hidden; they are drawn when the body changes). With ``when_shown``
-        (the served page, :meth:`explorer_tab`) none is drawn here: each is
-        drawn once the browser scrolls near its place (:attr:`sentinels`), so
-        that a visitor who never scrolls down costs the server only the
-        figures at the top, and the page comes sooner. Without it (notebooks,
+        (the served page, :meth:`explorer_tab`) only the first screen's figures
+        (:func:`key_figures`) are drawn here, with the page; each of the others
+        once the browser scrolls near its place (:attr:`sentinels`), so that a
+        visitor who never scrolls down costs the server only the figures at the
+        top, and the page comes sooner. Without it (notebooks,
         tests of the Python objects) they are drawn here.
         """
         if os.environ.get("SHAKEDOWN_FIGURES") == "dynamicmap":  # the idiomatic path, measured by benchmarks/app.py
@@ -99,8 +100,8 @@ class FiguresMixin:
         self._panes = {} if when_shown else {name: pn.pane.Bokeh(None, sizing_mode="stretch_width")
                                              for name in plots.FIGURES}  # (served: made when drawn)
         self.sentinels, self._when_shown = {}, when_shown  # (sentinels: made with the grid, see _slots)
-        if not when_shown:
-            self._draw_figures(self._figures_of(self.state.body))
+        # the first screen's figures are drawn with the page (they are in view), the others when shown
+        self._draw_figures(self._figures_of(self.state.body) if not when_shown else key_figures(self.state.body))
         self.state.param.watch(lambda e: self._show_figures(self._figures_of(e.new)), "body")
         return self._panes
 
@@ -128,7 +129,8 @@ class FiguresMixin:
         graph for all)."""
         body = self.state.body
         names = [n for n in names if point_view.shown(n, body)
-                 and (not self._when_shown or (n in self.sentinels and self.sentinels[n].shown))]
+                 and (not self._when_shown or n in key_figures(body)
+                      or (n in self.sentinels and self.sentinels[n].shown))]
         doc = self._doc
         with (doc.models.freeze() if doc is not None else contextlib.nullcontext()):
             self._draw_figures(names)

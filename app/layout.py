@@ -65,13 +65,13 @@ class LayoutMixin:
             sizing_mode="stretch_width", stylesheets=[CSS])])
         self._warnings_pane = self._alerts(live)
         top = pn.FlexBox(
-            pn.Column(badge, pn.Row(self.spinner, self.status), sizing_mode="stretch_width",
+            pn.Column(badge, pn.Row(self.spinner, self.status), self._grid_action(), sizing_mode="stretch_width",
                       styles={"flex": "0 1 350px", "min-width": "250px"}, margin=0),
-            pn.Column(details, self._grid_action(), *self._input_alerts, sizing_mode="stretch_width",
+            pn.Column(details, *self._input_alerts, sizing_mode="stretch_width",
                       styles={"flex": "1 1 280px", "min-width": "250px"}, margin=0),
             flex_wrap="wrap", sizing_mode="stretch_width", css_classes=["first-row"])
         tabs = pn.Tabs(("Explorer", self.explorer_tab()), *self._lazy_tabs(), sizing_mode="stretch_width",
-                       dynamic=True, margin=(0, 5))  # a tab's models are sent only when shown
+                       dynamic=True)  # a tab's models are sent only when shown
         tabs.param.watch(lambda e: self._fill_tab(tabs, e.new), "active")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
 
@@ -93,9 +93,10 @@ class LayoutMixin:
         return warnings
 
     def _grid_action(self) -> pn.viewable.Viewable:
-        """The point contacts' 'Refine grid' button under the strip (whose 'grid error' is the run's estimated
-        discretisation error): one click doubles the elements per a and re-runs."""
-        button = pn.widgets.Button(label="Refine grid", width=230, css_classes=["refine-grid"], margin=(2, 10),
+        """The point contacts' 'Refine grid' button under the verdict (the strip's 'grid error' is the run's
+        estimated discretisation error): one click doubles the elements per a and re-runs."""
+        button = pn.widgets.Button(label="Refine grid", width=210, height=28, css_classes=["refine-grid"],
+                                   margin=(0, 10, 2, 10), stylesheets=[":host button {font-size: 13px; padding: 0;}"],
                                    visible=self.state.param.body.rx() != "cylinder")
 
         def label(resolution):

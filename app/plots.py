@@ -51,7 +51,7 @@ LINE = 3
 HEIGHT = 480
 #: Height of a figure of the first screen [px] (:data:`app.figures.KEY_FIGURES`): three fit above the fold at
 #: 1280x720 and at 1024x768, two or three in a row.
-KEY_HEIGHT = 290
+KEY_HEIGHT = 270
 
 
 def key_opts(legend: str = "top_right") -> dict:

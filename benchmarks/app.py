@@ -6,8 +6,9 @@ How it measures (headless Chromium via Playwright, server = ``panel serve
 app/main.py --liveness`` on loopback, both on this machine):
 
 * first load: in a 1280x720 window, from ``page.goto`` to the regime badge
-  showing the solver's verdict and the figure in view drawn (the others are
-  drawn as the page is scrolled to them). The first session after the server
+  showing the solver's verdict and the first figure in view drawn (the first
+  screen holds three figures since issue 22; the others are drawn as the page
+  is scrolled to them). The first session after the server
   starts is reported apart (it pays for importing and compiling).
 * analytical latency: in the page, set the ft slider's ``value`` (what a drag
   does, no release) on the Bokeh model, then poll every millisecond until the

@@ -151,6 +151,8 @@ def _served_app_solves_on_the_cluster(cluster):
         page.goto(url + "?ft=0.3&w=0.371")
         page.locator(BADGE).first.wait_for(timeout=120_000)
         assert tasks_done(cluster, "simulate_contact") == before + 1, "the first run was solved on the cluster"
+        page.get_by_text("all numbers ▾").first.click()  # the cards with the solve's line, one click away
+        page.locator(".cards").first.wait_for(timeout=30_000)
         assert page.evaluate(_RELEASE_FT, [0.2917, 60_000]), "the re-solve came back"
         assert tasks_done(cluster, "simulate_contact") == before + 2, "the re-solve ran on the cluster"
         assert errors == []

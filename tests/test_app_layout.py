@@ -225,7 +225,9 @@ def test_preset_resets_the_player_and_the_cards_agree(browser, app_url):
     page.wait_for_function(f"(n) => ({dom_max})().length > 0 && ({dom_max})().every((v) => v === n)",
                            arg=steps - 1, timeout=20_000)
     # consistent cards: the closure says none (ft > ft_lim) and the badge says ratcheting, never shakedown
-    assert page.get_by_text("none (ft > ft_lim)").count() >= 1
+    page.get_by_text("all numbers ▾").first.click()  # every number is one click away
+    page.locator(".cards").first.wait_for(timeout=30_000)
+    page.get_by_text("none (ft > ft_lim)").first.wait_for(timeout=20_000)
     assert page.locator("[data-regime='shakedown']").count() == 0
     # an edit makes the preset box say (custom)
     page.evaluate("""() => { for (const m of Bokeh.documents[0].all_models)
@@ -318,6 +320,8 @@ def test_pinned_runs_overlay_the_figures_and_the_page_still_fits(browser, app_ur
         && Object.values(p).every((n) => n.length === 3 && n.every((k) => k > 1)); }}""", timeout=20_000)
     # the engineer's inputs: Ft in N follows ft = 0.3 of μ Fn
     assert page.get_by_text("Ft, tangential force [N]").count() >= 1
+    page.get_by_text("all numbers ▾").first.click()  # every number is one click away
+    page.locator(".cards").first.wait_for(timeout=30_000)
     assert page.get_by_text("creep after 10⁶ periods").count() >= 1
     _settle(page)
     problems = page.evaluate(_LAYOUT)

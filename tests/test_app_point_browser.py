@@ -75,6 +75,7 @@ def test_a_link_to_a_sphere_shows_its_verdict_and_maps(browser, app_url):
         scroll_through(page)  # the figures are drawn as the page is scrolled to them
         note = page.locator(".regime-note").first.inner_text()
         assert "sphere's exact limit" in note and "predicts ratcheting" in note, note
+        page.get_by_text("all numbers ▾").first.click()  # every number is one click away
         cards = page.locator(".cards").first.inner_text()
         assert "0.5635" in cards and "0.6238" in cards, cards  # the sphere's and the cylinder's limits
         # the maps: pressure and traction over the contact plane, with values inside the contact
