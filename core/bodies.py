@@ -77,6 +77,14 @@ def _edges_for_reach(reach, dx, max_elements):
     return dx * (np.arange(n + 1) - half)
 
 
+def _line_grid(edges):
+    """``(edges, dx, x, shape)`` of a uniform line grid: checked read-only edges, width, centres, ``(n,)``."""
+    edges = _check_edges(edges)
+    x = 0.5 * (edges[1:] + edges[:-1])
+    x.setflags(write=False)
+    return edges, float(edges[1] - edges[0]), x, (edges.size - 1,)
+
+
 class Body:
     """A line-contact body as an object with parameters (a spec): its profile, its pressure, its grid.
 
@@ -315,12 +323,7 @@ class LineGrid:
         self.name = body.name
         self.normal = normal
         self.load_factor = body.load_factor
-        self.edges = _check_edges(edges)
-        self.dx = float(self.edges[1] - self.edges[0])
-        x = 0.5 * (self.edges[1:] + self.edges[:-1])
-        x.setflags(write=False)
-        self.x = x
-        self.shape = (self.edges.size - 1,)
+        self.edges, self.dx, self.x, self.shape = _line_grid(edges)
 
     @property
     def size(self) -> int:
@@ -385,12 +388,7 @@ class Cylinder(Body):
         self.edges = self.dx = self.x = self.shape = None
         if edges is None:
             return
-        self.edges = _check_edges(edges)
-        self.dx = float(self.edges[1] - self.edges[0])
-        x = 0.5 * (self.edges[1:] + self.edges[:-1])
-        x.setflags(write=False)
-        self.x = x
-        self.shape = (self.edges.size - 1,)
+        self.edges, self.dx, self.x, self.shape = _line_grid(edges)
 
     @property
     def size(self) -> int:

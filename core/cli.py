@@ -53,6 +53,7 @@ _SHAPES = ("triangle", "sine")
 _NORMALS = ("auto", "exact", "numerical")
 # the body flags: which body each belongs to (core/registry.py lists the bodies and their parameters)
 _BODY_FLAGS = {"flat": ("punch",), "ratio": ("ellipsoid",), "angle": ("sphere", "ellipsoid")}
+_BODY_NAMES = ("cylinder", "punch", "sphere", "ellipsoid")  # core.registry.REGISTRY's names
 _DEFAULT_DX = 1.0 / 40.0  # core.resolution.DEFAULT_DX_LINE: the cylinder's default grid
 _DEFAULT_DX_POINT = 1.0 / 20.0  # core.resolution.DEFAULT_DX_POINT: the point contacts' default grid
 _MAX_ELEMENTS = 16384  # core.solver.MAX_FFT_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many
@@ -288,7 +289,8 @@ def _add_solver_options(parser, kernel_default="plane"):
     g = parser.add_argument_group("solver options (normalised: lengths in a, the Hertz half-width)")
     add = g.add_argument
     add("--body", type=_arg(lambda text: _text("body", text)), action=_Once, metavar="NAME",
-        help=f"the rocking body, a name core.simulate_cycles accepts (default {_PASS_THROUGH['body']})")
+        help=f"the rocking body: {', '.join(_BODY_NAMES)} (core/registry.py; default {_PASS_THROUGH['body']}); "
+             "its parameters: --flat (punch), --ratio and --angle (ellipsoid)")
     add("--flat", type=_number("flat", 0.0, 1.0, hi_closed=False), action=_Once, metavar="B/A",
         help="--body punch: the flat's half-width over the contact half-width, in [0, 1) (default 0.5; 0 is the "
              "cylinder)")

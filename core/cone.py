@@ -55,7 +55,6 @@ Examples
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from scipy.optimize import brentq

@@ -20,15 +20,17 @@ Measured orders (the increment of the last of 6 periods, :func:`core.simulate_cy
 * cylinder, ft 0.58, w 0.77: clean first order between a/20 and a/80,
   and the extrapolation from a/40 and a/80 is within 0.3 of the a/80 error of
   the a/400 run (``tests/test_convergence.py``);
-* sphere, ft 0.4, w 0.6 (ratcheting): 0.15885, 0.17310, 0.17705, 0.17884 at
-  a/5, a/10, a/20, a/40; observed orders 1.85 (a/5-a/10-a/20) and 1.14
+* sphere, ft 0.4, w 0.6 (ratcheting): 0.17415, 0.17786, 0.17901, 0.17970 at
+  a/5, a/10, a/20, a/40; observed orders 1.68 (a/5-a/10-a/20) and 0.75
   (a/10-a/20-a/40);
-* sphere, ft 0.6, w 0.3: 0.02608, 0.02804, 0.02912, 0.02957; orders 0.86 and 1.26.
+* sphere, ft 0.6, w 0.3: 0.02743, 0.02936, 0.02966, 0.02977; orders 2.70 and 1.45.
 
+(Before the 3D discretisation fix of issue 21: 0.15885, 0.17310, 0.17705,
+0.17884, orders 1.85 and 1.14; and 0.02608, 0.02804, 0.02912, 0.02957,
+orders 0.86 and 1.26.) First order is the orders' middle ground.
 For the sphere at its default a/20 the two-grid error bar (a/20 with a/10)
-is 0.0049 at ft 0.4, w 0.6 and 0.0014 at ft 0.6, w 0.3, against the
-distances 0.0018 and 0.00045 to the a/40 run and about 0.0036 and 0.0008 to
-the extrapolated limit: it covers both.
+is 0.0014 at ft 0.4, w 0.6 and 0.00037 at ft 0.6, w 0.3, against the
+distances 0.00069 and 0.00011 to the a/40 run: it covers them.
 
 The coarser runs cost a quarter and a sixteenth of the fine one or less for
 the cylinder (the dense solver's cost grows at least as n^2 x steps), an

@@ -129,6 +129,15 @@ def _resolve(body):
     return resolve_body(body)
 
 
+def _closed_form(kind, which):
+    """The closed-form ``ft_limit`` (``which="ft"``) or ``w_limit`` (``"w"``) of a ``"cylinder"`` or ``"point"`` body."""
+    if kind == "cylinder":
+        from . import analytical
+        return analytical.ft_limit if which == "ft" else analytical.w_limit
+    from . import point_contact
+    return point_contact.ft_limit_point if which == "ft" else point_contact.w_limit_point
+
+
 def ft_limit(w, body="cylinder", *, normal="auto", dx=None):
     """The exact shakedown limit ``ft_lim(w)`` of a body: closed form where known, Melan's integral otherwise.
 
@@ -150,12 +159,8 @@ def ft_limit(w, body="cylinder", *, normal="auto", dx=None):
     0.5527
     """
     kind = _resolve(body)
-    if kind == "cylinder":
-        from .analytical import ft_limit as closed
-        return closed(w)
-    if kind == "point":
-        from .point_contact import ft_limit_point
-        return ft_limit_point(w)
+    if kind in ("cylinder", "point"):
+        return _closed_form(kind, "ft")(w)
     w = np.asarray(w, dtype=float)
     if w.ndim == 0:
         return np.float64(ft_limit_numerical(float(w), kind, dx, normal))
@@ -172,12 +177,8 @@ def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
     0.3
     """
     kind = _resolve(body)
-    if kind == "cylinder":
-        from .analytical import w_limit as closed
-        return closed(ft)
-    if kind == "point":
-        from .point_contact import w_limit_point
-        return w_limit_point(ft)
+    if kind in ("cylinder", "point"):
+        return _closed_form(kind, "w")(ft)
 
     def one(f):
         f = check_scalar("ft", f, 0.0, 1.0)

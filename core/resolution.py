@@ -4,8 +4,9 @@ A run's element width ``dx`` (in the contact's semi-axis ``a`` along the
 rocking) defaults to the grid of its body: the line contact (the cylinder)
 runs at ``a/40``, the point contacts (sphere, ellipsoid and every other body
 the 3D solver runs) at ``a/20``, where the increment per period of a
-ratcheting sphere is about 2 % below its grid limit at an eighth of ``a/40``'s
-cost (see :data:`core.solver3d.DEFAULT_DX_3D` and ``benchmarks/solver3d.py``).
+ratcheting sphere (ft 0.4, w 0.6) is 0.4 % below ``a/40``'s at an eighth of its
+cost, and (ft 0.6, w 0.3) within 0.25 % of CONTACT's at the same grid (see
+:data:`core.solver3d.DEFAULT_DX_3D` and ``benchmarks/solver3d.py``).
 :func:`core.simulate_cycles`, :func:`core.simulate_point_contact`,
 :func:`core.sweep`, the limit searches, :func:`core.converged_increment` and
 the command line all take their default from :func:`default_dx`; every

@@ -372,8 +372,71 @@ class SolveCancelled(RuntimeError):
     """A solve was stopped on request or because its time budget ran out; the message says which."""
 
 
+class PeriodVerdict:
+    """The verdict of a run from its increments per period: the same properties on every result type.
+
+    A result class that has ``increment_per_period``, ``shakedown_rtol``,
+    ``periodic_from`` and ``tol`` and names the unit of its increments in
+    :attr:`increment_unit` gets its regime, reason, trend fit and shakedown
+    period from :func:`classify_increments`, the one rule of every body.
+    """
+
+    #: Unit of the increments, as printed in the reason.
+    increment_unit = "mu P/E*"
+
+    @cached_property
+    def _classified(self) -> Verdict:
+        return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
+                                   floor=10.0 * self.tol, unit=self.increment_unit)
+
+    @property
+    def shakedown_period(self) -> int | None:
+        """First period from which every increment is below the shakedown tolerance, else None."""
+        return self._classified.shakedown_period
+
+    @property
+    def verdict(self) -> tuple[str, str]:
+        """``(regime, reason)``: what the periods run show about the regime, and why (:func:`classify_increments`)."""
+        return self._classified[1:3]
+
+    @property
+    def regime(self) -> str:
+        """``"shakedown"``, ``"ratcheting"`` or ``"undetermined"`` (see :attr:`verdict`)."""
+        return self._classified.regime
+
+    @property
+    def regime_reason(self) -> str:
+        """Why the run got its :attr:`regime`, in words (see :attr:`verdict`)."""
+        return self._classified.reason
+
+    @property
+    def trend(self) -> Trend | None:
+        """The fit ``D_n = D_inf + C r^n`` of the tail of the increments (:func:`fit_trend`; None below 4 periods)."""
+        return self._classified.trend
+
+    @property
+    def D_inf(self) -> float:
+        """Limit of the increment per period as the periods go on, in :attr:`increment_unit` (NaN below 4 periods)."""
+        return math.nan if self.trend is None else self.trend.D_inf
+
+    @property
+    def D_inf_error(self) -> float:
+        """Standard error of :attr:`D_inf` (NaN below 4 periods)."""
+        return math.nan if self.trend is None else self.trend.D_inf_error
+
+    @property
+    def decay_ratio(self) -> float:
+        """``r``: the factor by which the changing part of the increment shrinks each period (NaN if none)."""
+        return math.nan if self.trend is None else self.trend.ratio
+
+    @property
+    def periods_to_decide(self) -> int | None:
+        """Roughly how many more periods would decide an undetermined run (None otherwise or if unknown)."""
+        return self._classified.periods_to_decide
+
+
 @dataclass(frozen=True, eq=False)
-class CycleResult:
+class CycleResult(PeriodVerdict):
     """The transient of the rocking contact: per step, per period, and its verdict.
 
     Normalised units throughout: lengths in the nominal half-width ``a``,
@@ -515,56 +578,6 @@ class CycleResult:
         if self.period[0] < 0:  # first block is the loading
             return read_only(np.diff(disp))
         return read_only(np.diff(np.concatenate([[0.0], disp])))
-
-    @cached_property
-    def shakedown_period(self) -> int | None:
-        """First period from which every increment is below the shakedown tolerance, else None."""
-        return self._classified[0]
-
-    @cached_property
-    def _classified(self) -> Verdict:
-        return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
-                                   floor=10.0 * self.tol, unit="mu P/E*")
-
-    @property
-    def verdict(self) -> tuple[str, str]:
-        """``(regime, reason)``: what the periods run show about the regime, and why (:func:`classify_increments`)."""
-        return self._classified[1:3]
-
-    @property
-    def regime(self) -> str:
-        """``"shakedown"``, ``"ratcheting"`` or ``"undetermined"`` (see :attr:`verdict`)."""
-        return self.verdict[0]
-
-    @property
-    def regime_reason(self) -> str:
-        """Why the run got its :attr:`regime`, in words (see :attr:`verdict`)."""
-        return self.verdict[1]
-
-    @property
-    def trend(self) -> Trend | None:
-        """The fit ``D_n = D_inf + C r^n`` of the tail of the increments (:func:`fit_trend`; None below 4 periods)."""
-        return self._classified.trend
-
-    @property
-    def D_inf(self) -> float:
-        """Limit of the increment per period as the periods go on [mu P/E*] (NaN below 4 periods)."""
-        return math.nan if self.trend is None else self.trend.D_inf
-
-    @property
-    def D_inf_error(self) -> float:
-        """Standard error of :attr:`D_inf` [mu P/E*] (NaN below 4 periods)."""
-        return math.nan if self.trend is None else self.trend.D_inf_error
-
-    @property
-    def decay_ratio(self) -> float:
-        """``r``: the factor by which the changing part of the increment shrinks each period (NaN if none)."""
-        return math.nan if self.trend is None else self.trend.ratio
-
-    @property
-    def periods_to_decide(self) -> int | None:
-        """Roughly how many more periods would decide an undetermined run (None otherwise or if unknown)."""
-        return self._classified.periods_to_decide
 
     # ---- the final state ---------------------------------------------------
     @cached_property

@@ -336,8 +336,8 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     dx : float, optional
         Element width over ``a``, in [1e-4, 0.5]; default: the body's grid
         (:func:`core.resolution.default_dx`: 1/40 for the cylinder, 1/20 for
-        the point contacts, where it is about 2 % off its grid limit and eight
-        times cheaper than 1/40, see :data:`core.solver3d.DEFAULT_DX_3D`).
+        the point contacts, where it is 0.4 % below 1/40's increment and eight
+        times cheaper, see :data:`core.solver3d.DEFAULT_DX_3D`).
     dW : float, optional
         Rocking step over ``a``; defaults to ``dx`` (as in the paper).
     kernel : {"plane", "strip"}

@@ -75,7 +75,7 @@ from ._jit import jit
 from .halfspace import HalfSpaceOperator, convolve, convolve_mirror, rectangle_integrals
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
 from .resolution import DEFAULT_DX_POINT, default_dx
-from .result import SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth, classify_increments
+from .result import PeriodVerdict, SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth
 from .schedule import Schedule, rocking_schedule
 
 __all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
@@ -912,7 +912,7 @@ class _GridFields:
 
 
 @dataclass(frozen=True, eq=False)
-class PointContactResult(_GridFields):
+class PointContactResult(PeriodVerdict, _GridFields):
     """The transient of a rocking point contact: per step, per period, and its verdict.
 
     Normalised units: lengths in ``a`` (semi-axis along x), pressure in ``p0``,
@@ -949,6 +949,8 @@ class PointContactResult(_GridFields):
     periodic_from : int or None
         Period from which the state repeated to the tolerance, later periods copied.
     """
+
+    increment_unit = "mu Fn/(E* a)"  # of increment_per_period, D_inf and the verdict's reason
 
     body: Ellipsoid
     nu: float
@@ -1006,47 +1008,6 @@ class PointContactResult(_GridFields):
         disp = along[ends]
         return np.diff(disp) if self.period[0] < 0 else np.diff(np.concatenate([[0.0], disp]))
 
-    @cached_property
-    def _verdict(self):
-        """The :class:`core.result.Verdict` by the rule of every body (:func:`core.result.classify_increments`)."""
-        return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
-                                   floor=10.0 * self.tol, unit="mu Fn/(E* a)")
-
-    @property
-    def regime(self) -> str:
-        """``"shakedown"``, ``"ratcheting"`` or ``"undetermined"`` (see :attr:`regime_reason`)."""
-        return self._verdict[1]
-
-    @property
-    def regime_reason(self) -> str:
-        """Why the run got its :attr:`regime`, in words."""
-        return self._verdict[2]
-
-    @property
-    def trend(self):
-        """The fit ``D_n = D_inf + C r^n`` of the tail of the increments (:func:`core.result.fit_trend`; None below 4 periods)."""
-        return self._verdict.trend
-
-    @property
-    def D_inf(self) -> float:
-        """Limit of the increment per period as the periods go on [mu Fn/(E* a)] (NaN below 4 periods)."""
-        return math.nan if self.trend is None else self.trend.D_inf
-
-    @property
-    def D_inf_error(self) -> float:
-        """Standard error of :attr:`D_inf` [mu Fn/(E* a)] (NaN below 4 periods)."""
-        return math.nan if self.trend is None else self.trend.D_inf_error
-
-    @property
-    def decay_ratio(self) -> float:
-        """``r``: the factor by which the changing part of the increment shrinks each period (NaN if none)."""
-        return math.nan if self.trend is None else self.trend.ratio
-
-    @property
-    def periods_to_decide(self) -> int | None:
-        """Roughly how many more periods would decide an undetermined run (None otherwise or if unknown)."""
-        return self._verdict.periods_to_decide
-
     # ---- the final state ---------------------------------------------------
     @cached_property
     def stick_halfwidth(self) -> float:
@@ -1064,11 +1025,6 @@ class PointContactResult(_GridFields):
     def max_kkt_residual(self) -> float:
         """Worst KKT residual over all steps (the name the cylinder's result and the sweep tables use)."""
         return self.max_residual
-
-    @property
-    def shakedown_period(self) -> int | None:
-        """First period from which every increment is below ``shakedown_rtol`` of the largest, if shaken down."""
-        return self._verdict[0]
 
     def summary(self) -> dict:
         inc = self.increment_per_period

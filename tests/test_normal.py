@@ -1,7 +1,5 @@
 """The numerical normal solve (core/normal.py): Hertz to grid accuracy, converging with dx, and an independent code."""
 
-import math
-
 import numpy as np
 import pytest
 from scipy.special import ellipe, ellipk

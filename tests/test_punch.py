@@ -112,7 +112,7 @@ def test_runs_bracket_the_limit(flat):
 def test_numerical_normal_gives_the_exact_increments(body, factor):
     """normal='numerical' (solved once, 4x finer, element means) against the closed form: every increment per
     period within 0.1 % of the largest (measured <= 0.011 %), and those above 1 % of the largest within 0.5 %
-    each (measured <= 0.05 %; the decaying shakedown tail below 1 % of the first differs by up to 0.7 % of
+    each (measured <= 0.063 %; the decaying shakedown tail below 1 % of the first differs by up to 0.7 % of
     itself at flat 0.8, 3e-6 mu P/E*)."""
     ft = factor * float(core.ft_limit(0.3, body=body))
     exact = core.simulate_cycles(ft, 0.3, periods=12, body=body, normal="exact").increment_per_period
@@ -168,11 +168,12 @@ def test_bad_inputs(call, match):
 @pytest.mark.parametrize("flat", [0.5, 0.8])
 def test_limit_search_brackets_melans_limit(flat):
     """core.numerical_limit (bisection on w at ft = 0.5) brackets Melan's w_lim. Near the limit the ratcheting
-    increment per period is about 1e-3 of the first period's, so the verdict needs a shakedown_rtol below that:
-    with the default 1e-3 the flat-0.8 bracket [0.2907, 0.2927] sits 5e-4 above w_lim = 0.2902; with 1e-5 it is
-    [0.2888, 0.2907]."""
+    increment per period is about 1e-3 of the first period's and a shakedown decays by only ~0.9 a period, so the
+    verdict needs a shakedown_rtol below 1e-3 and enough periods: with the default 1e-3 and 20 periods the flat-0.8
+    bracket [0.2907, 0.2927] sits 5e-4 above w_lim = 0.2902; with 1e-5 and 80 periods it is [0.2888, 0.2907]
+    (flat 0.5: [0.3571, 0.3590] about 0.3578)."""
     b = core.Punch(flat=flat)
-    r = core.numerical_limit(0.5, tol=1e-3, body=b, periods=20, shakedown_rtol=1e-5)
+    r = core.numerical_limit(0.5, tol=1e-3, body=b, periods=80, shakedown_rtol=1e-5)
     assert r.converged
     assert r.w_limit_eq35 == pytest.approx(float(core.w_limit(0.5, body=b)))
     assert r.w_shakedown <= r.w_limit_eq35 <= r.w_ratcheting

@@ -59,3 +59,15 @@ def test_ellipsoid_ratio_angle_parse():
              "--periods", "2", "--dx", "0.25")
     assert p.returncode == 0, p.stderr
     assert "ellipsoid, 3D half-space" in p.stdout and "exact limit at this w      0.5635" in p.stdout
+
+
+def test_help_lists_the_registry():
+    from core.cli import _BODY_FLAGS, _BODY_NAMES
+    from core.registry import REGISTRY
+    assert set(_BODY_NAMES) == set(REGISTRY)
+    for flag, bodies in _BODY_FLAGS.items():
+        assert all(b in REGISTRY for b in bodies)
+        if flag != "angle":  # angle is a run option of the point contacts, not a body parameter
+            assert all(flag in {p.name for p in REGISTRY[b].parameters} for b in bodies)
+    p = _cli("run", "--help")
+    assert p.returncode == 0 and "cylinder, punch, sphere, ellipsoid" in " ".join(p.stdout.split())
