@@ -30,6 +30,17 @@ def test_gallery_has_every_paper_figure_and_table1():
     assert "plot_table1" in names and "plot_sphere" in names and "plot_ellipsoid" in names
 
 
+def test_gallery_has_every_body():
+    """Every body of the library, by name (the line bodies, the point contacts, the cone, the sampled surfaces)."""
+    import core
+
+    names = [p.stem for p in _examples()]
+    for body in (*core.BODIES, *core.POINT_BODIES):
+        if body != "cylinder":  # the paper's figures
+            assert f"plot_{body}" in names, f"no gallery script for the body {body!r}"
+    assert "plot_cone" in names and "plot_heightmap" in names
+
+
 def test_every_gallery_script_says_what_it_shows_and_how_it_compares():
     for path in _examples():
         text = path.read_text()

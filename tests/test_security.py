@@ -54,5 +54,5 @@ def test_the_served_app_opens_no_file(path):
 
 
 def test_downloads_are_built_in_memory():
-    text = (ROOT / "app" / "explorer.py").read_text(encoding="utf-8")
+    text = (ROOT / "app" / "downloads.py").read_text(encoding="utf-8")  # since the app split
     assert "FileDownload" in text and ("BytesIO" in text or "StringIO" in text)

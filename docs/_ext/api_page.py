@@ -18,6 +18,8 @@ SECTIONS = {
     "core.bodies": "Bodies: the line contacts",
     "core.punch": "Bodies: the rounded flat punch",
     "core.point_contact": "Bodies: point contacts",
+    "core.cone": "Bodies: the rocking cone (its limit)",
+    "core.heightmap": "Bodies: a sampled profile or height map",
     "core.registry": "The body registry",
     "core.normal": "The normal problem",
     "core.melan": "Melan's exact limit of any body",
