@@ -68,7 +68,7 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
                grid_error=None) -> list:
     """The rows of a point contact's cards: the inputs in physical units, the exact limits of this body and of
     the cylinder (eq 35), and the run's numbers (``wait``: why they are not shown, or None). ``grid_error``:
-    the estimated discretisation error of the last increment (a :class:`core.grid_estimate.GridEstimate`), if known."""
+    the estimated discretisation error of the last increment (a :class:`core.ConvergedIncrement`), if known."""
     rows = []
     c = None
     if contact is not None:

@@ -70,7 +70,7 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
     map_status = param.String(default="", doc="Outcome of the last map computation.")
     pinned = param.Parameter(default=(), doc="Pinned runs overlaid on the figures (app.compare.Pins).")
     grid_error = param.Parameter(default=None, doc="The estimated discretisation error of the point-contact run "
-                                                   "shown (core.grid_estimate.GridEstimate), once estimated.")
+                                                   "shown (core.ConvergedIncrement), once estimated.")
 
     def __init__(self, state: ExplorerState | None = None, query: str | None = None, **params):
         super().__init__(**params)

@@ -15,7 +15,7 @@ import panel as pn
 from panel.io.state import set_curdoc
 
 import core
-from core.grid_estimate import increment_error
+from core.convergence import increment_error
 
 from .runs import RESULTS, run_key, solve, submit
 
@@ -127,7 +127,7 @@ class SolveMixin:
             self._estimate_grid_error(token, contact, options, result)
 
     def _estimate_grid_error(self, token, contact, options, result) -> None:
-        """The discretisation error of a point contact's increment (:func:`core.grid_estimate.increment_error`):
+        """The discretisation error of a point contact's increment (:func:`core.increment_error`):
         the same run at twice the element width (an eighth of the cost), solved like any run (cached, in the
         worker pool), then shown on the run card (:attr:`grid_error`)."""
         if 2 * result.dx > 0.5:

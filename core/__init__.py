@@ -41,7 +41,7 @@ def _load_locked():
         from .engine import run, STEP_SOLVERS  # noqa: F401
         from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
                              solve_static, shakedown_state)
-        from .convergence import ConvergedIncrement, converged_increment, grid_error  # noqa: F401
+        from .convergence import ConvergedIncrement, converged_increment, grid_error, increment_error  # noqa: F401
         from .resolution import default_dx  # noqa: F401
         from .point_contact import Ellipsoid, Sphere, PointContact, POINT_BODIES  # noqa: F401
         from .halfspace import HalfSpaceOperator  # noqa: F401

@@ -55,7 +55,7 @@ from ._validate import check_int, check_scalar
 from .resolution import default_dx
 from .solver import simulate_cycles
 
-__all__ = ["ConvergedIncrement", "converged_increment", "grid_error", "EXPECTED_ORDER", "ORDER_TOLERANCE",
+__all__ = ["ConvergedIncrement", "converged_increment", "grid_error", "increment_error", "EXPECTED_ORDER", "ORDER_TOLERANCE",
            "SAFETY_FACTOR", "SAFETY_FACTOR_UNCLEAN"]
 
 #: The order of convergence of the increment per period in dx (every body; measured, see the module's notes).
@@ -248,3 +248,56 @@ def grid_error(result, *, grids=2) -> ConvergedIncrement:
         h = dx * 2 ** i
         runs.append(simulate_cycles(ft, w, dx=h, dW=h if follows else dW, **options))
     return _estimate(runs, dx, body)
+
+
+# inputs a run's params may differ in between two grids (the grid itself, and dW which follows it)
+_GRID_KEYS = ("dx", "dW", "runtime_s")
+
+
+def increment_error(fine, coarse) -> ConvergedIncrement:
+    """The error bar of ``fine``'s last increment from ``coarse``, the same run already made at ``2 dx``.
+
+    The two-grid form of :func:`grid_error` for two runs in hand (the
+    explorer solves the coarse run in its worker pool, with its cache):
+    ``error = 1.25 |u(dx) - u(2 dx)| / (2^1 - 1)`` at the expected first order.
+
+    Parameters
+    ----------
+    fine, coarse : CycleResult or PointContactResult
+        Two runs of the same kind, inputs (``result.params``) and periods but
+        the grid: ``coarse.dx == 2 fine.dx`` (within 1e-9).
+
+    Returns
+    -------
+    ConvergedIncrement
+        With ``grids == 2``; ``value`` is ``fine``'s last increment.
+
+    Raises
+    ------
+    ValueError
+        If the runs are of different kinds, inputs or periods, or ``coarse.dx`` is not ``2 fine.dx``.
+
+    Examples
+    --------
+    >>> import core
+    >>> fine = core.simulate_cycles(0.4, 0.6, dx=0.125, body="sphere", periods=3)
+    >>> coarse = core.simulate_cycles(0.4, 0.6, dx=0.25, body="sphere", periods=3)
+    >>> e = core.increment_error(fine, coarse)
+    >>> bool(e.value == fine.increment_per_period[-1]), e.error > 0, e.grids
+    (True, True, 2)
+    """
+    from .result import CycleResult
+    from .solver3d import PointContactResult
+
+    for name, r in (("fine", fine), ("coarse", coarse)):
+        if not isinstance(r, (CycleResult, PointContactResult)):
+            raise ValueError(f"{name} must be a core.CycleResult or core.PointContactResult, got {type(r).__name__}")
+    if type(fine) is not type(coarse):
+        raise ValueError(f"fine and coarse must be runs of the same kind, got {type(fine).__name__} and "
+                         f"{type(coarse).__name__}")
+    if not math.isclose(coarse.dx, 2.0 * fine.dx, rel_tol=1e-9):
+        raise ValueError(f"coarse.dx must be 2 fine.dx = {2 * fine.dx:.6g}, got {coarse.dx:.6g}")
+    inputs = [{k: v for k, v in r.params.items() if k not in _GRID_KEYS} for r in (fine, coarse)]
+    if inputs[0] != inputs[1] or fine.periods != coarse.periods:
+        raise ValueError("fine and coarse must be runs of the same inputs and periods (only dx, dW differ)")
+    return _estimate([fine, coarse], float(fine.dx), getattr(fine, "body", "cylinder"))
