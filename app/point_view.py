@@ -262,7 +262,7 @@ def _pmin_cut(w: float, units: Units, reach: float) -> tuple:
     return (x * units.x, low), (x * units.x, -low)
 
 
-@_figure("point_cut", "Traction on y = 0 at the step",
+@_figure("point_cut", "Traction on y = 0",
          "What you see: the traction on the line y = 0 at the player's step (stairs: elements) inside ±μ p, and "
          "±μ p_min, the exact bound a shaken-down traction stays within; shaded: stick, slip (hatched), released.",
          ("w", "units", "result", "frame", "pinned"), _cut_specs, **plots.key_opts("top_right"))
@@ -294,7 +294,7 @@ def displacement_layers(units: Units, result=None, frame=None) -> tuple:
     return (t, u), ([t[k]], [u[k]])
 
 
-@_figure("point_displacement", "Body displacement along Ft",
+@_figure("point_displacement", "Displacement along Ft",
          "What you see: the body's rigid-body displacement along Ft over the periods: it levels off (shakedown) "
          "or keeps walking (ratcheting).", ("units", "result", "frame", "pinned"), _displacement_specs,
          **plots.key_opts("bottom_right"))

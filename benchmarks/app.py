@@ -140,18 +140,18 @@ def measure(n: int, figures: str = "live") -> dict:
         page.locator(BADGE).first.wait_for(timeout=60_000)
         scroll_through(page)
         page.locator(".bk-Canvas, canvas").nth(5).wait_for(timeout=60_000)
-        out["analytical"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction: numerical vs closure",
+        out["analytical"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction vs closure",
                                                          0.2 + 0.01 * (i % 20), False]) for i in range(n)]
         out["fts"] = [0.2013 + 0.0107 * i for i in range(n)]  # never solved before (a fresh server): no cache hits
-        out["resolve"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Displacement of the cylinder", ft, True])
+        out["resolve"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Cylinder displacement", ft, True])
                           for ft in out["fts"]]
         out["released"] = []  # a drag to a new ft (its analytical update drawn), then the release alone
         for i in range(n):
             ft = 0.6013 + 0.0107 * i  # never solved before either
-            page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction: numerical vs closure", ft, False])
+            page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction vs closure", ft, False])
             page.wait_for_timeout(300)  # the drag's update is drawn, as a hand pauses before letting go
-            out["released"].append(page.evaluate(_ROUND_TRIP, [FT_TITLE, "Displacement of the cylinder", ft, True]))
-        out["steps"] = [page.evaluate(_ROUND_TRIP, [PLAYER, "Traction: numerical vs closure", i % 40, False])
+            out["released"].append(page.evaluate(_ROUND_TRIP, [FT_TITLE, "Cylinder displacement", ft, True]))
+        out["steps"] = [page.evaluate(_ROUND_TRIP, [PLAYER, "Traction vs closure", i % 40, False])
                         for i in range(1, n + 1)]
         out["models"] = page.evaluate("() => Bokeh.documents[0].all_models.size")
         page.close()

@@ -121,9 +121,9 @@ def test_figures_are_drawn_as_the_page_is_scrolled_to_them(browser, app_url):
         scroll_through(page)
         titles = page.evaluate(_FIGURE_TITLES)
         assert len(titles) == 7 and "Increment per period (log scale)" in titles, titles
-        before = page.evaluate(_TRACTION, "Traction: numerical vs closure")
+        before = page.evaluate(_TRACTION, "Traction vs closure")
         page.evaluate(_SET_SLIDER, [FT_TITLE, 0.2, False])  # a drag: the closure follows
-        page.wait_for_function(f"() => ({_TRACTION})('Traction: numerical vs closure') !== {before!r}",
+        page.wait_for_function(f"() => ({_TRACTION})('Traction vs closure') !== {before!r}",
                                timeout=30_000)
     finally:
         page.close()
@@ -175,7 +175,7 @@ def test_csv_download_has_the_right_columns(open_app):
 
 def test_player_changes_the_traction_plot(open_app):
     page, errors = open_app("?ft=0.58&w=0.52&periods=3")
-    title = "Traction: numerical vs closure"
+    title = "Traction vs closure"
     page.wait_for_function(f"() => ({_TRACTION})({title!r}) !== null")
     before = page.evaluate(_TRACTION, title)
     page.evaluate(_SET_PLAYER, 3)

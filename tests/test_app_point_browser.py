@@ -87,7 +87,7 @@ def test_a_link_to_a_sphere_shows_its_verdict_and_maps(browser, app_url):
         # the body selector shows the sphere; the URL keeps the body
         assert "body=sphere" in page.evaluate("() => window.location.search")
         # the cut along y = 0 draws the step's traction as stairs; the map draws both bodies' exact limits
-        cut = page.evaluate(_COLUMN_SIZES, "Traction on y = 0 at the step")
+        cut = page.evaluate(_COLUMN_SIZES, "Traction on y = 0")
         assert cut is not None and max(cut) >= 2 * 20, cut
         assert page.evaluate(_LEGEND, "sphere, ellipsoid (exact)") and page.evaluate(_LEGEND, "eq 35 (exact)")
         shot = os.environ.get("SHAKEDOWN_SCREENSHOT")
