@@ -322,7 +322,7 @@ def increment_layers(units: Units, result=None) -> tuple:
     return pts, pts
 
 
-@_figure("point_increments", "Increment per period (log)",
+@_figure("point_increments", "Increment per period",
          "What you see: how far the body walks along Ft in each period (from 1); it falls to zero at shakedown "
          "and settles at a constant step when it ratchets.", ("units", "result", "pinned"), _increments_specs, logy=True,
          **plots.key_opts("top_right"))
