@@ -39,6 +39,18 @@ def _digest(a):
     return hashlib.sha1(np.ascontiguousarray(a).tobytes()).hexdigest()[:12]
 
 
+def _read_topography(topography, length_unit, height_unit, dim):
+    """A SurfaceTopography topography of dimension ``dim`` (an object, or a file read with it) and the checked units."""
+    length_unit = check_scalar("length_unit", length_unit, 0.0, None, lo_closed=False)
+    height_unit = check_scalar("height_unit", height_unit, 0.0, None, lo_closed=False)
+    if isinstance(topography, (str, bytes)) or hasattr(topography, "__fspath__"):
+        from SurfaceTopography import read_topography
+        topography = read_topography(topography)
+    if getattr(topography, "dim", None) != dim:
+        raise ValueError("topography must be a 1D line scan" if dim == 1 else "topography must be a 2D topography")
+    return topography, length_unit, height_unit
+
+
 class HeightProfile(Body):
     """A line body given by its sampled gap: heights ``h_k`` [P/E*] every ``spacing`` [a].
 
@@ -97,13 +109,7 @@ class HeightProfile(Body):
             ``P/E*`` in the scan's height unit; the body is the rigid surface, so
             the gap is ``-height / height_unit`` (a bump of the scan touches first), > 0.
         """
-        length_unit = check_scalar("length_unit", length_unit, 0.0, None, lo_closed=False)
-        height_unit = check_scalar("height_unit", height_unit, 0.0, None, lo_closed=False)
-        if isinstance(topography, (str, bytes)) or hasattr(topography, "__fspath__"):
-            from SurfaceTopography import read_topography
-            topography = read_topography(topography)
-        if getattr(topography, "dim", None) != 1:
-            raise ValueError("topography must be a 1D line scan")
+        topography, length_unit, height_unit = _read_topography(topography, length_unit, height_unit, 1)
         pixel = float(topography.pixel_size[0])
         return cls(-np.asarray(topography.heights(), dtype=float) / height_unit, pixel / length_unit, centre)
 
@@ -171,13 +177,7 @@ class HeightMap:
     def from_topography(cls, topography, length_unit, height_unit):
         """A map from a SurfaceTopography 2D topography (object or file); units as in
         :meth:`HeightProfile.from_topography` (the gap is ``-height / height_unit``)."""
-        length_unit = check_scalar("length_unit", length_unit, 0.0, None, lo_closed=False)
-        height_unit = check_scalar("height_unit", height_unit, 0.0, None, lo_closed=False)
-        if isinstance(topography, (str, bytes)) or hasattr(topography, "__fspath__"):
-            from SurfaceTopography import read_topography
-            topography = read_topography(topography)
-        if getattr(topography, "dim", None) != 2:
-            raise ValueError("topography must be a 2D topography")
+        topography, length_unit, height_unit = _read_topography(topography, length_unit, height_unit, 2)
         px, py = (float(v) for v in topography.pixel_size)
         if not math.isclose(px, py, rel_tol=1e-9):
             raise ValueError(f"the topography's pixels must be square, got {px:g} x {py:g}")

@@ -45,7 +45,7 @@ from .kernels import strip_b_coefficient, strip_influence, strip_u0
 from .solver import make_grid, shakedown_state, simulate_cycles, strip_options
 from .sweeps import SweepCancelled, numerical_limit_curve
 
-__all__ = ["FIGURES", "FiguresCancelled", "PAPER_W", "COMMAND", "paper_model", "stick_halfwidth_curves", "traction_profiles",
+__all__ = ["FIGURES", "FiguresCancelled", "PAPER_W", "COMMAND", "paper_model", "time_in_periods", "stick_halfwidth_curves", "traction_profiles",
            "shakedown_displacement_curves", "limit_curve", "limit_lines", "limit_displacement_curve",
            "ratchet_increment_curves", "compute", "save", "load", "main"]
 
@@ -77,6 +77,36 @@ def paper_model() -> dict:
     ('strip', 292.6, 0.5)
     """
     return {"kernel": "strip", **strip_options(PAPER_SIMULATION)}
+
+
+def time_in_periods(result) -> np.ndarray:
+    """The time of each step of a run in periods, the abscissa of the paper's Figs 6 and 7.
+
+    Period ``p``'s steps fill ``(p, p + 1]``; the loading (period -1) is drawn in ``(-1, 0]``.
+
+    Parameters
+    ----------
+    result : CycleResult or PointContactResult
+        A run (its ``period`` array numbers each step's period).
+
+    Returns
+    -------
+    ndarray, shape (steps,)
+
+    Examples
+    --------
+    >>> import core
+    >>> from core.paper_figures import time_in_periods
+    >>> t = time_in_periods(core.simulate_cycles(0.3, 0.5, periods=2, dx=0.1))
+    >>> float(t[0]) > -1.0, float(t[-1])
+    (True, 2.0)
+    """
+    period = np.asarray(result.period)
+    t = np.empty(period.size)
+    for p in np.unique(period):
+        idx = np.flatnonzero(period == p)
+        t[idx] = p + np.arange(1, idx.size + 1) / idx.size
+    return t
 
 
 def _u0(model: dict) -> float:

@@ -19,23 +19,14 @@ import numpy as np
 
 import core
 from core import approximations
-from core.paper_figures import paper_model
-
-
-def periods_axis(result):
-    """The time of each step in periods (the loading is period -1, drawn in [-1, 0))."""
-    t = np.empty(result.period.size)
-    for p in np.unique(result.period):
-        idx = np.flatnonzero(result.period == p)
-        t[idx] = p + np.arange(1, idx.size + 1) / idx.size
-    return t
+from core.paper_figures import paper_model, time_in_periods
 
 
 FT = 0.08
 fig, ax = plt.subplots(figsize=(6.4, 3.8), layout="constrained")
 for w, color in zip((0.26, 0.52, 0.77), ("#0072B2", "#E69F00", "#009E73")):
     r = core.simulate_cycles(FT, w, periods=10, dx=1 / 40, **paper_model())
-    ax.plot(periods_axis(r), r.u, color=color, lw=1.5, label=f"w = {w} ({r.regime})")
+    ax.plot(time_in_periods(r), r.u, color=color, lw=1.5, label=f"w = {w} ({r.regime})")
     eq34 = float(approximations.shakedown_displacement_approx(FT, w))
     ax.axhline(eq34, color=color, ls=":", lw=1)
     print(f"w = {w}: {r.regime:10s} u_sd = {r.u[-1]:.4f} (eq 34: {eq34:.4f}), "

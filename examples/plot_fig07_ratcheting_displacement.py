@@ -18,23 +18,14 @@ import numpy as np
 
 import core
 from core import approximations
-from core.paper_figures import paper_model
-
-
-def periods_axis(result):
-    """The time of each step in periods (the loading is period -1, drawn in [-1, 0))."""
-    t = np.empty(result.period.size)
-    for p in np.unique(result.period):
-        idx = np.flatnonzero(result.period == p)
-        t[idx] = p + np.arange(1, idx.size + 1) / idx.size
-    return t
+from core.paper_figures import paper_model, time_in_periods
 
 
 FT = 0.58
 fig, ax = plt.subplots(figsize=(6.4, 3.8), layout="constrained")
 for w, color in zip((0.26, 0.52, 0.77), ("#0072B2", "#E69F00", "#009E73")):
     r = core.simulate_cycles(FT, w, periods=10, dx=1 / 40, **paper_model())
-    ax.plot(periods_axis(r), r.u, color=color, lw=1.5, label=f"w = {w} ({r.regime})")
+    ax.plot(time_in_periods(r), r.u, color=color, lw=1.5, label=f"w = {w} ({r.regime})")
     du = r.increment_per_period[-1] / r.u0
     eq38 = float(approximations.ratchet_increment_approx(FT, w))
     print(f"w = {w}: ft_lim = {float(core.ft_limit(w)):.3f}, {r.regime:10s} du = {du:.4f} per period "
