@@ -15,7 +15,6 @@ paper's regression eq 34 (``u_sd = 1 - (1 - ft)^0.92 + 0.3 ft w``, dotted), prin
 """
 
 import matplotlib.pyplot as plt
-import numpy as np
 
 import core
 from core import approximations

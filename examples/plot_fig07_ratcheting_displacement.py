@@ -14,7 +14,6 @@ increment per period is printed beside the solver's. Paper's strip model (eq 17)
 """
 
 import matplotlib.pyplot as plt
-import numpy as np
 
 import core
 from core import approximations
