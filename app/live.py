@@ -188,6 +188,8 @@ class _Render:
                 # no figure has a selection tool, so HoloViews' selection and non-selection glyphs are never
                 # drawn: Bokeh's automatic ones (the glyph itself) save two models a layer
                 renderer.selection_glyph = renderer.nonselection_glyph = "auto"
+                # no legend mutes a layer (no click policy): Bokeh's automatic muted glyph, one model a layer less
+                renderer.muted_glyph = "auto"
                 # a view's filter "all indices" and a source's selection policy hold no state: one of each for
                 # the figure instead of one per layer (two models a layer less to build, copy and send)
                 if isinstance(renderer.view.filter, AllIndices):
