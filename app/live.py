@@ -66,6 +66,8 @@ import holoviews as hv
 import numpy as np
 import param
 from panel.reactive import ReactiveHTML
+from bokeh.core.has_props import HasProps
+from bokeh.core.property.descriptors import PropertyDescriptor
 from bokeh.core.property.validation import validate
 from bokeh.core.serialization import Deserializer, Serializer
 from bokeh.models import AllIndices, ColumnDataSource, DataRange1d, GlyphRenderer, UnionRenderers
@@ -188,6 +190,8 @@ class _Render:
                 # no figure has a selection tool, so HoloViews' selection and non-selection glyphs are never
                 # drawn: Bokeh's automatic ones (the glyph itself) save two models a layer
                 renderer.selection_glyph = renderer.nonselection_glyph = "auto"
+                # no legend mutes a layer (no click policy): Bokeh's automatic muted glyph, one model a layer less
+                renderer.muted_glyph = "auto"
                 # a view's filter "all indices" and a source's selection policy hold no state: one of each for
                 # the figure instead of one per layer (two models a layer less to build, copy and send)
                 if isinstance(renderer.view.filter, AllIndices):
@@ -222,12 +226,48 @@ class _Render:
             return x
 
         with validate(False):  # the template's values, validated when it was rendered
-            figure = Deserializer().deserialize(renamed(self._rep))
-        by_new = {m.id: m for m in figure.references()}
+            decoder = _Copier()
+            figure = decoder.deserialize(renamed(self._rep))
+        by_new = decoder._references  # every model of the copy, by id (no walk of its graph)
         models = {old: by_new[n] for old, n in new.items()}
         for source, columns in self._columns.items():
             models[source].data = {k: list(v) if isinstance(v, tuple) else v for k, v in columns.items()}  # the template's arrays, read-only: replaced, never written
         return figure, models
+
+
+class _Copier(Deserializer):
+    """Bokeh's decoder of a model graph, writing the template's (valid, not default) values straight in.
+
+    Bokeh's own decoder sets each property as a change: it first reads the old value, which builds the
+    property's default (a new model for some), and notifies; a copy that no one watches yet needs neither (a
+    third of a figure's copy). Data specs keep Bokeh's own path (it keeps their format).
+    """
+
+    def _decode_object_ref(self, obj):
+        cls = self._resolve_type(obj["name"])
+        instance = cls.__new__(cls, id=obj["id"])
+        self._references[instance.id] = instance
+        # HasProps.__init__ without building the default of every property with a mutable default (a new
+        # Selection for each source, a new view for each renderer...) that the template's values then replace
+        super(HasProps, instance).__init__()
+        instance._property_values, instance._unstable_default_values = values, defaults = {}, {}
+        instance._unstable_themed_values = {}
+        attributes = obj.get("attributes") or {}
+        for key, rep in attributes.items():
+            value = self._decode(rep)
+            descriptor = cls.lookup(key)
+            if type(descriptor) is PropertyDescriptor:
+                values[key] = descriptor.property.prepare_value(instance, key, value)
+                defaults.pop(key, None)  # (as Bokeh's setter: a value set, not a default)
+            else:
+                descriptor.set_from_json(instance, value)
+        for key in instance.properties(_with_props=True):  # the others' mutable defaults, as HasProps.__init__
+            if key not in attributes:
+                descriptor = cls.lookup(key)
+                if descriptor.has_unstable_default(instance):
+                    descriptor._get(instance)
+        instance._initialized = True
+        return instance
 
 
 def _read_only(column):
