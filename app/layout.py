@@ -163,16 +163,19 @@ class LayoutMixin:
         """The input widgets."""
         physical = self.state.param.units.rx() == "physical"
         solver_card = pn.Card(title="Solver", collapsed=True, sizing_mode="stretch_width")
+        # folded like the solver's options: the first screen is the contact; its dozen inputs are built on opening
+        geometry_card = pn.Card(title="Geometry and materials", collapsed=True, sizing_mode="stretch_width")
         return [
             self.preset, self.preset_note, *point_view.body_inputs(self.state),
             pn.pane.Markdown("### Loads"), self.ft_slider, self.w_slider, self.mu_slider,
             pn.pane.Markdown("### Units"), self.units_toggle,
-            # the loads in physical units are shown with the physical units, the solver's options when their
-            # card is opened: both are sent to the browser only then (most visitors never open them)
+            # the loads in physical units are shown with the physical units, the geometry's and the solver's
+            # options when their card is opened: all are sent to the browser only then (most visitors never
+            # open them)
             filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=physical), physical,
                          lambda: [self.engineer]),
-            pn.Card(*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs,
-                    title="Geometry and materials", collapsed=False, sizing_mode="stretch_width"),
+            filled_when(geometry_card, geometry_card.param.collapsed.rx.not_(),
+                        lambda: [*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs]),
             filled_when(solver_card, solver_card.param.collapsed.rx.not_(), lambda: self.solver_inputs),
             pn.pane.Markdown("### Download the run"), self.csv_table, self.csv_download, self.json_download,
             pn.pane.Markdown(_APPLIES, styles={"font-size": "14px"}, css_classes=["model-applies"]),
