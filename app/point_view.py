@@ -35,7 +35,7 @@ import core
 from core.point_contact import hertz_pressure_3d
 
 from . import pinned, plots
-from .live import Layer, Styled
+from .live import Layer
 from .plots import LINE, OKABE_ITO as _C, ZONE_COLORS, ZONE_HATCH, Units
 from .state import POINT_RESOLUTION
 from .units import along_ft

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import core
-from core.point_contact import ft_limit_point, hertz_element_means, w_limit_point
+from core.point_contact import hertz_element_means, w_limit_point
 from core.solver3d import RESIDUAL_NAMES, mindlin_state, shakedown_state_3d
 
 
