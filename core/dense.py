@@ -118,6 +118,10 @@ class Trajectory:
         """Worst of each named residual so far."""
         return dict(zip(RESIDUALS, map(float, self.worst)))
 
+    def copied(self):
+        """The per-step arrays a repeated period copies as they are (the displacement advances, iterations are 0)."""
+        return [self.traction, self.state, self.dissipation, self.kkt_residual]
+
 
 class DenseSolver:
     """The primal-dual active-set solver on the dense influence matrix (see the module docstring).
@@ -137,6 +141,18 @@ class DenseSolver:
     name = "dense"
     #: The operator form :func:`core.solver.solve_schedule` builds for this solver (it needs the matrix).
     form = "dense"
+    #: The grid shape it solves (:func:`core.engine.grid_shape`).
+    grid = "line"
+
+    @staticmethod
+    def default_maxiter(n):
+        """Active-set iterations per step: ``50 + 2 n`` (an active set changes one element at least per iteration)."""
+        return 50 + 2 * n
+
+    @staticmethod
+    def trajectory(history, shape):
+        """The :class:`Trajectory` of ``history`` on a grid of ``shape = (n,)``."""
+        return Trajectory(len(history), shape[0])
 
     def __init__(self, operator, *, element_size, tol, maxiter):
         self.K = np.ascontiguousarray(operator.matrix(), dtype=float)

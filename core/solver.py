@@ -30,7 +30,7 @@ from ._validate import check_int, check_scalar
 from .bodies import BODIES, MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, below_bound, central_halfwidth, read_only
-from .engine import SOLVER_CHOICES, make_operator, run, select_solver
+from .engine import check_solver, make_operator, run, select_solver
 from . import histories
 from .schedule import Schedule
 
@@ -155,8 +155,7 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     tol = check_scalar("tol", tol, 1e-14, 1e-4)
     shakedown_rtol = check_scalar("shakedown_rtol", shakedown_rtol, 0.0, 1.0)
     kernel_options = dict(kernel_options or {})
-    if solver not in SOLVER_CHOICES:
-        raise ValueError(f"solver must be one of {SOLVER_CHOICES}, got {solver!r:.60}")
+    check_solver(solver, "line", body)
     # the dense solver's grid cap, or the matrix-free one's where that solver may run
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
@@ -417,10 +416,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         isinstance(body, str) and body in BODIES)
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
-    if not line:  # point contacts: core/solver3d.py
-        if solver != "auto":
-            raise ValueError(f"solver={solver!r:.20} is for the line contacts; body={body!r:.40} runs the 3D "
-                             "active-set solver (core.solver3d), so solver must be 'auto'")
+    if not line:  # point contacts: a patch of elements (core/solver3d.py builds it and runs core.engine.run)
         if not (isinstance(history, str) and history == "rocking"):
             raise ValueError(f"history must be 'rocking' for a point contact (body={body!r:.40}), "
                              f"got {history!r:.60}")
@@ -428,7 +424,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         return simulate_point_contact(ft, w, periods, dx, dW, body=body, ratio=ratio, angle=angle, nu=nu, shape=shape,
                                       load_steps=load_steps, detect_periodic=detect_periodic,
                                       tol=tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget, cancel=cancel,
-                                      progress=progress, normal=normal)
+                                      progress=progress, normal=normal, solver=solver)
     if ratio is not None or angle != 0.0:
         raise ValueError(f"ratio and angle are the point contacts' (body='ellipsoid' or 'sphere'), not "
                          f"body={body!r:.40}'s: got ratio={ratio!r}, angle={angle!r}")
