@@ -55,11 +55,15 @@ import numpy as np
 from . import _pcg, _pdas
 from .operators import fft_size
 from .result import read_only
+from .states import RESIDUAL_NAMES
 
 __all__ = ["DenseSolver", "StepReport", "Trajectory", "RESIDUALS"]
 
-#: Names of the KKT residuals every per-step solver reports.
-RESIDUALS = _pdas.RESIDUALS
+#: Names of the KKT residuals every per-step solver reports (:data:`core.states.RESIDUAL_NAMES`, in the order
+#: of the compiled kernels' residual arrays).
+RESIDUALS = RESIDUAL_NAMES
+if _pdas.RESIDUALS != RESIDUAL_NAMES:  # pragma: no cover - the kernels index their residuals in this order
+    raise ImportError("core._pdas.RESIDUALS must equal core.states.RESIDUAL_NAMES")
 
 
 @dataclass(frozen=True)
@@ -185,6 +189,12 @@ class DenseSolver:
     def traction(self) -> np.ndarray:
         """Tractions after the last step (the start of the next one)."""
         return self.state.q_prev
+
+    @property
+    def periodic_tol(self) -> float:
+        """Traction tolerance [mu p0] of the periodic detection (:mod:`core.engine`): the KKT tolerance (an exact
+        solve repeats a period to round-off)."""
+        return self.tol
 
     @property
     def residuals(self) -> dict:

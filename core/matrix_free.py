@@ -227,6 +227,12 @@ class FFTSolver:
         return float(self._total[0])
 
     @property
+    def periodic_tol(self) -> float:
+        """Traction tolerance [mu p0] of the periodic detection (:mod:`core.engine`): the KKT tolerance, as the
+        dense solver's (the compiled march compares with it)."""
+        return self.tol
+
+    @property
     def traction(self) -> np.ndarray:
         """Tractions after the last step (the start of the next one)."""
         return self.q_prev

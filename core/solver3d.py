@@ -77,17 +77,21 @@ from .point_contact import Ellipsoid, hertz_element_means, resolve_body
 from .resolution import DEFAULT_DX_POINT, default_dx
 from .result import PeriodVerdict, STICK_MARGIN, central_halfwidth, read_only
 from .schedule import Schedule, rocking_schedule
-from .states import State
+from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
 __all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
            "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
-#: Names of the per-step residuals (see :func:`solve_increment`).
-RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "load_balance")
+#: Names of the per-step residuals (see :func:`solve_increment`): the one set of every solver,
+#: :data:`core.states.RESIDUAL_NAMES`.
+RESIDUAL_NAMES = _RESIDUAL_NAMES
 #: Default KKT tolerance of the 3D steps (tractions in mu p0, slips in mu Fn/(E* a), loads in mu Fn).
 TOL_3D = 1e-8
-#: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
+#: The patch solver's ``periodic_tol``: change of the traction [mu p0] between the ends of two blocks below
+#: which the state counts as periodic (the one rule of :mod:`core.engine`; the line solvers' is their KKT
+#: tolerance). The CG solves are inexact (forcing term :data:`_CG_FORCING`, acceptance at ``10 tol``), so a
+#: period repeats to about ``10 TOL_3D``, not to round-off: 100 ``TOL_3D``.
 PERIODIC_TOL = 1e-6
 #: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
 #: w = 0.6) is 0.1742, 0.1779, 0.1790, 0.1797 at a/5, a/10, a/20, a/40 with the discrete normal bound

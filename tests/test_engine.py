@@ -160,3 +160,50 @@ def test_grid_caps_by_solver():
         core.simulate_cycles(0.2, 0.0, periods=1, dx=dx, solver="dense")
     with pytest.raises(ValueError, match=rf"dx = .* \(> {MAX_FFT_ELEMENTS}\): dx must be >= "):
         core.simulate_cycles(0.2, 0.5, periods=1, dx=1e-4)
+
+
+# ---- one engine for lines and patches -----------------------------------------------------------------------
+def test_one_set_of_residual_names_and_state_codes_for_every_grid():
+    from core import _pdas
+    from core.solver3d import RESIDUAL_NAMES as PATCH_NAMES, _state_codes
+    from core.states import RESIDUAL_NAMES
+    assert RESIDUALS == PATCH_NAMES == RESIDUAL_NAMES == _pdas.RESIDUALS
+    # a patch's states: released where p = 0, stick, slip forward/backward by the slip's x component
+    g = np.array([[0.0, 1.0, 1.0, 1.0]])
+    s = np.zeros((2, 1, 4))
+    s[0, 0, 2], s[0, 0, 3], s[1, 0, 1] = 1e-3, -1e-3, 0.0
+    codes = _state_codes(np.zeros((2, 1, 4)), s, g, 1e-8)
+    assert codes.tolist() == [[State.RELEASED, State.STICK, State.SLIP_FORWARD, State.SLIP_BACKWARD]]
+
+
+def test_every_step_solver_is_registered_for_one_grid_shape():
+    from core.engine import STEP_SOLVERS, SOLVER_CHOICES_BY_GRID
+    from core.solver3d import PatchSolver
+    assert STEP_SOLVERS["pcg3d"] is PatchSolver
+    for name, cls in STEP_SOLVERS.items():
+        assert name in SOLVER_CHOICES_BY_GRID[cls.grid] and cls.name == name
+    assert select_solver("auto", 10**6, "patch") is PatchSolver
+    with pytest.raises(ValueError, match=r"\('auto', 'pcg3d'\).*'dense'"):
+        select_solver("dense", 100, "patch")
+
+
+def test_a_patch_runs_through_the_same_loop_with_its_period_repeated():
+    """A sphere that shakes down: the march stops at the repeated period and run copies it, as for a line."""
+    calls = []
+    r = core.simulate_cycles(0.2, 0.3, periods=12, dx=0.2, body="sphere", progress=calls.append)
+    assert r.periodic_from is not None and calls[-1] == 1.0
+    full = core.simulate_cycles(0.2, 0.3, periods=12, dx=0.2, body="sphere", detect_periodic=False)
+    assert full.periodic_from is None
+    assert_allclose(r.increment_per_period, full.increment_per_period, atol=1e-6)
+    copied = r.period > r.periodic_from
+    assert not r.iterations[copied].any() and full.iterations[copied].any()
+
+
+def test_a_patch_run_can_be_cancelled_between_chunks():
+    from core.result import SolveCancelled
+    from core.schedule import rocking_schedule
+    from core.solver3d import solve_point_schedule
+    from core.point_contact import Ellipsoid
+    with pytest.raises(SolveCancelled, match="cancelled after 10 of"):
+        solve_point_schedule(rocking_schedule(0.3, 0.3, periods=4, dW=0.2), 0.2, Ellipsoid(1.0), chunk=10,
+                             cancel=lambda: True)
