@@ -37,7 +37,7 @@ def _load_locked():
         from .melan import ft_limit_numerical  # noqa: F401
         from .cone import Cone  # noqa: F401
         from .heightmap import HeightMap, HeightProfile  # noqa: F401
-        from .result import CycleResult, SolverError, SolveCancelled  # noqa: F401
+        from .result import CycleResult, LineResult, SolverError, SolveCancelled  # noqa: F401
         from .engine import run, STEP_SOLVERS  # noqa: F401
         from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
                              solve_static, shakedown_state)

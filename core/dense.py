@@ -122,6 +122,12 @@ class Trajectory:
         """Worst of each named residual so far."""
         return dict(zip(RESIDUALS, map(float, self.worst)))
 
+    def result_fields(self) -> dict:
+        """The per-step fields of a :class:`core.result.CycleResult` on a line."""
+        return dict(traction=self.traction, state=self.state, displacement=self.displacement,
+                    dissipation=self.dissipation, iterations=self.iterations, cg_iterations=self.cg_iterations,
+                    kkt_residual=self.kkt_residual)
+
     def copied(self):
         """The per-step arrays a repeated period copies as they are (the displacement advances, iterations are 0)."""
         return [self.traction, self.state, self.dissipation, self.kkt_residual]

@@ -249,18 +249,14 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
         _repeat_last_period(history.period, done, periodic_from, out)
     if progress is not None:
         progress(1.0)
-    common = dict(xc=history.xc, P=history.P, Q=history.Q, period=history.period,
-                  periodic_from=None if periodic_from < 0 else int(periodic_from),
-                  params=dict(params or {}), tol=tol, shakedown_rtol=shakedown_rtol,
-                  runtime=time.perf_counter() - t0, solver=step_solver.name, lowest_pressure=lowest.value)
-    if shape == "patch":
-        return out.to_result(body, step_solver, operator, **common)
     return CycleResult(
-        edges=body.edges, traction=out.traction, state=out.state, displacement=out.displacement,
-        dissipation=out.dissipation, iterations=out.iterations, cg_iterations=out.cg_iterations,
-        kkt_residual=out.kkt_residual, kernel=kernel, u0=u0, body=body.name,
-        body_spec=getattr(body, "body_spec", None), residuals=out.residuals(),
-        **{k: v for k, v in common.items() if k != "lowest_pressure"})
+        edges=body.edges, xc=history.xc, P=history.P, Q=history.Q, period=history.period, kernel=kernel, u0=u0,
+        periodic_from=None if periodic_from < 0 else int(periodic_from), params=dict(params or {}), tol=tol,
+        shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0, body=body.body_spec,
+        solver=step_solver.name, residuals=out.residuals(), lowest_pressure=lowest.value,
+        y_edges=getattr(body, "y_edges", None) if shape == "patch" else None,
+        nu=operator.nu if shape == "patch" else None, angle=float(getattr(step_solver, "angle", 0.0)),
+        **out.result_fields())
 
 
 class _Lowest:

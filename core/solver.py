@@ -363,20 +363,23 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         last increment per period is at most this fraction of the largest
         (default 1e-3). Shakedown increments decay geometrically (by 3 to 10
         each period away from the limit), ratcheting ones settle to a constant.
-    solver : {"auto", "dense", "fft"}
-        Per-step solver of a line contact (see :func:`solve_schedule`); point
-        contacts refuse any but ``"auto"`` (they run the 3D active-set solver).
+    solver : {"auto", "dense", "fft", "pcg3d"}
+        Per-step solver (:data:`core.engine.STEP_SOLVERS`): ``"dense"`` or
+        ``"fft"`` for a line contact (see :func:`solve_schedule`), ``"pcg3d"``
+        (the 3D active-set / projected CG) for a point contact; ``"auto"`` picks
+        for the grid. A solver of the other grid shape is refused (ValueError
+        naming the valid choices).
     body : str or body object
         ``"cylinder"`` (default) and ``"punch"`` (:data:`core.bodies.BODIES`, or
         objects: ``core.Punch(flat=0.8)``, any :class:`core.bodies.Body`) are
         line contacts on the 1D engine; the point contacts (``"sphere"``,
         ``"ellipsoid"``, ``core.Ellipsoid``, a :class:`core.heightmap.HeightMap`
-        on its own grid) run
+        on its own grid) run on a patch of elements through
         :func:`core.solver3d.simulate_point_contact` (with ``ratio = Ry/Rx`` of
         an ellipsoid and ``angle`` of Ft to the rocking direction [rad]; ``dx``
         is the element side, ``nu`` the substrate's; ``kernel`` and ``L_over_a``
-        are the cylinder's) and return a
-        :class:`core.solver3d.PointContactResult`.
+        are the cylinder's). Both return a :class:`CycleResult` (``is_patch``
+        tells them apart) keeping the body object (``result.body``).
     history : {"rocking", "normal", "tangential"}, Schedule or mapping
         The loading history (:func:`core.histories.for_run`): ``"rocking"`` (the
         paper's, the default); ``"normal"``, the same rocking under the normal force

@@ -63,8 +63,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from functools import cached_property
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.special import ellipe, ellipk
@@ -75,7 +74,7 @@ from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
 from .normal import PatchOperator, solve_normal
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
 from .resolution import DEFAULT_DX_POINT, default_dx
-from .result import PeriodVerdict, STICK_MARGIN, central_halfwidth, read_only
+from .result import PointContactResult, STICK_MARGIN, central_halfwidth, read_only  # noqa: F401 (the alias)
 from .schedule import Schedule, rocking_schedule
 from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
@@ -804,14 +803,13 @@ class PatchTrajectory:
         """Worst of each named residual over the steps."""
         return {name: float(v.max()) if v.size else 0.0 for name, v in self.step_residuals.items()}
 
-    def to_result(self, grid, step_solver, operator, *, lowest_pressure, solver, **common):
-        """The run's :class:`PointContactResult`."""
-        return PointContactResult(
-            body=grid.body_spec, nu=operator.nu, angle=step_solver.angle, x_edges=grid.x_edges, y_edges=grid.y_edges,
-            displacement=self.displacement, traction_cut=self.traction, state_cut=self.state,
-            snapshot_steps=self.snapshot_steps, traction_snapshots=self.traction_snapshots,
-            state_snapshots=self.state_snapshots, lowest_pressure=lowest_pressure, dissipation=self.dissipation,
-            iterations=self.iterations, cg_iterations=self.cg_iterations, residuals=self.step_residuals, **common)
+    def result_fields(self) -> dict:
+        """The per-step fields of a :class:`core.result.CycleResult` on a patch."""
+        return dict(traction=self.traction, state=self.state, displacement=self.displacement,
+                    dissipation=self.dissipation, iterations=self.iterations, cg_iterations=self.cg_iterations,
+                    kkt_residual=self.kkt_residual, snapshot_steps=self.snapshot_steps,
+                    traction_snapshots=self.traction_snapshots, state_snapshots=self.state_snapshots,
+                    step_residuals=self.step_residuals)
 
 
 class PatchSolver:
@@ -1232,136 +1230,6 @@ class _GridFields:
         return (self.y_edges.size - 1) // 2
 
 
-@dataclass(frozen=True, eq=False)
-class PointContactResult(PeriodVerdict, _GridFields):
-    """The transient of a rocking point contact: per step, per period, and its verdict.
-
-    Normalised units: lengths in ``a`` (semi-axis along x), pressure in ``p0``,
-    tractions in ``mu p0``, loads in ``mu Fn``, displacements in
-    ``mu Fn/(E* a)``, dissipation in ``(mu Fn)^2/(E* a)``. Arrays are read-only.
-
-    Attributes
-    ----------
-    body : Ellipsoid
-        The body (``body.kappa = b/a``).
-    nu, angle : float
-        Substrate's Poisson ratio; angle of ``Ft`` to the rocking direction [rad].
-    x_edges, y_edges : ndarray
-        Grid edges; the grid has a row centred on ``y = 0`` (the cut).
-    xc, P, Q, period : ndarray, shape (steps,)
-        The schedule (``P`` in nominal ``Fn``, ``Q = Ft/(mu Fn0)``).
-    displacement : ndarray, shape (steps, 2)
-        Rigid-body displacement (x, y) after each step.
-    traction_cut : ndarray, shape (steps, 2, nx)
-        Traction (both components) on the row ``y = 0`` after each step.
-    state_cut : ndarray of int8, shape (steps, nx)
-        Element states on that row (0 released, 1 stick, 2 slip +x, 3 slip -x).
-    snapshot_steps : ndarray of int
-        Steps whose full fields are stored: the end of the loading, the turning
-        points, the last step.
-    traction_snapshots : ndarray, shape (k, 2, ny, nx)
-    state_snapshots : ndarray of int8, shape (k, ny, nx)
-    lowest_pressure : ndarray, shape (ny, nx)
-        Lowest element pressure of the last period [p0].
-    dissipation, iterations, cg_iterations : ndarray, shape (steps,)
-        Frictional work (>= 0), active-set and CG iterations of each step.
-    residuals : dict of ndarray
-        Per-step residuals named in :data:`RESIDUAL_NAMES`.
-    periodic_from : int or None
-        Period from which the state repeated to the tolerance, later periods copied.
-    """
-
-    increment_unit = "mu Fn/(E* a)"  # of increment_per_period, D_inf and the verdict's reason
-
-    body: Ellipsoid
-    nu: float
-    angle: float
-    x_edges: np.ndarray
-    y_edges: np.ndarray
-    xc: np.ndarray
-    P: np.ndarray
-    Q: np.ndarray
-    period: np.ndarray
-    displacement: np.ndarray
-    traction_cut: np.ndarray
-    state_cut: np.ndarray
-    snapshot_steps: np.ndarray
-    traction_snapshots: np.ndarray
-    state_snapshots: np.ndarray
-    lowest_pressure: np.ndarray
-    dissipation: np.ndarray
-    iterations: np.ndarray
-    cg_iterations: np.ndarray
-    residuals: dict
-    periodic_from: int | None
-    params: dict = field(default_factory=dict)
-    tol: float = TOL_3D
-    shakedown_rtol: float = 1e-3
-    runtime: float = 0.0
-
-    @property
-    def dx(self) -> float:
-        return float(self.x_edges[1] - self.x_edges[0])
-
-    @property
-    def periods(self) -> int:
-        return int(self.period.max()) + 1 if self.period.size else 0
-
-    def pressure(self, step):
-        """Element pressure at ``step`` [p0], shape (ny, nx): the traction bound in mu p0 (:func:`_pressure`)."""
-        return _pressure(self.x_edges, self.y_edges, float(self.xc[step]), self.body, float(self.P[step]) ** (1.0 / 3.0),
-                         self.params.get("normal", "numerical"))
-
-    @property
-    def final_traction(self):
-        """Traction after the last step, shape (2, ny, nx)."""
-        return self.traction_snapshots[-1]
-
-    @property
-    def final_state(self):
-        return self.state_snapshots[-1]
-
-    # ---- per period --------------------------------------------------------
-    @cached_property
-    def increment_per_period(self):
-        """Rigid-body displacement increment of each period along Ft [mu Fn/(E* a)]."""
-        ends = np.append(np.flatnonzero(np.diff(self.period) != 0), self.period.size - 1)
-        along = self.displacement @ np.array([math.cos(self.angle), math.sin(self.angle)])
-        disp = along[ends]
-        return np.diff(disp) if self.period[0] < 0 else np.diff(np.concatenate([[0.0], disp]))
-
-    # ---- the final state ---------------------------------------------------
-    @cached_property
-    def stick_halfwidth(self) -> float:
-        """Half-extent along x [a] of the central zone on ``y = 0`` whose final ``|q|`` stays below mu p_min."""
-        q = self.traction_cut[-1]
-        bound = self.lowest_pressure[self.cut_row]
-        mask = (bound > 0) & (np.hypot(q[0], q[1]) < bound - STICK_MARGIN)
-        return central_halfwidth(mask, self.x_edges)
-
-    @property
-    def max_residual(self) -> float:
-        return max(float(v.max()) for v in self.residuals.values()) if self.xc.size else 0.0
-
-    @property
-    def max_kkt_residual(self) -> float:
-        """Worst KKT residual over all steps (the name the cylinder's result and the sweep tables use)."""
-        return self.max_residual
-
-    def summary(self) -> dict:
-        inc = self.increment_per_period
-        return {"dx": self.dx, **self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
-                "regime_reason": self.regime_reason, "stick_halfwidth": self.stick_halfwidth,
-                "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
-                "D_inf": self.D_inf, "D_inf_error": self.D_inf_error, "decay_ratio": self.decay_ratio,
-                "periods_to_decide": self.periods_to_decide,
-                "shakedown_period": self.shakedown_period, "max_kkt_residual": self.max_kkt_residual,
-                "elements": int((self.x_edges.size - 1) * (self.y_edges.size - 1)), "steps": int(self.xc.size),
-                "periodic_from": self.periodic_from, "max_iterations": int(self.iterations.max()),
-                "max_cg_iterations": int(self.cg_iterations.max()), "max_residual": self.max_residual,
-                "runtime_s": self.runtime}
-
-
 # --------------------------------------------------------------------------
 # a run over a schedule
 # --------------------------------------------------------------------------
@@ -1407,7 +1275,8 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
 
     Returns
     -------
-    PointContactResult
+    CycleResult
+        On a patch of elements (``is_patch``).
 
     Raises
     ------
@@ -1476,7 +1345,8 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
 
     Returns
     -------
-    PointContactResult
+    CycleResult
+        On a patch of elements (``is_patch``).
         With ``increment_per_period`` [mu Fn/(E* a)], ``regime``, ``stick_halfwidth`` [a].
 
     Examples
