@@ -97,7 +97,7 @@ class LayoutMixin:
         estimated discretisation error): one click doubles the elements per a and re-runs."""
         button = pn.widgets.Button(label="Refine grid", width=210, height=28, css_classes=["refine-grid"],
                                    margin=(0, 10, 2, 10), stylesheets=[":host button {font-size: 13px; padding: 0;}"],
-                                   visible=self.state.param.body.rx() != "cylinder")
+                                   visible=self.state.param.body.rx().rx.pipe(lambda b: self.state.refinable))
 
         def label(resolution):
             finer = min(2 * resolution, MAX_POINT_RESOLUTION)
