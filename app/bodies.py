@@ -36,7 +36,7 @@ import numpy as np
 import param
 
 __all__ = ["BODIES", "kind", "entry", "parameters", "state_name", "make", "runs_cycles", "own_grid", "is_ellipsoid",
-           "DEMO_FILES", "demo_heights", "demo_file", "store_upload", "upload_path", "SOURCE_PATTERN", "limit_curve",
+           "DEMO_FILES", "demo_heights", "wide", "demo_file", "store_upload", "upload_path", "SOURCE_PATTERN", "limit_curve",
            "note"]
 
 
@@ -189,6 +189,11 @@ def _step(lo: float, hi: float) -> float:
     return 10.0 ** math.floor(math.log10(span / 50.0)) if span > 0 else 0.01
 
 
+def wide(p) -> bool:
+    """Whether numeric parameter ``p`` spans decades (a unit's scale): a number box rather than a slider."""
+    return float(p.hi) - float(p.lo) > 100.0
+
+
 def state_parameters() -> dict:
     """The explorer inputs of every body's parameters (param objects, by input name)."""
     out = {}
@@ -201,13 +206,14 @@ def state_parameters() -> dict:
                     "demo", regex=SOURCE_PATTERN.pattern, label=label,
                     doc=f"{doc}: 'demo' (the built-in map) or 'upload-<digest>' (a file uploaded to this server).")
                 continue
-            lo, hi = float(p.lo), float(p.hi)
-            wide = hi - lo > 100.0  # a unit's scale: typed in, not a slider
-            soft_hi = hi if p.hi_closed else hi - _step(lo, hi)
+            lo, hi, default = float(p.lo), float(p.hi), float(p.default)
+            if wide(p):  # a scale over decades (a file's units): typed in, the slider range a decade each side
+                soft, step, unit = (max(lo, default / 10), min(hi, default * 10)), default / 100, "[the file's units]"
+            else:  # the registry's parameters are normalised: dimensionless
+                soft, step, unit = (lo, hi if p.hi_closed else hi - _step(lo, hi)), _step(lo, hi), "[-]"
             out[state_name(body, p.name)] = param.Number(
-                float(p.default), bounds=(lo, hi), inclusive_bounds=(True, bool(p.hi_closed)),
-                softbounds=None if wide else (lo, soft_hi), step=None if wide else _step(lo, hi), label=label,
-                doc=f"{doc}, in [{lo:g}, {hi:g}{']' if p.hi_closed else ')'}.")
+                default, bounds=(lo, hi), inclusive_bounds=(True, bool(p.hi_closed)), softbounds=soft, step=step,
+                label=label, doc=f"{doc} {unit}, in [{lo:g}, {hi:g}{']' if p.hi_closed else ')'}.")
     return out
 
 

@@ -197,7 +197,7 @@ class LayoutMixin:
     def template(self) -> pn.template.BaseTemplate:
         """The served page: sidebar, header with the presentation-mode switch, the main area."""
         present = pn.widgets.Toggle(label="Presentation mode", width=170, css_classes=["presentation-toggle"],
-                                    button_type="light", margin=(8, 10))
+                                    color="light", margin=(8, 10))
         present.jscallback(value="""
             const on = cb_obj.active;
             document.documentElement.classList.toggle('presenting', on);

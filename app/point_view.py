@@ -368,10 +368,12 @@ def _parameter_widget(state, body: str, p):
     if p.path:
         return _source_input(state, body, p, name)
     spec = state.param[name]
-    if spec.softbounds is None:
+    if bodies.wide(p):
         return pn.widgets.FloatInput.from_param(spec, sizing_mode="stretch_width", description=spec.doc)
-    return FloatSlider.from_param(spec, sizing_mode="stretch_width", throttled=True, description=spec.doc,
-                                  css_classes=[f"body-param-{name}"])
+    slider = FloatSlider.from_param(spec, sizing_mode="stretch_width", throttled=True,
+                                    css_classes=[f"body-param-{name}"])
+    return pn.Row(slider, pn.widgets.TooltipIcon(value=spec.doc, margin=(20, 0, 0, 0)), sizing_mode="stretch_width",
+                  margin=0)
 
 
 def _source_input(state, body, p, name):
@@ -382,7 +384,7 @@ def _source_input(state, body, p, name):
             out[f"uploaded ({current[7:15]})"] = current
         return out
 
-    select = pn.widgets.Select(name=f"{p.name} ({body})", options=options(getattr(state, name)),
+    select = pn.widgets.Select(label=f"{p.name} ({body})", options=options(getattr(state, name)),
                                value=getattr(state, name), sizing_mode="stretch_width", description=p.doc,
                                css_classes=[f"body-source-{name}"])
     upload = pn.widgets.FileInput(sizing_mode="stretch_width", multiple=False, css_classes=[f"body-upload-{name}"])
@@ -428,6 +430,16 @@ def _body_note(state, body: str) -> str:
     return text
 
 
+def _body_widgets(state, body: str) -> list:
+    """The inputs of ``body``'s parameters and its note (which follows them)."""
+    names = [bodies.state_name(body, p.name) for p in bodies.parameters(body)]
+    note = pn.pane.Markdown(_body_note(state, body), styles={"font-size": "13px"}, margin=(0, 10),
+                            css_classes=["body-note"])
+    if names:
+        state.param.watch(lambda e: setattr(note, "object", _body_note(state, body)), names)
+    return [*[_parameter_widget(state, body, p) for p in bodies.parameters(body)], note]
+
+
 def body_inputs(state) -> list:
     """The body selector (every body of :data:`core.registry.REGISTRY`), the current body's parameters and note,
     and the point-contact grid (widgets over ``state``; a body's inputs are put in the page when it is first
@@ -437,14 +449,9 @@ def body_inputs(state) -> list:
     out = [pn.pane.Markdown("### Body"), select]
     for body in bodies.BODIES:
         chosen = state.param.body.rx() == body  # built when first chosen: most pages are a cylinder's
-        params = bodies.parameters(body)
         out.append(filled_when(
             pn.Column(sizing_mode="stretch_width", margin=0, visible=chosen, css_classes=[f"body-inputs-{body}"]),
-            chosen, functools.partial(lambda b, ps: [
-                *[_parameter_widget(state, b, p) for p in ps],
-                pn.pane.Markdown(pn.bind(lambda *_: _body_note(state, b), *[
-                    state.param[bodies.state_name(b, p.name)] for p in ps]), styles={"font-size": "13px"},
-                    margin=(0, 10), css_classes=["body-note"])], body, params)))
+            chosen, functools.partial(_body_widgets, state, body)))
     point = state.param.body.rx().rx.pipe(lambda b: bodies.kind(b) == "point")
     refinable = state.param.body.rx().rx.pipe(lambda b: state.refinable)
     out.append(filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=refinable), point, lambda: [
