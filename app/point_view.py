@@ -194,9 +194,9 @@ _COARSE = (f"Point contacts run on a coarse grid by default (dx = a/{POINT_RESOL
            "short); refine it under 'Body'.")
 
 
-@_figure("point_pressure", "Pressure at the player's step (Hertz, uncoupled)",
-         "What you see: the Hertz pressure over the contact plane at the player's step; the rocking moves it "
-         "along x. " + _COARSE, ("units", "result", "frame"), _pressure_specs, **_MAP)
+@_figure("point_pressure", "Pressure at the player's step (uncoupled)",
+         "What you see: the body's pressure over the contact plane at the player's step (Hertz's for a sphere or "
+         "an ellipsoid, solved numerically for a height map); the rocking moves it along x. " + _COARSE, ("units", "result", "frame"), _pressure_specs, **_MAP)
 def _pressure_layers(i):
     return pressure_map(i.units, i.result, i.frame)
 
