@@ -47,10 +47,15 @@ def _spec(result):
 
 
 def _body(result) -> str:
-    """The body of a run, with its parameters (a line run: its kernel too)."""
+    """The body of a run by its name with its numeric parameters (``punch, flat 0.5``); a line run: its kernel too."""
     spec = _spec(result)
-    text = spec if isinstance(spec, str) else repr(spec)
-    text = "cylinder" if text.startswith("Cylinder(") else text
+    if isinstance(spec, str):
+        text = spec
+    else:
+        text = getattr(spec, "name", type(spec).__name__.lower())
+        extra = {} if text == "sphere" else getattr(spec, "parameters", {})
+        text += "".join(f", {k} {v:.3g}" for k, v in extra.items() if isinstance(v, (int, float)) and not
+                        isinstance(v, bool))
     return text if isinstance(result, core.PointContactResult) else f"{text}, {result.kernel}"
 
 
