@@ -81,6 +81,8 @@ def _gap(body, x: np.ndarray) -> np.ndarray:
         row = np.asarray(heights)[heights.shape[0] // 2]
         xs = (np.arange(row.size) - row.size // 2) * float(body.spacing)
         return np.interp(x, xs, row - row.min())
+    if getattr(body, "dim", 1) == 2:  # a point body's profile(x, y), on y = 0
+        return np.asarray(body.profile(x, np.zeros_like(x)), dtype=float)
     return np.asarray(body.profile(x), dtype=float)
 
 
@@ -88,7 +90,10 @@ def _outline(body, xc: float) -> tuple:
     """A closed outline of ``body`` at ``xc``: its gap stretched so that it rises by ``RADIUS`` at ``±RADIUS``,
     then straight sides and a flat top (not to scale, like the circle)."""
     x = np.linspace(-RADIUS, RADIUS, 161)
-    g = _gap(body, x)
+    try:
+        g = _gap(body, x)
+    except (AttributeError, TypeError, ValueError):  # a body without a profile on y = 0: its pressure only
+        return _EMPTY
     top = float(max(g[0], g[-1]))
     y = RADIUS * g / top if top > 0 else np.zeros_like(g)
     h = 2 * RADIUS
