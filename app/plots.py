@@ -663,7 +663,7 @@ def layers(name: str, inputs: Inputs) -> tuple:
     """The data of each layer of figure ``name`` (a run of a kind the figure does not draw, see its ``result``
     entry, is not handed to it: the cylinder's figures draw no sphere run, and the other way round)."""
     figure_ = FIGURES[name]
-    if inputs.result is not None and not isinstance(inputs.result, figure_.get("result", core.CycleResult)):
+    if inputs.result is not None and not isinstance(inputs.result, figure_.get("result", core.LineResult)):
         inputs = inputs._replace(result=None)
     return figure_["layers"](inputs)
 

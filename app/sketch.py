@@ -68,7 +68,7 @@ def _static(w: float) -> tuple:
 
 def _body(result):
     """The body of a run when it is drawn from its gap (None: the cylinder or an ellipsoid, drawn as a circle)."""
-    body = getattr(result, "body_spec", None) if isinstance(result, core.CycleResult) else result.body
+    body = result.body
     if body is None or isinstance(body, core.Cylinder) or isinstance(body, core.Ellipsoid):
         return None
     return body
@@ -103,7 +103,7 @@ def _outline(body, xc: float) -> tuple:
 def _run_pressure(result, k: int) -> tuple:
     """The run's own pressure at step ``k`` on y = 0 (x [a], p [p0]): a cylinder-kind run's per element, a point
     run's on its row through y = 0."""
-    if isinstance(result, core.CycleResult):
+    if not result.is_patch:
         return np.asarray(result.x), np.asarray(result.pressure[k])
     row = int(np.clip(np.searchsorted(result.y_edges, 0.0) - 1, 0, result.y_edges.size - 2))
     return 0.5 * (result.x_edges[1:] + result.x_edges[:-1]), np.asarray(result.pressure(k)[row])
@@ -127,7 +127,7 @@ def layers(inputs) -> tuple:
     xc, load = float(r.xc[k]), float(np.atleast_1d(r.P)[min(k, np.size(r.P) - 1)])
     body = _body(r)
     if body is None:
-        point = not isinstance(r, core.CycleResult)
+        point = r.is_patch
         a = load ** (1.0 / 3.0) if point else np.sqrt(load)  # the half-width grows as P^(1/3) or sqrt(P) (eq 5)
         outline, spoke = _circle(xc)
         xs = np.linspace(xc - a, xc + a, 41)
