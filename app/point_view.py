@@ -66,9 +66,10 @@ def _figure(name, title, caption, inputs, specs, **opts):
 
 def shown(name: str, body: str) -> bool:
     """Whether figure ``name`` of :data:`app.plots.FIGURES` applies to ``body`` (its ``result`` kind)."""
-    kinds = plots.FIGURES[name].get("result", core.CycleResult)
+    kinds = plots.FIGURES[name].get("result", core.LineResult)
     kinds = kinds if isinstance(kinds, tuple) else (kinds,)
-    return (core.PointContactResult if bodies.kind(body) == "point" else core.CycleResult) in kinds
+    own = core.PointContactResult if bodies.kind(body) == "point" else core.LineResult
+    return any(k is own or k is core.CycleResult for k in kinds)  # CycleResult: every run
 
 
 # --------------------------------------------------------------------------
