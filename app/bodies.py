@@ -255,8 +255,12 @@ def make(name: str, values: dict):
         out.append((p.name, p.check(value)))
     try:
         return _make(name, tuple(out))
-    except (TypeError, NotImplementedError) as e:
-        raise ValueError(f"body {name!r} cannot be built: {e}") from e
+    except ValueError:
+        raise
+    except Exception as e:  # noqa: BLE001 - a reader's own errors (an uploaded file it cannot read) name the file
+        if isinstance(e, (TypeError, NotImplementedError, OSError)) or any(p.path for p in parameters(name)):
+            raise ValueError(f"body {name!r} cannot be built: {type(e).__name__}: {str(e).strip()[:300]}") from e
+        raise
 
 
 def is_ellipsoid(body) -> bool:
