@@ -123,12 +123,11 @@ def check_solver(solver, shape="line", body=None):
     """``solver`` if it is valid for a grid of ``shape``, else ValueError naming the valid choices."""
     choices = SOLVER_CHOICES_BY_GRID[shape]
     if not isinstance(solver, str) or solver not in choices:
-        what = f"body={body!r:.40}" if body is not None else f"a {shape} of elements"
+        what = f"body={body!r:.40} (a {shape} of elements)" if body is not None else f"a {shape} of elements"
         other = [s for s, c in STEP_SOLVERS.items() if c.grid != shape]
         hint = (f" ({', '.join(repr(s) for s in other)} solve{'s' if len(other) == 1 else ''} the other grid "
                 f"shape)" if solver in other else "")
-        raise ValueError(f"solver must be one of {choices} for {what} (a {shape} of elements), "
-                         f"got {solver!r:.60}{hint}")
+        raise ValueError(f"solver must be one of {choices} for {what}, got {solver!r:.60}{hint}")
     return solver
 
 

@@ -78,7 +78,8 @@ from .result import PointContactResult, STICK_MARGIN, central_halfwidth, read_on
 from .schedule import Schedule, rocking_schedule
 from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
-__all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
+__all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "solve_static_patch",
+           "PatchGrid", "PatchSolver", "PatchTrajectory", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
            "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
@@ -1414,11 +1415,50 @@ class StaticResult3D(_GridFields):
         return central_halfwidth(self.state[:, (self.x_edges.size - 1) // 2] == 1, self.y_edges)
 
 
+def solve_static_patch(bound, ft, dx, *, body=None, nu=0.5, angle=0.0, tol=TOL_3D, solver="auto"):
+    """Static partial slip on a patch of elements centred on the origin: :func:`core.solve_static`'s patch case.
+
+    Parameters
+    ----------
+    bound : array_like, shape (ny, nx)
+        Traction bound [mu p0], >= 0, on square elements of side ``dx`` centred on ``(0, 0)`` (odd counts).
+    ft : float
+        ``Ft / (mu Fn)``, below what the bound carries.
+    dx : float
+        Element side [a], in [0.005, 0.5].
+    body : object, optional
+        The point body (its ``total_load`` and ``kernel_scale``; default the sphere).
+    nu, angle, tol :
+        As in :func:`solve_point_schedule`.
+    solver : {"auto", "pcg3d"}
+        The patch solver; the line solvers are refused.
+
+    Returns
+    -------
+    StaticResult3D
+    """
+    from .engine import check_solver
+    from ._validate import check_range
+
+    check_solver(solver, "patch", body)
+    bound = check_range("bound", bound, 0.0, None)
+    if bound.ndim != 2 or bound.shape[0] % 2 == 0 or bound.shape[1] % 2 == 0:
+        raise ValueError(f"bound must be a 2-D array of odd sizes (a patch centred on 0), got shape {bound.shape}")
+    if bound.size > MAX_GRID_ELEMENTS:
+        raise ValueError(f"bound has {bound.size} elements (> {MAX_GRID_ELEMENTS}): use a larger dx")
+    dx = check_scalar("dx", dx, 0.005, 0.5)
+    body = resolve_body("sphere" if body is None else body) if not hasattr(body, "grid_pressure") else body
+    ny, nx = bound.shape
+    return _static_patch(bound, ft, dx * (np.arange(nx + 1) - nx / 2), dx * (np.arange(ny + 1) - ny / 2), body,
+                         nu=nu, angle=angle, tol=tol)
+
+
 def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
-    """Static partial slip under a traction bound, loaded from zero in one step.
+    """Static partial slip under a traction bound on the grid ``x_edges``, ``y_edges`` (see :func:`core.solve_static`).
 
     With ``bound = mu p`` it is Mindlin's problem; with ``mu p_min`` the
-    shaken-down state of a rocking contact.
+    shaken-down state of a rocking contact. The former name of the patch case
+    of :func:`core.solve_static`, for a grid given by its edges.
 
     Parameters
     ----------
@@ -1436,6 +1476,10 @@ def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol
     -------
     StaticResult3D
     """
+    return _static_patch(bound, ft, x_edges, y_edges, body, nu=nu, angle=angle, tol=tol)
+
+
+def _static_patch(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
     h = float(x_edges[1] - x_edges[0])
     dA = h * h
     carried = float(bound.sum()) * dA / body.total_load

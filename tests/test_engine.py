@@ -242,3 +242,21 @@ def test_the_patch_solver_can_be_named():
     auto = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.25, body="sphere")
     assert r.solver == auto.solver == "pcg3d"
     assert_allclose(r.increment_per_period, auto.increment_per_period, rtol=0, atol=0)
+
+
+def test_one_static_solve_for_a_line_and_a_patch():
+    """core.solve_static dispatches on the bound's shape; shakedown_state on the body; the old names agree."""
+    from core.solver3d import _grid, _pressure, shakedown_state_3d, solve_static_3d
+    body = core.Ellipsoid(1.0)
+    xe, ye = _grid(body, 1.0, 1.0, 0.1)
+    p = _pressure(xe, ye, 0.0, body)
+    patch = core.solve_static(p, 0.5, 0.1)
+    old = solve_static_3d(p, 0.5, xe, ye, body)
+    assert_allclose(patch.traction, old.traction, rtol=0, atol=0)
+    assert_allclose(patch.x_edges, xe)
+    line = core.solve_static(Cylinder.for_reach(1.0, 0.05).bounds([0.0], [1.0])[0], 0.5, 0.05)
+    assert line.traction.ndim == 1 and max(line.residuals.values()) <= 1e-10
+    sd = core.shakedown_state(0.3, 0.3, 0.1, body="sphere")
+    assert_allclose(sd.traction, shakedown_state_3d(0.3, 0.3, 0.1).traction, rtol=0, atol=0)
+    with pytest.raises(ValueError, match=r"\('auto', 'pcg3d'\)"):
+        core.solve_static(p, 0.5, 0.1, solver="dense")
