@@ -46,7 +46,11 @@ run grid (``run_grid(reach_x, scale, h)``; default: the box of its Hertz
 ellipse, ``kappa``), its pressure on the grid at a step
 (``grid_pressure(x_edges, y_edges, xc, scale)``; default: Hertz's, solved on
 the grid or in closed form), ``kernel_scale``, ``total_load`` and, optionally,
-``solver_options``. A line body object (:class:`core.bodies.Body`) becomes a
+``load_scale(P)`` (the length scale ``scale`` of its contact under the normal
+load ``P``; default ``P^(1/3)``), ``default_dx`` and ``solver_options`` (a
+dict of keyword options of :func:`core.solver3d.solve_increment`, e.g. a
+cone's twist centre, passed on every step). ``tests/test_engine.py`` defines
+such a body in the test file alone and runs it. A line body object (:class:`core.bodies.Body`) becomes a
 line grid through ``body.grid(history, dx, ...)``.
 
 The per-step solver protocol

@@ -1139,7 +1139,11 @@ class PatchGrid:
     ``kappa`` (an ellipsoid: Hertz's pressure, closed form or solved on the
     grid) or ``run_grid(reach_x, scale, h)`` and ``grid_pressure(x_edges,
     y_edges, xc, scale)`` (its own grid and pressure: a height map, a cone);
-    optionally ``solver_options`` (a dict).
+    optionally ``load_scale(P)`` (the length scale of its contact under the
+    normal load ``P``, the ``scale`` above; default ``P^(1/3)``),
+    ``default_dx`` and ``solver_options`` (a dict of keyword options of
+    :func:`solve_increment`, passed through :class:`PatchSolver` and
+    :meth:`_Window.solve`).
 
     Parameters
     ----------
@@ -1167,17 +1171,19 @@ class PatchGrid:
     @classmethod
     def for_history(cls, body, history, dx, normal="numerical"):
         """The grid covering every contact of ``history``: the body's ``run_grid`` or the ellipse's box."""
-        scales = np.cbrt(history.P)
+        own = getattr(body, "load_scale", None)
+        scales = np.asarray(own(history.P), dtype=float) if own is not None else np.cbrt(history.P)
         if hasattr(body, "run_grid"):  # a body with its own grid (a height map)
             xe, ye = body.run_grid(float(np.max(np.abs(history.xc))), float(scales.max()), dx)
         else:
             xe, ye = _grid(body, float(np.max(np.abs(history.xc) + scales)), float(scales.max()), dx)
         return cls(body, xe, ye, normal)
 
-    @staticmethod
-    def load_scale(P):
-        """The contact's length scale under the normal load ``P`` [nominal]: ``P^(1/3)`` (Hertz, point contact)."""
-        return np.cbrt(P)
+    def load_scale(self, P):
+        """The contact's length scale under the normal load ``P`` [nominal]: the body's ``load_scale(P)`` if it
+        has one, else ``P^(1/3)`` (Hertz, point contact)."""
+        own = getattr(self.body_spec, "load_scale", None)
+        return np.asarray(own(P), dtype=float) if own is not None else np.cbrt(P)
 
     def pressure(self, xc, scale=1.0):
         """Element pressure [p0], shape (ny, nx), with the centre at ``xc`` and the length scale ``scale`` (cached)."""
@@ -1357,10 +1363,9 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     >>> r.regime
     'shakedown'
     """
-    if hasattr(body, "grid_pressure"):  # a height map: its own grid
+    if hasattr(body, "grid_pressure"):  # a body with its own pressure (a height map); its grid: default_dx
         if ratio is not None:
             raise ValueError(f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
-        dx = body.spacing if dx is None else dx
     else:
         body = resolve_body(body, ratio)
     tol = TOL_3D if tol is None else tol

@@ -260,3 +260,31 @@ def test_one_static_solve_for_a_line_and_a_patch():
     assert_allclose(sd.traction, shakedown_state_3d(0.3, 0.3, 0.1).traction, rtol=0, atol=0)
     with pytest.raises(ValueError, match=r"\('auto', 'pcg3d'\)"):
         core.solve_static(p, 0.5, 0.1, solver="dense")
+
+
+class _TabulatedSphere:
+    """A point body written against the patch protocol alone (its own grid and pressure, a solver option)."""
+
+    name = "tabulated sphere"
+    solver_options = {"cg_maxiter": 400}
+
+    def __init__(self):
+        self.sphere = core.Ellipsoid(1.0)
+        self.total_load, self.kernel_scale = self.sphere.total_load, self.sphere.kernel_scale
+
+    def run_grid(self, reach_x, scale, h):
+        from core.solver3d import _grid
+        return _grid(self.sphere, reach_x + scale, scale, h)
+
+    def grid_pressure(self, x_edges, y_edges, xc, scale):
+        from core.solver3d import _pressure
+        return _pressure(x_edges, y_edges, xc, self.sphere, scale)
+
+
+def test_a_point_body_plugs_into_the_engine_through_its_hooks():
+    body = _TabulatedSphere()
+    r = core.simulate_cycles(0.5, 0.3, periods=3, dx=0.2, body=body)
+    ref = core.simulate_cycles(0.5, 0.3, periods=3, dx=0.2, body="sphere")
+    assert r.is_patch and r.body is body and r.body_name == "tabulated sphere" and r.solver == "pcg3d"
+    assert_allclose(r.increment_per_period, ref.increment_per_period, rtol=1e-12)
+    assert_allclose(r.pressure_at(5), ref.pressure_at(5), rtol=0, atol=0)
