@@ -52,6 +52,12 @@ round-off directions from CG (fewer CG iterations per step); the result equals
 the full solver's to its tolerance (``tests/test_solver3d.py``).
 Measured figures and iterations per step: ``benchmarks/solver3d.py``.
 
+In the package this is the per-step solver of a patch of elements,
+:class:`PatchSolver` (``"pcg3d"`` in :data:`core.engine.STEP_SOLVERS`), on a
+point body's grid, :class:`PatchGrid`: :func:`solve_point_schedule` and
+:func:`simulate_point_contact` build them and call :func:`core.engine.run`,
+the one run loop of every body, which returns a :class:`core.CycleResult`.
+
 References
 ----------
 .. [1] J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990.
