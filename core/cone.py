@@ -194,9 +194,9 @@ class Cone:
     >>> bool(c.ft_limit(0.3) < c.ft_limit(0.3, restrained=True))
     True
     >>> import core
-    >>> r = core.simulate_cycles(0.3, 0.3, periods=3, dx=0.5, body=c)
+    >>> r = core.simulate_cycles(0.3, 0.3, periods=6, dx=0.25, body=c)
     >>> r.regime, r.twist_per_period.size
-    ('shakedown', 3)
+    ('shakedown', 6)
     """
 
     name = "cone"

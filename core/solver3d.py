@@ -1424,6 +1424,10 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     >>> r.regime
     'shakedown'
     """
+    if isinstance(body, str) and body not in ("sphere", "ellipsoid"):  # another registered point body, e.g. "cone"
+        from .registry import REGISTRY, make_body
+        if body in REGISTRY and REGISTRY[body].kind == "point":
+            body = make_body(body)
     if hasattr(body, "grid_pressure"):  # a height map, a cone: its own grid
         if ratio is not None:
             raise ValueError(f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
