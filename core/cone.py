@@ -63,7 +63,7 @@ from scipy.optimize import brentq
 from ._validate import check_scalar
 
 __all__ = ["Cone", "cone_ft_limit", "cone_w_limit", "slice_amplitude", "lowest_pressure_density", "DEFAULT_LENGTH",
-           "LENGTH_RANGE"]
+           "LENGTH_RANGE", "DEFAULT_DX"]
 
 
 def _quad(inner, n=4000):
@@ -148,6 +148,12 @@ def cone_w_limit(ft, inner=0.5, load_point="centre"):
 DEFAULT_LENGTH = 10.0
 #: Range of ``length`` (``L / a_m``): long enough for the slice model, short enough for the run's grid.
 LENGTH_RANGE = (4.0, 200.0)
+#: Default element side [a_m] of a cone's runs: a/10, 20 elements across the contact at the mid-length and
+#: ``10 L/a_m`` along it. Measured (benchmarks/solver3d.py, L/a_m = 10, w = 0.3, 10 periods, 1.1 times the grid's
+#: limit): the increment per period 0.00891 (inner 0.5) and 0.00823 (inner 0) at a/10 against 0.00892 and 0.00808
+#: at a/20 (0.1 % and 1.9 %: the full cone's apex, where the contact is narrow, wants the finer grid), at 1.4-1.7 s
+#: CPU against 17-28 s.
+DEFAULT_DX = 0.1
 #: Sub-rows per element row in the element means of the slice pressure (:meth:`Cone.grid_pressure`).
 _SUB_ROWS = 8
 
@@ -264,9 +270,8 @@ class Cone:
 
     @property
     def default_dx(self) -> float:
-        """A run's element side [a_m]: the point contacts' (:data:`core.resolution.DEFAULT_DX_POINT`)."""
-        from .resolution import DEFAULT_DX_POINT
-        return DEFAULT_DX_POINT
+        """A run's element side [a_m]: :data:`DEFAULT_DX` (``a_m/10``; see there)."""
+        return DEFAULT_DX
 
     @property
     def twist_centre(self):
