@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import math
+import types
 
 import panel as pn
 from panel.io.state import set_curdoc
@@ -130,6 +132,9 @@ class SolveMixin:
         """The discretisation error of a point contact's increment (:func:`core.increment_error`):
         the same run at twice the element width (an eighth of the cost), solved like any run (cached, in the
         worker pool), then shown on the run card (:attr:`grid_error`)."""
+        if "body" in options and hasattr(options["body"], "run_grid"):  # a body on its own grid: no coarser run
+            self.grid_error = types.SimpleNamespace(result=result, error=math.nan)  # the cards: "not estimated"
+            return
         if 2 * result.dx > 0.5:
             return
         coarse_options = {**options, "dx": 2 * float(options.get("dx", result.dx))}

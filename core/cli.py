@@ -618,8 +618,8 @@ def _cmd_run(args) -> int:
     if not isinstance(body, str):
         body = body.name
     line = body == "cylinder"  # the paper's closure and eq 35 are the cylinder's; other bodies have their own limit
-    spec = getattr(result, "body_spec", None) or options.get("body", body)  # the body with its parameters
-    line_body = hasattr(result, "edges")  # a line contact (the cylinder, the punch, any core.bodies.Body)
+    spec = result.body  # the body with its parameters
+    line_body = not result.is_patch  # a line contact (the cylinder, the punch, any core.bodies.Body)
     unit_u = "mu P/E*" if line_body else "mu Fn/(E* a)"
     since = f" (from period {s['shakedown_period']})" if s.get("shakedown_period") is not None else ""
     rows = [

@@ -30,7 +30,7 @@ from ._validate import check_int, check_scalar
 from .bodies import BODIES, MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, below_bound, central_halfwidth, read_only
-from .engine import SOLVER_CHOICES, make_operator, run, select_solver
+from .engine import check_solver, make_operator, run, select_solver
 from . import histories
 from .schedule import Schedule
 
@@ -155,8 +155,7 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     tol = check_scalar("tol", tol, 1e-14, 1e-4)
     shakedown_rtol = check_scalar("shakedown_rtol", shakedown_rtol, 0.0, 1.0)
     kernel_options = dict(kernel_options or {})
-    if solver not in SOLVER_CHOICES:
-        raise ValueError(f"solver must be one of {SOLVER_CHOICES}, got {solver!r:.60}")
+    check_solver(solver, "line", body)
     # the dense solver's grid cap, or the matrix-free one's where that solver may run
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
@@ -364,20 +363,23 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         last increment per period is at most this fraction of the largest
         (default 1e-3). Shakedown increments decay geometrically (by 3 to 10
         each period away from the limit), ratcheting ones settle to a constant.
-    solver : {"auto", "dense", "fft"}
-        Per-step solver of a line contact (see :func:`solve_schedule`); point
-        contacts refuse any but ``"auto"`` (they run the 3D active-set solver).
+    solver : {"auto", "dense", "fft", "pcg3d"}
+        Per-step solver (:data:`core.engine.STEP_SOLVERS`): ``"dense"`` or
+        ``"fft"`` for a line contact (see :func:`solve_schedule`), ``"pcg3d"``
+        (the 3D active-set / projected CG) for a point contact; ``"auto"`` picks
+        for the grid. A solver of the other grid shape is refused (ValueError
+        naming the valid choices).
     body : str or body object
         ``"cylinder"`` (default) and ``"punch"`` (:data:`core.bodies.BODIES`, or
         objects: ``core.Punch(flat=0.8)``, any :class:`core.bodies.Body`) are
         line contacts on the 1D engine; the point contacts (``"sphere"``,
         ``"ellipsoid"``, ``core.Ellipsoid``, a :class:`core.heightmap.HeightMap`
-        on its own grid) run
+        on its own grid) run on a patch of elements through
         :func:`core.solver3d.simulate_point_contact` (with ``ratio = Ry/Rx`` of
         an ellipsoid and ``angle`` of Ft to the rocking direction [rad]; ``dx``
         is the element side, ``nu`` the substrate's; ``kernel`` and ``L_over_a``
-        are the cylinder's) and return a
-        :class:`core.solver3d.PointContactResult`.
+        are the cylinder's). Both return a :class:`CycleResult` (``is_patch``
+        tells them apart) keeping the body object (``result.body``).
     history : {"rocking", "normal", "tangential"}, Schedule or mapping
         The loading history (:func:`core.histories.for_run`): ``"rocking"`` (the
         paper's, the default); ``"normal"``, the same rocking under the normal force
@@ -417,10 +419,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         isinstance(body, str) and body in BODIES)
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
-    if not line:  # point contacts: core/solver3d.py
-        if solver != "auto":
-            raise ValueError(f"solver={solver!r:.20} is for the line contacts; body={body!r:.40} runs the 3D "
-                             "active-set solver (core.solver3d), so solver must be 'auto'")
+    if not line:  # point contacts: a patch of elements (core/solver3d.py builds it and runs core.engine.run)
         if not (isinstance(history, str) and history == "rocking"):
             raise ValueError(f"history must be 'rocking' for a point contact (body={body!r:.40}), "
                              f"got {history!r:.60}")
@@ -428,7 +427,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         return simulate_point_contact(ft, w, periods, dx, dW, body=body, ratio=ratio, angle=angle, nu=nu, shape=shape,
                                       load_steps=load_steps, detect_periodic=detect_periodic,
                                       tol=tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget, cancel=cancel,
-                                      progress=progress, normal=normal)
+                                      progress=progress, normal=normal, solver=solver)
     if ratio is not None or angle != 0.0:
         raise ValueError(f"ratio and angle are the point contacts' (body='ellipsoid' or 'sphere'), not "
                          f"body={body!r:.40}'s: got ratio={ratio!r}, angle={angle!r}")

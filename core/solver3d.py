@@ -63,9 +63,7 @@ References
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass, field
-from functools import cached_property
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.special import ellipe, ellipk
@@ -76,18 +74,23 @@ from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
 from .normal import PatchOperator, solve_normal
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
 from .resolution import DEFAULT_DX_POINT, default_dx
-from .result import PeriodVerdict, SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth
+from .result import PointContactResult, STICK_MARGIN, central_halfwidth, read_only  # noqa: F401 (the alias)
 from .schedule import Schedule, rocking_schedule
+from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
 __all__ = ["solve_increment", "twist_field", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
            "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
-#: Names of the per-step residuals (see :func:`solve_increment`).
-RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "load_balance")
+#: Names of the per-step residuals (see :func:`solve_increment`): the one set of every solver,
+#: :data:`core.states.RESIDUAL_NAMES`.
+RESIDUAL_NAMES = _RESIDUAL_NAMES
 #: Default KKT tolerance of the 3D steps (tractions in mu p0, slips in mu Fn/(E* a), loads in mu Fn).
 TOL_3D = 1e-8
-#: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
+#: The patch solver's ``periodic_tol``: change of the traction [mu p0] between the ends of two blocks below
+#: which the state counts as periodic (the one rule of :mod:`core.engine`; the line solvers' is their KKT
+#: tolerance). The CG solves are inexact (forcing term :data:`_CG_FORCING`, acceptance at ``10 tol``), so a
+#: period repeats to about ``10 TOL_3D``, not to round-off: 100 ``TOL_3D``.
 PERIODIC_TOL = 1e-6
 #: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
 #: w = 0.6) is 0.1742, 0.1779, 0.1790, 0.1797 at a/5, a/10, a/20, a/40 with the discrete normal bound
@@ -818,10 +821,15 @@ class _Window:
     after the step, and slips there are not needed. The FFTs shrink from the
     whole rocking range to the contact's size. Widths are rounded up to a
     multiple of :data:`_WINDOW_QUANTUM` elements so that a few operators serve a run.
+
+    It is the elastic operator of a patch grid as :func:`core.engine.run` sees
+    it: ``shape`` ``(ny, nx)``, ``size`` (elements) and ``nu``.
     """
 
     def __init__(self, ny, nx, h, nu, scale):
         self.shape, self.args = (ny, nx), (h, nu, scale)
+        self.size = ny * nx
+        self.nu = nu
         self.ops = {}
 
     def operator(self, shape):
@@ -838,14 +846,18 @@ class _Window:
         lo = min(max(i0 - (width - (i1 - i0)) // 2, 0), n - width)
         return slice(lo, lo + width)
 
-    def solve(self, g, q_prev, target, dA, warm, tol, twist=None):
+    def solve(self, g, q_prev, target, dA, warm, tol, **options):
+        """:func:`solve_increment` on the window; ``options`` (``maxiter``, ``cg_maxiter``, a body's own) pass to it
+        (a ``twist`` field, given on the whole grid, cut to the window)."""
         used = (g > 0) | (q_prev != 0).any(axis=0)
         win = (self._span(used.any(axis=1), self.shape[0]), self._span(used.any(axis=0), self.shape[1]))
+        if options.get("twist") is not None:
+            options = dict(options, twist=np.ascontiguousarray(options["twist"][(slice(None),) + win]))
         part = _WarmStart(*(np.ascontiguousarray(a[(Ellipsis,) + win]) for a in (warm.kind, warm.d, warm.curv, warm.x)))
         try:
             q, s, lam, info = solve_increment(self.operator(part.kind.shape), np.ascontiguousarray(g[win]),
                                               np.ascontiguousarray(q_prev[(slice(None),) + win]), target, dA, part, tol,
-                                              twist=None if twist is None else twist[(slice(None),) + win])
+                                              **options)
         finally:
             warm.kind[win], warm.d[(slice(None),) + win], warm.curv[win] = part.kind, part.d, part.curv
         warm.x = np.zeros_like(warm.x)
@@ -856,12 +868,269 @@ class _Window:
 
 
 def _state_codes(q, s, g, tol):
-    """Element states: 0 released, 1 stick, 2 slip forward (+x), 3 slip backward (the codes of core.result)."""
-    codes = np.where(g > 0, 1, 0).astype(np.int8)
+    """Element states (:class:`core.states.State`): released out of contact, stick, slip forward where the slip
+    increment's x component is >= 0, slip backward where it is < 0 (a slip increment longer than ``tol``)."""
+    codes = np.where(g > 0, State.STICK, State.RELEASED).astype(np.int8)
     slipping = (np.hypot(s[0], s[1]) > tol) & (g > 0)
-    codes[slipping & (s[0] >= 0)] = 2
-    codes[slipping & (s[0] < 0)] = 3
+    codes[slipping & (s[0] >= 0)] = State.SLIP_FORWARD
+    codes[slipping & (s[0] < 0)] = State.SLIP_BACKWARD
     return codes
+
+
+def _turning_points(schedule):
+    xc, per = schedule.xc, schedule.period
+    steps = []
+    for k in range(1, xc.size - 1):
+        if per[k] >= 0 and ((xc[k] > xc[k - 1] and xc[k] >= xc[k + 1]) or (xc[k] < xc[k - 1] and xc[k] <= xc[k + 1])):
+            steps.append(k)
+    return steps
+
+
+class PatchTrajectory:
+    """The per-step outputs of a march on a patch of elements (:class:`PatchSolver`).
+
+    Per step: the rigid-body displacement ``(steps, 2)``, the traction and the
+    states on the cut ``y = 0`` (``traction`` ``(steps, 2, nx)``, ``state``
+    ``(steps, nx)``), dissipation, iterations and the named residuals
+    (``step_residuals``, and their worst ``kkt_residual``); the full fields
+    at ``snapshot_steps`` only (``traction_snapshots``, ``state_snapshots``).
+    """
+
+    def __init__(self, steps, shape, snapshot_steps):
+        ny, nx = shape
+        self.row = ny // 2
+        self.displacement = np.zeros((steps, 2))
+        self.traction = np.zeros((steps, 2, nx))
+        self.state = np.zeros((steps, nx), np.int8)
+        self.dissipation = np.zeros(steps)
+        self.iterations = np.zeros(steps, np.int64)
+        self.cg_iterations = np.zeros(steps, np.int64)
+        self.kkt_residual = np.zeros(steps)
+        self.step_residuals = {name: np.zeros(steps) for name in RESIDUAL_NAMES}
+        self.snapshot_steps = np.array(snapshot_steps, dtype=np.int64)
+        self.snap_index = {int(k): i for i, k in enumerate(snapshot_steps)}
+        self.traction_snapshots = np.zeros((len(snapshot_steps), 2, ny, nx))
+        self.state_snapshots = np.zeros((len(snapshot_steps), ny, nx), np.int8)
+        self.last_traction = None
+        #: A body free to turn about the normal (a ``twist`` solver option): its rotation after each step.
+        self.rotation = None
+        self._turned = 0.0
+
+    def record(self, k, q, codes, total, info):
+        """Store step ``k``: traction ``q`` (2, ny, nx), states, displacement so far, the solver's ``info``."""
+        self.displacement[k] = total
+        self.traction[k], self.state[k] = q[:, self.row], codes[self.row]
+        self.iterations[k], self.cg_iterations[k] = info["iterations"], info["cg_iterations"]
+        for name in RESIDUAL_NAMES:
+            self.step_residuals[name][k] = info[name]
+        self.kkt_residual[k] = max(info[name] for name in RESIDUAL_NAMES)
+        if self.rotation is not None:
+            self._turned += info["twist"]
+            self.rotation[k] = self._turned
+        if k in self.snap_index:
+            self.traction_snapshots[self.snap_index[k]], self.state_snapshots[self.snap_index[k]] = q, codes
+        self.last_traction = q
+
+    def copied(self):
+        """The per-step arrays a repeated period copies as they are (the displacement advances, iterations are 0)."""
+        return [self.traction, self.state, self.dissipation, self.kkt_residual, *self.step_residuals.values()]
+
+    def repeat_snapshots(self, done, rest, src):
+        """Fill the snapshots of the repeated steps ``rest`` (copies of steps ``src``)."""
+        for kk in self.snapshot_steps.tolist():
+            if kk >= done:
+                j = int(src[kk - done])
+                stored = j in self.snap_index
+                self.traction_snapshots[self.snap_index[kk]] = (self.traction_snapshots[self.snap_index[j]] if stored
+                                                                else self.last_traction)
+                self.state_snapshots[self.snap_index[kk]] = (self.state_snapshots[self.snap_index[j]] if stored
+                                                             else self.state_snapshots[0])
+
+    def residuals(self) -> dict:
+        """Worst of each named residual over the steps."""
+        return {name: float(v.max()) if v.size else 0.0 for name, v in self.step_residuals.items()}
+
+    def result_fields(self) -> dict:
+        """The per-step fields of a :class:`core.result.CycleResult` on a patch."""
+        return dict(traction=self.traction, state=self.state, displacement=self.displacement,
+                    dissipation=self.dissipation, iterations=self.iterations, cg_iterations=self.cg_iterations,
+                    kkt_residual=self.kkt_residual, snapshot_steps=self.snapshot_steps,
+                    traction_snapshots=self.traction_snapshots, state_snapshots=self.state_snapshots,
+                    step_residuals=self.step_residuals,
+                    **({} if self.rotation is None else {"rotation": self.rotation}))
+
+
+class PatchSolver:
+    """The per-step solver of a patch of elements (``"pcg3d"`` in :data:`core.engine.STEP_SOLVERS`).
+
+    Each increment is the 3D active-set / projected-CG solve of
+    :func:`solve_increment` on the window of elements carrying traction
+    (:class:`_Window`), warm-started from the same phase of the previous period
+    in a periodic history. It has the protocol of :class:`core.dense.DenseSolver`
+    and :class:`core.matrix_free.FFTSolver` (``march``, ``step``, ``residuals``),
+    so :func:`core.engine.run` chunks, cancels, budgets, reports progress,
+    detects the periodic state and repeats the last period the same way for
+    every grid.
+
+    Parameters
+    ----------
+    operator : _Window
+        The windowed half-space operator of the grid (``shape`` ``(ny, nx)``).
+    element_size : float
+        Element area ``dx^2`` [a^2] (the load balance is ``sum q dA``).
+    tol : float
+        KKT tolerance of every step; a step whose worst residual exceeds ``10 tol`` fails.
+    maxiter : int, optional
+        Active-set iterations per step (default 200).
+    angle : float
+        Angle of ``Ft`` to x [rad]: the target of step ``k`` is ``Q[k] load_scale (cos, sin)``.
+    periodic_tol : float
+        Traction tolerance [mu p0] of the periodic detection (:data:`PERIODIC_TOL`):
+        the CG solves are inexact, so a repeated period repeats to about ``10 tol``, not to round-off.
+    **options
+        Passed to every :func:`solve_increment` (a body's own options, :attr:`PatchGrid.solver_options`).
+    """
+
+    name = "pcg3d"
+    #: The operator form it needs: the windowed half-space operator of a patch grid.
+    form = "patch"
+    #: The grid shape it solves.
+    grid = "patch"
+
+    def __init__(self, operator, *, element_size, tol, maxiter=None, angle=0.0, periodic_tol=PERIODIC_TOL, **options):
+        self.window = operator
+        self.shape = tuple(operator.shape)
+        self.dA = float(element_size)
+        self.tol = float(tol)
+        self.maxiter = self.default_maxiter(operator.size) if maxiter is None else int(maxiter)
+        self.angle = float(angle)
+        self.direction = np.array([math.cos(self.angle), math.sin(self.angle)])
+        self.periodic_tol = float(periodic_tol)
+        self.options = dict(options)
+        self.q = np.zeros((2,) + self.shape)
+        self.q_block_end = np.zeros_like(self.q)
+        self.warm = _WarmStart.empty(self.shape)
+        self.total = 0.0 * self.direction
+        self.period_steps = 0
+        self.phase_warm = {}
+        self.failure = ""
+        self._residuals = dict.fromkeys(RESIDUAL_NAMES, 0.0)
+
+    @staticmethod
+    def default_maxiter(n):
+        """Active-set iterations per step: 200 (the semismooth Newton steps do not grow with the grid)."""
+        return 200
+
+    @staticmethod
+    def trajectory(history, shape):
+        """The :class:`PatchTrajectory` of ``history`` on a ``(ny, nx)`` grid, with its snapshot steps: the end
+        of the loading, the turning points and the last step (the last period's only, beyond
+        :data:`MAX_SNAPSHOT_VALUES`)."""
+        ny, nx = shape
+        steps = len(history)
+        turning = set(_turning_points(history))
+        load_end = int(np.flatnonzero(history.period < 0)[-1]) if (history.period < 0).any() else -1
+        snap_all = sorted(turning | {load_end, steps - 1} - {-1})
+        if len(snap_all) * 3 * ny * nx > MAX_SNAPSHOT_VALUES:  # keep the last period's turning points only
+            last = set(np.flatnonzero(history.period == history.period[-1]).tolist())
+            snap_all = sorted((turning & last) | {load_end, steps - 1} - {-1})
+        return PatchTrajectory(steps, shape, snap_all)
+
+    def start(self, history):
+        """Before the march: in a periodic history, warm-start each step from the same phase one period earlier."""
+        self.period_steps = (int(np.count_nonzero(history.period == 0)) if _PHASE_WARM and history.is_periodic()
+                             else 0)
+
+    @property
+    def traction(self):
+        """Tractions after the last step, shape (2, ny, nx)."""
+        return self.q
+
+    @property
+    def residuals(self) -> dict:
+        """The named residuals of the last step."""
+        return dict(self._residuals)
+
+    def step(self, bound, target):
+        """Solve one increment from the current tractions and advance to it.
+
+        Parameters
+        ----------
+        bound : ndarray, shape (ny, nx)
+            Traction bound ``mu p`` [mu p0].
+        target : array_like, shape (2,)
+            Required ``sum q dA`` [mu p0 a^2].
+
+        Returns
+        -------
+        core.dense.StepReport
+            With the traction (2, ny, nx), the states, the displacement increment (2,).
+        """
+        from .dense import StepReport
+        try:
+            q, s, lam, info = self.window.solve(bound, self.q, np.asarray(target, float), self.dA, self.warm,
+                                                self.tol, maxiter=self.maxiter, **self.options)
+        except RuntimeError as e:
+            self.failure = str(e)
+            self._residuals = dict.fromkeys(RESIDUAL_NAMES, math.inf)
+            return StepReport(traction=self.q.copy(), state=_state_codes(self.q, 0 * self.q, bound, self.tol),
+                              displacement=np.zeros(2), iterations=self.maxiter, residuals=self.residuals,
+                              converged=False)
+        self._residuals = {name: info[name] for name in RESIDUAL_NAMES}
+        ok = max(self._residuals.values()) <= 10.0 * self.tol
+        if ok:
+            self.q = q
+            self.total = self.total + lam
+        return StepReport(traction=q, state=_state_codes(q, s, bound, self.tol), displacement=lam,
+                          iterations=int(info["iterations"]), residuals=self.residuals, converged=bool(ok),
+                          cg_iterations=int(info["cg_iterations"]))
+
+    def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out: PatchTrajectory):
+        """Solve steps ``k0:k1`` in order (``bounds[k - k0]``: the bound ``(ny, nx)`` of step ``k``; target
+        ``Q[k] load_scale`` along ``angle``).
+
+        Returns
+        -------
+        (reached, periodic_from, failed) : tuple of int
+            As :meth:`core.dense.DenseSolver.march`; a failed step leaves its
+            reason in :attr:`failure`.
+        """
+        steps = Q.size
+        if self.options.get("twist") is not None and out.rotation is None:  # free to turn: record the rotation
+            out.rotation = np.zeros(steps)
+        for k in range(int(k0), int(k1)):
+            g = bounds[k - k0]
+            per = int(period[k])
+            target = Q[k] * load_scale * self.direction
+            if k - self.period_steps in self.phase_warm:  # the same phase one period earlier predicts this step best
+                self.warm = self.phase_warm.pop(k - self.period_steps)
+            # ---- solve the increment
+            try:
+                q, s, lam, info = self.window.solve(g, self.q, target, self.dA, self.warm, self.tol,
+                                                    maxiter=self.maxiter, **self.options)
+            except RuntimeError as e:
+                self.failure = str(e)
+                self._residuals = dict.fromkeys(RESIDUAL_NAMES, math.inf)
+                return k, -1, k
+            self._residuals = {name: info[name] for name in RESIDUAL_NAMES}
+            if not max(self._residuals.values()) <= 10.0 * self.tol:
+                self.failure = "residual above tolerance"
+                return k, -1, k
+            # ---- record it
+            out.dissipation[k] = float(np.vdot(q, s)) * self.dA / load_scale
+            if self.period_steps and per >= 0:
+                w = self.warm
+                self.phase_warm[k] = _WarmStart(w.kind.copy(), w.d.copy(), w.curv.copy(), w.x.copy())
+            self.q = q
+            self.total = self.total + lam
+            out.record(k, q, _state_codes(q, s, g, self.tol), self.total, info)
+            # ---- periodic detection: a period that ends where the previous block ended repeats for ever
+            if k + 1 < steps and period[k + 1] != per:
+                same = float(np.abs(q - self.q_block_end).max()) <= self.periodic_tol
+                self.q_block_end = q.copy()
+                if same and detect_periodic and per >= 0:
+                    return k + 1, per, -1
+        return int(k1), -1, -1
 
 
 # --------------------------------------------------------------------------
@@ -1002,6 +1271,83 @@ def _grid(body, reach_x, scale, h):
     return xe, ye
 
 
+class PatchGrid:
+    """A point-contact body on a patch of square elements: what :func:`core.engine.run` asks of it.
+
+    The patch-grid side of the engine's body protocol (see :mod:`core.engine`):
+    ``shape`` ``(ny, nx)``, ``size``, ``dx``, ``edges`` (along x), ``y_edges``;
+    :meth:`bounds` (the traction bound ``mu p`` of each step, one ``(ny, nx)``
+    array a step, cached by centre and load scale: a body that only translates
+    is solved once per offset from the grid, :func:`_pressure`);
+    :meth:`load_target` (``Q`` times the body's total load); ``solver_options``
+    (the body's own options of :class:`PatchSolver`, e.g. a cone's twist
+    centre); ``body_spec`` (the body).
+
+    The body supplies (duck-typed): ``name``, ``total_load`` [p0 a^2],
+    ``kernel_scale`` (the half-space kernel's factor in its units) and either
+    ``kappa`` (an ellipsoid: Hertz's pressure, closed form or solved on the
+    grid) or ``run_grid(reach_x, scale, h)`` and ``grid_pressure(x_edges,
+    y_edges, xc, scale)`` (its own grid and pressure: a height map, a cone);
+    optionally ``solver_options`` (a dict).
+
+    Parameters
+    ----------
+    body : object
+        The body (:class:`core.point_contact.Ellipsoid`, :class:`core.heightmap.HeightMap`, ...).
+    x_edges, y_edges : ndarray
+        Edges of square elements [a]; a row centred on ``y = 0``.
+    normal : {"exact", "numerical"}
+        The Hertz bodies' pressure (see :func:`_pressure`).
+    """
+
+    def __init__(self, body, x_edges, y_edges, normal="numerical"):
+        self.body_spec = body
+        self.name = body.name
+        self.normal = normal
+        self.x_edges = read_only(np.array(x_edges, dtype=float))
+        self.y_edges = read_only(np.array(y_edges, dtype=float))
+        self.edges = self.x_edges
+        self.dx = float(self.x_edges[1] - self.x_edges[0])
+        self.shape = (self.y_edges.size - 1, self.x_edges.size - 1)
+        self.size = self.shape[0] * self.shape[1]
+        self.solver_options = dict(getattr(body, "solver_options", None) or {})
+        centre = getattr(body, "twist_centre", None)  # free to turn about the normal through it (a cone)
+        if centre is not None:
+            self.solver_options["twist"] = twist_field(self.x_edges, self.y_edges, centre)
+        self._cache = {}
+
+    @classmethod
+    def for_history(cls, body, history, dx, normal="numerical"):
+        """The grid covering every contact of ``history``: the body's ``run_grid`` or the ellipse's box."""
+        scales = np.cbrt(history.P)
+        if hasattr(body, "run_grid"):  # a body with its own grid (a height map)
+            xe, ye = body.run_grid(float(np.max(np.abs(history.xc))), float(scales.max()), dx)
+        else:
+            xe, ye = _grid(body, float(np.max(np.abs(history.xc) + scales)), float(scales.max()), dx)
+        return cls(body, xe, ye, normal)
+
+    @staticmethod
+    def load_scale(P):
+        """The contact's length scale under the normal load ``P`` [nominal]: ``P^(1/3)`` (Hertz, point contact)."""
+        return np.cbrt(P)
+
+    def pressure(self, xc, scale=1.0):
+        """Element pressure [p0], shape (ny, nx), with the centre at ``xc`` and the length scale ``scale`` (cached)."""
+        key = (float(xc), float(scale))
+        g = self._cache.get(key)
+        if g is None:
+            g = self._cache[key] = _pressure(self.x_edges, self.y_edges, key[0], self.body_spec, key[1], self.normal)
+        return g
+
+    def bounds(self, xc, P, out=None):
+        """The traction bound ``mu p`` [mu p0] of each step: a list of ``(ny, nx)`` arrays (shared: do not write)."""
+        return [self.pressure(x, s) for x, s in zip(np.asarray(xc, float).tolist(), self.load_scale(P).tolist())]
+
+    def load_target(self, Q):
+        """``sum q dA`` [mu p0 a^2] that carries the tangential load ``Q`` [mu Fn]: ``Q`` times the total load."""
+        return np.asarray(Q, dtype=float) * self.body_spec.total_load
+
+
 # --------------------------------------------------------------------------
 # results
 # --------------------------------------------------------------------------
@@ -1037,166 +1383,12 @@ class _GridFields:
         return (self.y_edges.size - 1) // 2
 
 
-@dataclass(frozen=True, eq=False)
-class PointContactResult(PeriodVerdict, _GridFields):
-    """The transient of a rocking point contact: per step, per period, and its verdict.
-
-    Normalised units: lengths in ``a`` (semi-axis along x), pressure in ``p0``,
-    tractions in ``mu p0``, loads in ``mu Fn``, displacements in
-    ``mu Fn/(E* a)``, dissipation in ``(mu Fn)^2/(E* a)``. Arrays are read-only.
-
-    Attributes
-    ----------
-    body : Ellipsoid
-        The body (``body.kappa = b/a``).
-    nu, angle : float
-        Substrate's Poisson ratio; angle of ``Ft`` to the rocking direction [rad].
-    x_edges, y_edges : ndarray
-        Grid edges; the grid has a row centred on ``y = 0`` (the cut).
-    xc, P, Q, period : ndarray, shape (steps,)
-        The schedule (``P`` in nominal ``Fn``, ``Q = Ft/(mu Fn0)``).
-    displacement : ndarray, shape (steps, 2)
-        Rigid-body displacement (x, y) after each step.
-    traction_cut : ndarray, shape (steps, 2, nx)
-        Traction (both components) on the row ``y = 0`` after each step.
-    state_cut : ndarray of int8, shape (steps, nx)
-        Element states on that row (0 released, 1 stick, 2 slip +x, 3 slip -x).
-    snapshot_steps : ndarray of int
-        Steps whose full fields are stored: the end of the loading, the turning
-        points, the last step.
-    traction_snapshots : ndarray, shape (k, 2, ny, nx)
-    state_snapshots : ndarray of int8, shape (k, ny, nx)
-    lowest_pressure : ndarray, shape (ny, nx)
-        Lowest element pressure of the last period [p0].
-    dissipation, iterations, cg_iterations : ndarray, shape (steps,)
-        Frictional work (>= 0), active-set and CG iterations of each step.
-    residuals : dict of ndarray
-        Per-step residuals named in :data:`RESIDUAL_NAMES`.
-    periodic_from : int or None
-        Period from which the state repeated to the tolerance, later periods copied.
-    rotation : ndarray, shape (steps,), or None
-        A body free to turn about the normal (``body.twist_centre``, the cone):
-        its rigid rotation about the normal after each step [mu Fn/(E* a^2)
-        rad]; ``displacement`` is then that of the twist centre. None otherwise.
-    """
-
-    increment_unit = "mu Fn/(E* a)"  # of increment_per_period, D_inf and the verdict's reason
-
-    body: Ellipsoid
-    nu: float
-    angle: float
-    x_edges: np.ndarray
-    y_edges: np.ndarray
-    xc: np.ndarray
-    P: np.ndarray
-    Q: np.ndarray
-    period: np.ndarray
-    displacement: np.ndarray
-    traction_cut: np.ndarray
-    state_cut: np.ndarray
-    snapshot_steps: np.ndarray
-    traction_snapshots: np.ndarray
-    state_snapshots: np.ndarray
-    lowest_pressure: np.ndarray
-    dissipation: np.ndarray
-    iterations: np.ndarray
-    cg_iterations: np.ndarray
-    residuals: dict
-    periodic_from: int | None
-    params: dict = field(default_factory=dict)
-    tol: float = TOL_3D
-    shakedown_rtol: float = 1e-3
-    runtime: float = 0.0
-    rotation: np.ndarray | None = None
-
-    @property
-    def dx(self) -> float:
-        return float(self.x_edges[1] - self.x_edges[0])
-
-    @property
-    def periods(self) -> int:
-        return int(self.period.max()) + 1 if self.period.size else 0
-
-    def pressure(self, step):
-        """Element pressure at ``step`` [p0], shape (ny, nx): the traction bound in mu p0 (:func:`_pressure`)."""
-        return _pressure(self.x_edges, self.y_edges, float(self.xc[step]), self.body, float(self.P[step]) ** (1.0 / 3.0),
-                         self.params.get("normal", "numerical"))
-
-    @property
-    def final_traction(self):
-        """Traction after the last step, shape (2, ny, nx)."""
-        return self.traction_snapshots[-1]
-
-    @property
-    def final_state(self):
-        return self.state_snapshots[-1]
-
-    # ---- per period --------------------------------------------------------
-    @cached_property
-    def increment_per_period(self):
-        """Rigid-body displacement increment of each period along Ft [mu Fn/(E* a)]."""
-        ends = np.append(np.flatnonzero(np.diff(self.period) != 0), self.period.size - 1)
-        along = self.displacement @ np.array([math.cos(self.angle), math.sin(self.angle)])
-        disp = along[ends]
-        return np.diff(disp) if self.period[0] < 0 else np.diff(np.concatenate([[0.0], disp]))
-
-    @cached_property
-    def twist_per_period(self):
-        """Rigid rotation about the normal in each period [mu Fn/(E* a^2) rad] (a body free to turn; else None)."""
-        if self.rotation is None:
-            return None
-        ends = np.append(np.flatnonzero(np.diff(self.period) != 0), self.period.size - 1)
-        rot = self.rotation[ends]
-        return np.diff(rot) if self.period[0] < 0 else np.diff(np.concatenate([[0.0], rot]))
-
-    # ---- the final state ---------------------------------------------------
-    @cached_property
-    def stick_halfwidth(self) -> float:
-        """Half-extent along x [a] of the central zone on ``y = 0`` whose final ``|q|`` stays below mu p_min."""
-        q = self.traction_cut[-1]
-        bound = self.lowest_pressure[self.cut_row]
-        mask = (bound > 0) & (np.hypot(q[0], q[1]) < bound - STICK_MARGIN)
-        return central_halfwidth(mask, self.x_edges)
-
-    @property
-    def max_residual(self) -> float:
-        return max(float(v.max()) for v in self.residuals.values()) if self.xc.size else 0.0
-
-    @property
-    def max_kkt_residual(self) -> float:
-        """Worst KKT residual over all steps (the name the cylinder's result and the sweep tables use)."""
-        return self.max_residual
-
-    def summary(self) -> dict:
-        inc = self.increment_per_period
-        return {"dx": self.dx, **self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
-                "regime_reason": self.regime_reason, "stick_halfwidth": self.stick_halfwidth,
-                "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
-                "D_inf": self.D_inf, "D_inf_error": self.D_inf_error, "decay_ratio": self.decay_ratio,
-                "periods_to_decide": self.periods_to_decide,
-                "shakedown_period": self.shakedown_period, "max_kkt_residual": self.max_kkt_residual,
-                "elements": int((self.x_edges.size - 1) * (self.y_edges.size - 1)), "steps": int(self.xc.size),
-                "periodic_from": self.periodic_from, "max_iterations": int(self.iterations.max()),
-                "max_cg_iterations": int(self.cg_iterations.max()), "max_residual": self.max_residual,
-                "runtime_s": self.runtime,
-                **({} if self.rotation is None else {"twist_last_period": float(self.twist_per_period[-1])})}
-
-
 # --------------------------------------------------------------------------
 # a run over a schedule
 # --------------------------------------------------------------------------
-def _turning_points(schedule):
-    xc, per = schedule.xc, schedule.period
-    steps = []
-    for k in range(1, xc.size - 1):
-        if per[k] >= 0 and ((xc[k] > xc[k - 1] and xc[k] >= xc[k + 1]) or (xc[k] < xc[k - 1] and xc[k] <= xc[k + 1])):
-            steps.append(k)
-    return steps
-
-
 def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, detect_periodic=True,
                          periodic_tol=PERIODIC_TOL, shakedown_rtol=1e-3, params=None, time_budget=None, cancel=None,
-                         progress=None, chunk=50, normal="auto"):
+                         progress=None, chunk=50, normal="auto", solver="auto"):
     """Solve a loading :class:`~core.schedule.Schedule` for a point contact, step by step.
 
     Parameters
@@ -1230,10 +1422,14 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         :func:`core.normal.solve_normal` (CONTACT's bound); ``"exact"`` the
         element means of Hertz's closed form. A height map has no closed form:
         ``"exact"`` is refused for it.
+    solver : {"auto", "pcg3d"}
+        The per-step solver (:data:`core.engine.STEP_SOLVERS`): a patch of
+        elements runs :class:`PatchSolver`; the line solvers are refused.
 
     Returns
     -------
-    PointContactResult
+    CycleResult
+        On a patch of elements (``is_patch``).
 
     Raises
     ------
@@ -1254,132 +1450,20 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     chunk = check_int("chunk", chunk, 1, 10**7)
     normal = _normal_mode(normal, body)
     params = dict(params or {}, normal=normal)
-    t0 = time.perf_counter()
-    scales = np.cbrt(schedule.P)
-    if hasattr(body, "run_grid"):  # a height map: its own grid
-        xe, ye = body.run_grid(float(np.max(np.abs(schedule.xc))), float(scales.max()), dx)
-    else:
-        xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
-    ny, nx = ye.size - 1, xe.size - 1
-    window = _Window(ny, nx, dx, nu, body.kernel_scale)
-    centre = getattr(body, "twist_centre", None)  # a body free to turn about the normal (core.cone.Cone)
-    twist = None if centre is None else twist_field(xe, ye, centre)
-    turned = 0.0
-    dA = dx * dx
-    direction = np.array([math.cos(angle), math.sin(angle)])
-    steps = len(schedule)
-    rot = np.zeros(steps) if twist is not None else None
-    turning = set(_turning_points(schedule))
-    load_end = int(np.flatnonzero(schedule.period < 0)[-1]) if (schedule.period < 0).any() else -1
-    snap_all = sorted(turning | {load_end, steps - 1} - {-1})
-    if len(snap_all) * 3 * ny * nx > MAX_SNAPSHOT_VALUES:  # keep the last period's turning points only
-        last = set(np.flatnonzero(schedule.period == schedule.period[-1]).tolist())
-        snap_all = sorted((turning & last) | {load_end, steps - 1} - {-1})
-    snap_index = {k: i for i, k in enumerate(snap_all)}
-    row = ny // 2
-    disp = np.zeros((steps, 2))
-    tcut = np.zeros((steps, 2, nx))
-    scut = np.zeros((steps, nx), np.int8)
-    tsnap = np.zeros((len(snap_all), 2, ny, nx))
-    ssnap = np.zeros((len(snap_all), ny, nx), np.int8)
-    diss = np.zeros(steps)
-    iters = np.zeros(steps, np.int64)
-    cg = np.zeros(steps, np.int64)
-    res = {name: np.zeros(steps) for name in RESIDUAL_NAMES}
-    pressure_cache = {}
-    warm = _WarmStart.empty((ny, nx))
-    q = np.zeros((2, ny, nx))
-    periodic = bool(detect_periodic) and schedule.is_periodic()
-    # warm starts by phase: the state of a step one period earlier (same pressure, same load)
-    period_steps = int(np.count_nonzero(schedule.period == 0)) if _PHASE_WARM and schedule.is_periodic() else 0
-    phase_warm = {}
-    period_start_q = None
-    periodic_from = None
-    pmin = {}
-    total = 0.0 * direction
-    budget_end = None if time_budget is None else t0 + float(time_budget)
-    k = 0
-    while k < steps:
-        key = (float(schedule.xc[k]), float(scales[k]))
-        g = pressure_cache.get(key)
-        if g is None:
-            g = pressure_cache[key] = _pressure(xe, ye, key[0], body, key[1], normal)
-        per = int(schedule.period[k])
-        pmin[per] = g if per not in pmin else np.minimum(pmin[per], g)
-        target = schedule.Q[k] * body.total_load * direction
-        if k - period_steps in phase_warm:  # the same phase one period earlier predicts this step best
-            warm = phase_warm.pop(k - period_steps)
-        try:
-            q_new, s, lam, info = window.solve(g, q, target, dA, warm, tol, twist)
-        except RuntimeError as e:
-            raise SolverError(k, schedule.xc[k], float("inf"), str(e)) from e
-        worst = max(info[name] for name in RESIDUAL_NAMES)
-        if not worst <= 10.0 * tol:
-            raise SolverError(k, schedule.xc[k], worst, "residual above tolerance")
-        diss[k] = float(np.vdot(q_new, s)) * dA / body.total_load
-        if period_steps and per >= 0:
-            phase_warm[k] = _WarmStart(warm.kind.copy(), warm.d.copy(), warm.curv.copy(), warm.x.copy())
-        q = q_new
-        total = total + lam
-        disp[k] = total
-        if rot is not None:
-            turned += info["twist"]
-            rot[k] = turned
-        codes = _state_codes(q, s, g, tol)
-        tcut[k], scut[k] = q[:, row], codes[row]
-        iters[k], cg[k] = info["iterations"], info["cg_iterations"]
-        for name in RESIDUAL_NAMES:
-            res[name][k] = info[name]
-        if k in snap_index:
-            tsnap[snap_index[k]], ssnap[snap_index[k]] = q, codes
-        k += 1
-        # ---- periodic detection at the end of each period
-        if k < steps and schedule.period[k] != schedule.period[k - 1] and per >= 0 and periodic:
-            if period_start_q is not None and np.abs(q - period_start_q).max() <= periodic_tol:
-                periodic_from = per
-                break
-            period_start_q = q.copy()
-        if k % chunk == 0 and k < steps:
-            if cancel is not None and cancel():
-                raise SolveCancelled(f"solve cancelled after {k} of {steps} steps")
-            if budget_end is not None and time.perf_counter() > budget_end:
-                raise SolveCancelled(f"solve stopped after {time_budget:g} s (its time budget) at step {k} of {steps}")
-            if progress is not None:
-                progress(k / steps)
-    if k < steps:  # copy the repeating period
-        block = np.flatnonzero(schedule.period == periodic_from)
-        m, start = block.size, block[0]
-        before = disp[start - 1]
-        inc = disp[block[-1]] - before
-        rest = np.arange(k, steps)
-        src = start + (rest - k) % m
-        rep = 1 + (rest - k) // m
-        disp[rest] = disp[src] + rep[:, None] * inc
-        if rot is not None:
-            rot[rest] = rot[src] + rep * (rot[block[-1]] - rot[start - 1])
-        for arr in (tcut, scut, diss):
-            arr[rest] = arr[src]
-        for name in RESIDUAL_NAMES:
-            res[name][rest] = res[name][src]
-        for kk in snap_all:
-            if kk >= k:
-                tsnap[snap_index[kk]] = tsnap[snap_index[src[kk - k]]] if src[kk - k] in snap_index else q
-                ssnap[snap_index[kk]] = ssnap[snap_index[src[kk - k]]] if src[kk - k] in snap_index else ssnap[0]
-    if progress is not None:
-        progress(1.0)
-    last_period = int(schedule.period[-1]) if periodic_from is None else periodic_from
-    return PointContactResult(
-        body=body, nu=nu, angle=angle, x_edges=xe, y_edges=ye, xc=np.array(schedule.xc), P=np.array(schedule.P),
-        Q=np.array(schedule.Q), period=np.array(schedule.period), displacement=disp, traction_cut=tcut,
-        state_cut=scut, snapshot_steps=np.array(snap_all, dtype=np.int64), traction_snapshots=tsnap,
-        state_snapshots=ssnap, lowest_pressure=pmin[last_period], dissipation=diss, iterations=iters,
-        cg_iterations=cg, residuals=res, periodic_from=periodic_from, params=params, tol=tol,
-        shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0, rotation=rot)
+    from .engine import check_solver, run
+    check_solver(solver, "patch", body)
+    grid = PatchGrid.for_history(body, schedule, dx, normal)
+    operator = _Window(*grid.shape, dx, nu, body.kernel_scale)
+    return run(grid, operator, schedule, solver=solver, tol=tol, detect_periodic=detect_periodic,
+               shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget, cancel=cancel,
+               progress=progress, chunk=chunk, kernel="halfspace",
+               solver_options=dict(grid.solver_options, angle=angle, periodic_tol=periodic_tol))
 
 
 def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
                            shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=PERIODIC_TOL,
-                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, normal="auto"):
+                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, normal="auto",
+                           solver="auto"):
     """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
 
     Parameters
@@ -1409,12 +1493,13 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
         As in :func:`core.schedule.rocking_schedule`.
     tol : float, optional
         KKT tolerance of every step; default :data:`TOL_3D`.
-    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress, normal :
+    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress, normal, solver :
         As in :func:`solve_point_schedule`.
 
     Returns
     -------
-    PointContactResult
+    CycleResult
+        On a patch of elements (``is_patch``).
         With ``increment_per_period`` [mu Fn/(E* a)], ``regime``, ``stick_halfwidth`` [a].
 
     Examples
@@ -1442,7 +1527,7 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
                   load_steps=int(load_steps))
     return solve_point_schedule(schedule, dx, body, nu=nu, angle=angle, tol=tol, detect_periodic=detect_periodic,
                                 periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget,
-                                cancel=cancel, progress=progress, normal=normal)
+                                cancel=cancel, progress=progress, normal=normal, solver=solver)
 
 
 # --------------------------------------------------------------------------

@@ -16,7 +16,7 @@ def test_sampled_cylinder_is_the_cylinder():
     r = core.simulate_cycles(0.5, 0.3, periods=8, body=body)
     ref = core.simulate_cycles(0.5, 0.3, periods=8)
     assert np.allclose(r.increment_per_period, ref.increment_per_period, rtol=2e-3, atol=1e-6)
-    assert r.body == "heightmap" and r.body_spec == body
+    assert r.body_name == "heightmap" and r.body is body
 
 
 def test_measured_punch_from_a_surfacetopography_file(tmp_path):
