@@ -38,7 +38,12 @@ grid convergence.
    per-offset solves cost < 7 % of a run, the shift is exact (the discrete problem is translation-invariant).
 
 9. The cone (core.Cone): a frustum (inner 0.5) and a full cone, L/a_m = 10, w = 0.3, 10 % either side of Melan's
-   limit on the run's grid, at a/10 and a/20 (see cones()).
+   limit on the run's grid, at a/10 and a/20 (see cones()). Measured at load average 3.4: a/10 1.4-1.7 s CPU
+   (3605 and 4429 elements, 121 steps, 8-10 active-set and 23-40 CG iterations a step), a/20 17-28 s CPU
+   (13195 and 17255 elements, 241 steps). The twist option (issue 20, the cone's third rigid unknown) leaves the
+   sphere's path as it was (numba prunes it): the a/20 case of 1, back to back with main after the engine merge,
+   1.62 and 1.48 s CPU on main, 1.68 and 1.50 s on the cone branch (load average 5-8), the same iterations per
+   step (5.46 and 14.3) and increments equal to 3e-16.
 
 Run: python benchmarks/solver3d.py [--quick] [--no-fine] [--cone (the cone's row alone)]
 """

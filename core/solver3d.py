@@ -1288,7 +1288,10 @@ class PatchGrid:
     ``kappa`` (an ellipsoid: Hertz's pressure, closed form or solved on the
     grid) or ``run_grid(reach_x, scale, h)`` and ``grid_pressure(x_edges,
     y_edges, xc, scale)`` (its own grid and pressure: a height map, a cone);
-    optionally ``solver_options`` (a dict).
+    optionally ``solver_options`` (a dict) and ``twist_centre`` (``(x_c, y_c)``
+    [a]: the body is free to turn about the normal through it, a cone; its
+    :func:`twist_field` on the grid becomes the ``twist`` option of every
+    :func:`solve_increment`, and the run records the rotation).
 
     Parameters
     ----------
