@@ -282,6 +282,15 @@ class Cone:
         rF = self.r_m if isinstance(self.load_point, str) else self.load_point * self.r2
         return (0.0, rF - self.r_m)
 
+    def profile(self, x, y=0.0):
+        """The gap [P/E*] at ``(x, y)`` [a_m] with the contact line on ``x = 0`` (``y`` along it, 0 at the
+        mid-length): ``(2/pi) x^2 r_m / (y + r_m)``, each slice's Hertz gap ``x^2 / (2 R(r))`` with ``R(r) = r
+        tan(alpha)``, the cylinder's ``(2/pi) x^2`` at the mid-length (``inf`` beyond the ends)."""
+        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        r = y + self.r_m
+        inside = (r >= self.r1) & (r <= self.r2) & (r > 0)
+        return np.where(inside, (2.0 / math.pi) * x * x * self.r_m / np.where(inside, r, 1.0), np.inf)
+
     def run_grid(self, reach_x, scale, h):
         """The edges ``(x_edges, y_edges)`` [a_m] of a run whose mid-length arc reaches ``|xc| <= reach_x``.
 
