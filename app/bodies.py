@@ -190,8 +190,10 @@ def _step(lo: float, hi: float) -> float:
 
 
 def wide(p) -> bool:
-    """Whether numeric parameter ``p`` spans decades (a unit's scale): a number box rather than a slider."""
-    return float(p.hi) - float(p.lo) > 100.0
+    """Whether numeric parameter ``p`` spans many decades (a unit's scale) or has no finite range: a number box
+    rather than a slider."""
+    lo, hi = float(p.lo), float(p.hi)
+    return not (math.isfinite(lo) and math.isfinite(hi)) or (lo > 0 and hi / lo > 1e3)
 
 
 def state_parameters() -> dict:
@@ -206,14 +208,18 @@ def state_parameters() -> dict:
                     "demo", regex=SOURCE_PATTERN.pattern, label=label,
                     doc=f"{doc}: 'demo' (the built-in map) or 'upload-<digest>' (a file uploaded to this server).")
                 continue
-            lo, hi, default = float(p.lo), float(p.hi), float(p.default)
+            lo, hi = float(p.lo), float(p.hi)
+            default = None if p.default is None else float(p.default)
+            centre = default if default else (lo if math.isfinite(lo) and lo > 0 else 1.0)
             if wide(p):  # a scale over decades (a file's units): typed in, the slider range a decade each side
-                soft, step, unit = (max(lo, default / 10), min(hi, default * 10)), default / 100, "[the file's units]"
+                soft, step, unit = (max(lo, centre / 10), min(hi, centre * 10)), abs(centre) / 100, "[scale]"
             else:  # the registry's parameters are normalised: dimensionless
                 soft, step, unit = (lo, hi if p.hi_closed else hi - _step(lo, hi)), _step(lo, hi), "[-]"
             out[state_name(body, p.name)] = param.Number(
                 default, bounds=(lo, hi), inclusive_bounds=(True, bool(p.hi_closed)), softbounds=soft, step=step,
-                label=label, doc=f"{doc} {unit}, in [{lo:g}, {hi:g}{']' if p.hi_closed else ')'}.")
+                allow_None=default is None, label=label,
+                doc=f"{doc} {unit}, in [{lo:g}, {hi:g}{']' if p.hi_closed else ')'}"
+                    + ("; empty: the body's own default." if default is None else "."))
     return out
 
 
@@ -237,6 +243,8 @@ def make(name: str, values: dict):
     out = []
     for p in parameters(name):
         value = values.get(p.name, p.default)
+        if value is None and not p.path:  # no value: the entry's own default
+            continue
         if p.path:
             source = str(value)
             path = demo_file(name, p.name) if source == "demo" else upload_path(source)
@@ -247,8 +255,12 @@ def make(name: str, values: dict):
         out.append((p.name, p.check(value)))
     try:
         return _make(name, tuple(out))
-    except (TypeError, NotImplementedError) as e:
-        raise ValueError(f"body {name!r} cannot be built: {e}") from e
+    except ValueError:
+        raise
+    except Exception as e:  # noqa: BLE001 - a reader's own errors (an uploaded file it cannot read) name the file
+        if isinstance(e, (TypeError, NotImplementedError, OSError)) or any(p.path for p in parameters(name)):
+            raise ValueError(f"body {name!r} cannot be built: {type(e).__name__}: {str(e).strip()[:300]}") from e
+        raise
 
 
 def is_ellipsoid(body) -> bool:
@@ -258,17 +270,19 @@ def is_ellipsoid(body) -> bool:
 
 
 def own_grid(body) -> bool:
-    """Whether ``body`` runs on a grid of its own (a height map: its samples), not the explorer's resolution."""
-    return hasattr(body, "run_grid")
+    """Whether ``body`` runs on a fixed grid of its own (a sampled surface, e.g. a height map: its ``spacing``),
+    not at the explorer's resolution."""
+    return hasattr(body, "run_grid") and hasattr(body, "spacing")
 
 
 def runs_cycles(name: str, body) -> bool:
     """Whether the explorer can run ``body``'s cycles: a line body of :mod:`core.bodies`, an ellipsoid, or a point
-    body with its own run grid. Another body is shown with its limit only."""
+    body with the 3D solver's interface (``run_grid`` and ``grid_pressure``: a height map, the cone). Another
+    body is shown with its limit only."""
     import core
     if kind(name) == "line":
         return isinstance(body, core.Body)
-    return is_ellipsoid(body) or own_grid(body)
+    return is_ellipsoid(body) or (hasattr(body, "run_grid") and hasattr(body, "grid_pressure"))
 
 
 def note(name: str) -> str:

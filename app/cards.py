@@ -16,7 +16,7 @@ import numpy as np
 
 import core
 
-__all__ = ["CardsMixin", "prediction", "limit_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
+__all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
            "fmt", "count", "STRIP_KEYS"]
 
 #: The rows of the cards shown in the strip, in its order, with their short names there (the first row of each
@@ -34,7 +34,7 @@ def _closure(ft: float, w: float) -> tuple[float, float, float]:
     return (float(core.shakedown_stick_halfwidth(ft, w)), float(core.ft_limit(w)), float(core.w_limit(ft)))
 
 
-def _name(body) -> str:
+def body_name(body) -> str:
     """The name of a body given by name or object (a height map is the registry's 'heightmap')."""
     if isinstance(body, str):
         return body
@@ -44,7 +44,7 @@ def _name(body) -> str:
 
 def limit_name(body) -> str:
     """How the exact limit of ``body`` (a name or a body object) is cited."""
-    name = _name(body)
+    name = body_name(body)
     return "eq 35" if name == "cylinder" else f"the {name}'s exact limit"
 
 
@@ -62,7 +62,7 @@ def body_limits(ft: float, w: float, body) -> tuple[float, float]:
 def prediction(ft: float, w: float, body) -> tuple[str, str]:
     """The regime the exact limit of ``body`` (a name or a body object) predicts for ``ft``, ``w``, and how that
     limit is cited."""
-    if _name(body) == "cylinder":
+    if body_name(body) == "cylinder":
         return str(core.classify_regime(ft, w)), limit_name(body)
     lim = body_limits(ft, w, body)[0]
     if not math.isfinite(lim):
@@ -100,7 +100,7 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
                  ("a (semi-axis along x)", fmt(c.a * 1e3, "mm")), ("b (semi-axis along y)", fmt(c.b * 1e3, "mm")),
                  ("p0 (peak pressure)", fmt(c.p0 / 1e6, "MPa")), ("ν of the half-space kernel", fmt(c.nu, "", 3))]
     lim, wlim = body_limits(ft, w, body)
-    name = _name(body)
+    name = body_name(body)
     rows += [(f"ft_lim(w), {name} (exact)", fmt(lim)), (f"w_lim(ft), {name} (exact)", fmt(wlim)),
              ("ft_lim(w), cylinder (eq 35)", fmt(float(core.ft_limit(w)))),
              ("margin ft / ft_lim", fmt(ft / lim, "", 3) if lim > 0 else "–"),
@@ -142,7 +142,7 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
     """The rows of a line body's cards: inputs in physical units (the cylinder's Hertz scales), the closure's
     (the cylinder's only) and the solver's numbers, the exact limits and the margins (``wait``: why the solver's
     are not shown, or None). ``body``: the cylinder, or another line body (a name or an object)."""
-    if _name(body) != "cylinder":
+    if body_name(body) != "cylinder":
         return _line_rows(ft, w, mu, contact, result, wait, units, cycles, body)
     rows = []
     physical = units == "physical"
@@ -186,7 +186,7 @@ def _line_rows(ft, w, mu, contact, result, wait, units, cycles, body) -> list:
                  ("W (rocking amplitude)", fmt(w * c.a * 1e6, "µm")),
                  ("a (the cylinder of R's half-width)", fmt(c.a * 1e3, "mm"))]
     lim, wlim = body_limits(ft, w, body)
-    name = _name(body)
+    name = body_name(body)
     physical = units == "physical" and c is not None
     scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
     rows += [("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
@@ -256,7 +256,7 @@ class CardsMixin:
             return state.body
 
     def _badge(self, ft, w, result, error, pending=False):
-        predicted, rule = prediction(ft, w, self._body_spec())
+        predicted, rule = prediction(ft, w, CardsMixin._body_spec(self))  # self may be the class (headless tests)
         if error.startswith("limit only"):  # a body whose cycles the explorer cannot run yet: its limit only
             return ('<span class="regime-badge regime-none" data-regime="limit-only">LIMIT ONLY</span>'
                     f'<div class="regime-note">{html.escape(rule)} predicts {html.escape(predicted)} for '

@@ -18,7 +18,7 @@ import param
 import core
 
 from . import panes
-from .cards import prediction
+from .cards import body_name, prediction
 from .pinned import MAX_PINS, PIN_STYLES, Pin, label
 
 __all__ = ["MAX_PINS", "PIN_STYLES", "Pin", "Pins", "table_html"]
@@ -49,8 +49,10 @@ def _spec(result):
 def _body(result) -> str:
     """The body of a run, with its parameters (a line run: its kernel too)."""
     spec = _spec(result)
-    text = spec if isinstance(spec, str) else repr(spec)
-    text = "cylinder" if text.startswith("Cylinder(") else text
+    text = body_name(spec)
+    params = {} if isinstance(spec, str) or text in ("cylinder", "sphere") else dict(getattr(spec, "parameters", {}))
+    if params:
+        text += " (" + ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in params.items()) + ")"
     return text if isinstance(result, core.PointContactResult) else f"{text}, {result.kernel}"
 
 

@@ -582,8 +582,11 @@ def map_point(ft: float, w: float, regime: str | None = None) -> Styled:
 
 def _body_of(run) -> str:
     """The body of a run or a sweep table (a table without a 'body' column is the cylinder's)."""
-    if isinstance(run, core.PointContactResult):
-        return run.body.name
+    if isinstance(run, (core.PointContactResult, core.CycleResult)):
+        spec = run.body if isinstance(run, core.PointContactResult) else (getattr(run, "body_spec", None) or run.body)
+        if isinstance(spec, str) or isinstance(spec, (core.Cylinder, core.Ellipsoid)):
+            return spec if isinstance(spec, str) else str(spec.name)
+        return repr(spec)  # a body with parameters, as core.sweep names it: Punch(flat=0.8)
     columns = getattr(run, "columns", ())
     return str(run["body"].iloc[0]) if "body" in columns and len(run) else "cylinder"
 
@@ -620,7 +623,7 @@ FIGURES = {
                    specs=sketch.specs, layers=sketch.layers, inputs=("result", "frame"),
                    result=(core.CycleResult, core.PointContactResult)),
     "pressure": dict(opts=dict(title="Pressure and μ p_min", **key_opts("top_right")),
-                caption="What you see: the Hertz pressure moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
+                caption="What you see: the body's pressure (the cylinder's: Hertz's) moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
     "traction": dict(opts=dict(title="Traction vs closure", **key_opts("top_right")),
                 caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: stick, slip (hatched), no contact.", specs=_traction_specs,

@@ -66,9 +66,10 @@ def _figure(name, title, caption, inputs, specs, **opts):
 
 def shown(name: str, body: str) -> bool:
     """Whether figure ``name`` of :data:`app.plots.FIGURES` applies to ``body`` (its ``result`` kind)."""
-    kinds = plots.FIGURES[name].get("result", core.CycleResult)
+    kinds = plots.FIGURES[name].get("result", core.LineResult)
     kinds = kinds if isinstance(kinds, tuple) else (kinds,)
-    return (core.PointContactResult if bodies.kind(body) == "point" else core.CycleResult) in kinds
+    own = core.PointContactResult if bodies.kind(body) == "point" else core.LineResult
+    return any(k is own or k is core.CycleResult for k in kinds)  # CycleResult: every run
 
 
 # --------------------------------------------------------------------------
@@ -430,6 +431,13 @@ def _body_note(state, body: str) -> str:
     return text
 
 
+#: The body selector wraps onto a second row when the registry's bodies do not fit the sidebar's width.
+_SELECT_CSS = """
+.bk-btn-group { flex-wrap: wrap; row-gap: 4px; }
+.bk-btn-group > .bk-btn { flex: 1 0 auto; border-radius: 4px !important; margin-left: 0 !important; }
+"""
+
+
 def _body_widgets(state, body: str) -> list:
     """The inputs of ``body``'s parameters and its note (which follows them)."""
     names = [bodies.state_name(body, p.name) for p in bodies.parameters(body)]
@@ -445,7 +453,8 @@ def body_inputs(state) -> list:
     and the point-contact grid (widgets over ``state``; a body's inputs are put in the page when it is first
     chosen)."""
     select = pn.widgets.RadioButtonGroup.from_param(state.param.body, color="primary", variant="outline",
-                                                    sizing_mode="stretch_width", css_classes=["body-select"])
+                                                    sizing_mode="stretch_width", css_classes=["body-select"],
+                                                    stylesheets=[_SELECT_CSS])
     out = [pn.pane.Markdown("### Body"), select]
     for body in bodies.BODIES:
         chosen = state.param.body.rx() == body  # built when first chosen: most pages are a cylinder's

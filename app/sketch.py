@@ -81,6 +81,8 @@ def _gap(body, x: np.ndarray) -> np.ndarray:
         row = np.asarray(heights)[heights.shape[0] // 2]
         xs = (np.arange(row.size) - row.size // 2) * float(body.spacing)
         return np.interp(x, xs, row - row.min())
+    if getattr(body, "dim", 1) == 2:  # a point body's profile(x, y), on y = 0
+        return np.asarray(body.profile(x, np.zeros_like(x)), dtype=float)
     return np.asarray(body.profile(x), dtype=float)
 
 
@@ -88,7 +90,10 @@ def _outline(body, xc: float) -> tuple:
     """A closed outline of ``body`` at ``xc``: its gap stretched so that it rises by ``RADIUS`` at ``±RADIUS``,
     then straight sides and a flat top (not to scale, like the circle)."""
     x = np.linspace(-RADIUS, RADIUS, 161)
-    g = _gap(body, x)
+    try:
+        g = _gap(body, x)
+    except (AttributeError, TypeError, ValueError):  # a body without a profile on y = 0: its pressure only
+        return _EMPTY
     top = float(max(g[0], g[-1]))
     y = RADIUS * g / top if top > 0 else np.zeros_like(g)
     h = 2 * RADIUS
@@ -104,6 +109,14 @@ def _run_pressure(result, k: int) -> tuple:
     return 0.5 * (result.x_edges[1:] + result.x_edges[:-1]), np.asarray(result.pressure(k)[row])
 
 
+def _circle(xc: float) -> tuple:
+    """The drawn circle of radius :data:`RADIUS` at ``xc`` and its spoke, turned by ``xc / R`` (rolling without slip)."""
+    t = np.linspace(0, 2 * np.pi, 121)
+    circle = (xc + RADIUS * np.cos(t), RADIUS + RADIUS * np.sin(t))
+    phi = -np.pi / 2 - xc / RADIUS
+    return circle, (np.array([xc, xc + RADIUS * np.cos(phi)]), np.array([RADIUS, RADIUS + RADIUS * np.sin(phi)]))
+
+
 def layers(inputs) -> tuple:
     """The sketch at the player's step of ``inputs.result`` (empty layers without a run)."""
     r = inputs.result
@@ -116,15 +129,14 @@ def layers(inputs) -> tuple:
     if body is None:
         point = r.is_patch
         a = load ** (1.0 / 3.0) if point else np.sqrt(load)  # the half-width grows as P^(1/3) or sqrt(P) (eq 5)
-        t = np.linspace(0, 2 * np.pi, 121)
-        outline = (xc + RADIUS * np.cos(t), RADIUS + RADIUS * np.sin(t))
-        phi = -np.pi / 2 - xc / RADIUS  # rolling without slip: the spoke turns by xc / R
-        spoke = (np.array([xc, xc + RADIUS * np.cos(phi)]), np.array([RADIUS, RADIUS + RADIUS * np.sin(phi)]))
+        outline, spoke = _circle(xc)
         xs = np.linspace(xc - a, xc + a, 41)
         pressure = (xs, -0.8 * a * core.hertz_pressure((xs - xc) / a))  # p0 grows with the load too
         patch = (np.array([xc - a, xc + a]), np.zeros(2))
     else:  # drawn from its gap, with the run's own pressure; the contact: where it presses
         outline, spoke = _outline(body, xc), _EMPTY
+        if not len(outline[0]):  # no profile on y = 0 (the cone: its section there is a circle): a rolling circle
+            outline, spoke = _circle(xc)
         xs, p = _run_pressure(r, k)
         pressure = (xs, -0.8 * p)
         pressed = xs[p > 0]

@@ -770,6 +770,7 @@ class CycleResult(PeriodVerdict):
         return {
             "dx": self.dx,
             **self.params,
+            "body": self.body_name,
             "regime": self.regime,
             "regime_reason": self.regime_reason,
             "stick_halfwidth": self.stick_halfwidth,

@@ -233,3 +233,46 @@ def test_a_body_registered_in_core_appears_and_runs_and_one_that_cannot_run_show
     assert got["bodies"][-2:] == ["widepunch", "limitonly"]
     assert got["spec"] == "Punch(flat=0.6)" and got["error"] == ""
     assert got["limited"].startswith("limit only") and "LIMIT ONLY" in got["badge"]
+
+
+def test_the_map_draws_a_sweep_only_beside_runs_of_its_body_and_parameters():
+    """The shipped map is the cylinder's: not drawn beside a punch run; a map computed for the punch (its object,
+    with its flat) is, and not beside another flat."""
+    ex = Explorer(query="body=punch&flat=0.8&ft=0.3&w=0.5&periods=1&kernel=plane")
+    shown = plots.layers("map", ex._inputs())
+    assert all(len(layer.data[0]) == 0 for layer in shown[:3])  # the shipped cylinder map is not drawn
+    ex.map_points.value = 3
+    ex.compute_map()
+    assert ex.map_table is not None and set(ex.map_table["body"]) == {"Punch(flat=0.8)"}, ex.map_status
+    shown = plots.layers("map", ex._inputs())
+    assert sum(len(layer.data[0]) for layer in shown[:3]) == 9
+    ex.state.flat = 0.5
+    shown = plots.layers("map", ex._inputs())
+    assert all(len(layer.data[0]) == 0 for layer in shown[:3])
+
+
+def test_uploading_a_file_in_the_page_opens_it_and_a_bad_one_is_reported(tmp_path):
+    """The height map's upload button: a readable map becomes the body (its source in the URL); a file
+    SurfaceTopography cannot read is an invalid input naming the reason, not a server error."""
+    import panel as pn
+    from SurfaceTopography import Topography
+
+    from app import point_view
+
+    ex = Explorer(query=f"body=heightmap&{QUICK}")
+    page = pn.Column(*point_view.body_inputs(ex.state))
+    upload = page.select(pn.widgets.FileInput)[0]
+    n, h = 36, 0.1
+    x = (np.arange(n) - n // 2) * h
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    path = tmp_path / "bowl.nc"
+    Topography(-0.375 * (X**2 + Y**2), (n * h, n * h)).to_netcdf(str(path))
+    upload.param.update(filename="bowl.nc", value=path.read_bytes())
+    assert ex.state.file.startswith("upload-") and ex.error == ""
+    assert ex.state.body_object().heights.shape == (n, n) and ex.result.body is ex.state.body_object()
+    select = [s for s in page.select(pn.widgets.Select) if s.value == ex.state.file]
+    assert select and "demo" in select[0].options.values()  # back to the demo is one choice away
+    upload.param.update(filename="notes.txt", value=b"not a height map at all")
+    assert ex.contact is None and "cannot be built" in ex.error and "heightmap" in ex.error
+    select[0].value = "demo"
+    assert ex.state.file == "demo" and ex.error == ""
