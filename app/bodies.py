@@ -304,7 +304,7 @@ def limit_curve(body) -> tuple:
     new normal solve). Empty if the limit cannot be evaluated.
     """
     import core
-    if own_grid(body) and hasattr(body, "spacing"):  # a height map (a cone's limit is a formula: any w)
+    if own_grid(body):
         h = float(body.spacing)
         w = h * np.arange(0, math.floor(0.98 / h) + 1)
     else:
