@@ -52,6 +52,12 @@ round-off directions from CG (fewer CG iterations per step); the result equals
 the full solver's to its tolerance (``tests/test_solver3d.py``).
 Measured figures and iterations per step: ``benchmarks/solver3d.py``.
 
+In the package this is the per-step solver of a patch of elements,
+:class:`PatchSolver` (``"pcg3d"`` in :data:`core.engine.STEP_SOLVERS`), on a
+point body's grid, :class:`PatchGrid`: :func:`solve_point_schedule` and
+:func:`simulate_point_contact` build them and call :func:`core.engine.run`,
+the one run loop of every body, which returns a :class:`core.CycleResult`.
+
 References
 ----------
 .. [1] J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990.
@@ -78,7 +84,8 @@ from .result import PointContactResult, STICK_MARGIN, central_halfwidth, read_on
 from .schedule import Schedule, rocking_schedule
 from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
-__all__ = ["solve_increment", "twist_field", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
+__all__ = ["solve_increment", "twist_field", "simulate_point_contact", "solve_point_schedule", "solve_static_3d",
+           "solve_static_patch", "PatchGrid", "PatchSolver", "PatchTrajectory", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
            "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
@@ -1288,8 +1295,12 @@ class PatchGrid:
     ``kappa`` (an ellipsoid: Hertz's pressure, closed form or solved on the
     grid) or ``run_grid(reach_x, scale, h)`` and ``grid_pressure(x_edges,
     y_edges, xc, scale)`` (its own grid and pressure: a height map, a cone);
-    optionally ``solver_options`` (a dict) and ``twist_centre`` (``(x_c, y_c)``
-    [a]: the body is free to turn about the normal through it, a cone; its
+    optionally ``load_scale(P)`` (the length scale of its contact under the
+    normal load ``P``, the ``scale`` above; default ``P^(1/3)``),
+    ``default_dx``, ``solver_options`` (a dict of keyword options of
+    :func:`solve_increment`, passed through :class:`PatchSolver` and
+    :meth:`_Window.solve`) and ``twist_centre`` (``(x_c, y_c)`` [a]: the body
+    is free to turn about the normal through it, a cone; its
     :func:`twist_field` on the grid becomes the ``twist`` option of every
     :func:`solve_increment`, and the run records the rotation).
 
@@ -1322,17 +1333,19 @@ class PatchGrid:
     @classmethod
     def for_history(cls, body, history, dx, normal="numerical"):
         """The grid covering every contact of ``history``: the body's ``run_grid`` or the ellipse's box."""
-        scales = np.cbrt(history.P)
+        own = getattr(body, "load_scale", None)
+        scales = np.asarray(own(history.P), dtype=float) if own is not None else np.cbrt(history.P)
         if hasattr(body, "run_grid"):  # a body with its own grid (a height map)
             xe, ye = body.run_grid(float(np.max(np.abs(history.xc))), float(scales.max()), dx)
         else:
             xe, ye = _grid(body, float(np.max(np.abs(history.xc) + scales)), float(scales.max()), dx)
         return cls(body, xe, ye, normal)
 
-    @staticmethod
-    def load_scale(P):
-        """The contact's length scale under the normal load ``P`` [nominal]: ``P^(1/3)`` (Hertz, point contact)."""
-        return np.cbrt(P)
+    def load_scale(self, P):
+        """The contact's length scale under the normal load ``P`` [nominal]: the body's ``load_scale(P)`` if it
+        has one, else ``P^(1/3)`` (Hertz, point contact)."""
+        own = getattr(self.body_spec, "load_scale", None)
+        return np.asarray(own(P), dtype=float) if own is not None else np.cbrt(P)
 
     def pressure(self, xc, scale=1.0):
         """Element pressure [p0], shape (ny, nx), with the centre at ``xc`` and the length scale ``scale`` (cached)."""
@@ -1516,7 +1529,7 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
         from .registry import REGISTRY, make_body
         if body in REGISTRY and REGISTRY[body].kind == "point":
             body = make_body(body)
-    if hasattr(body, "grid_pressure"):  # a height map, a cone: its own grid
+    if hasattr(body, "grid_pressure"):  # a body with its own pressure (a height map, a cone); its grid: default_dx
         if ratio is not None:
             raise ValueError(f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
     else:
@@ -1573,11 +1586,50 @@ class StaticResult3D(_GridFields):
         return central_halfwidth(self.state[:, (self.x_edges.size - 1) // 2] == 1, self.y_edges)
 
 
+def solve_static_patch(bound, ft, dx, *, body=None, nu=0.5, angle=0.0, tol=TOL_3D, solver="auto"):
+    """Static partial slip on a patch of elements centred on the origin: :func:`core.solve_static`'s patch case.
+
+    Parameters
+    ----------
+    bound : array_like, shape (ny, nx)
+        Traction bound [mu p0], >= 0, on square elements of side ``dx`` centred on ``(0, 0)`` (odd counts).
+    ft : float
+        ``Ft / (mu Fn)``, below what the bound carries.
+    dx : float
+        Element side [a], in [0.005, 0.5].
+    body : object, optional
+        The point body (its ``total_load`` and ``kernel_scale``; default the sphere).
+    nu, angle, tol :
+        As in :func:`solve_point_schedule`.
+    solver : {"auto", "pcg3d"}
+        The patch solver; the line solvers are refused.
+
+    Returns
+    -------
+    StaticResult3D
+    """
+    from .engine import check_solver
+    from ._validate import check_range
+
+    check_solver(solver, "patch", body)
+    bound = check_range("bound", bound, 0.0, None)
+    if bound.ndim != 2 or bound.shape[0] % 2 == 0 or bound.shape[1] % 2 == 0:
+        raise ValueError(f"bound must be a 2-D array of odd sizes (a patch centred on 0), got shape {bound.shape}")
+    if bound.size > MAX_GRID_ELEMENTS:
+        raise ValueError(f"bound has {bound.size} elements (> {MAX_GRID_ELEMENTS}): use a larger dx")
+    dx = check_scalar("dx", dx, 0.005, 0.5)
+    body = resolve_body("sphere" if body is None else body) if not hasattr(body, "grid_pressure") else body
+    ny, nx = bound.shape
+    return _static_patch(bound, ft, dx * (np.arange(nx + 1) - nx / 2), dx * (np.arange(ny + 1) - ny / 2), body,
+                         nu=nu, angle=angle, tol=tol)
+
+
 def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
-    """Static partial slip under a traction bound, loaded from zero in one step.
+    """Static partial slip under a traction bound on the grid ``x_edges``, ``y_edges`` (see :func:`core.solve_static`).
 
     With ``bound = mu p`` it is Mindlin's problem; with ``mu p_min`` the
-    shaken-down state of a rocking contact.
+    shaken-down state of a rocking contact. The former name of the patch case
+    of :func:`core.solve_static`, for a grid given by its edges.
 
     Parameters
     ----------
@@ -1595,6 +1647,10 @@ def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol
     -------
     StaticResult3D
     """
+    return _static_patch(bound, ft, x_edges, y_edges, body, nu=nu, angle=angle, tol=tol)
+
+
+def _static_patch(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
     h = float(x_edges[1] - x_edges[0])
     dA = h * h
     carried = float(bound.sum()) * dA / body.total_load
