@@ -282,6 +282,13 @@ class Cone:
         rF = self.r_m if isinstance(self.load_point, str) else self.load_point * self.r2
         return (0.0, rF - self.r_m)
 
+    @staticmethod
+    def load_scale(P):
+        """The contact's length scale under the normal load ``P`` [nominal Fn]: ``sqrt(P)`` (a line contact's
+        half-width grows as the square root of its line load; the ``scale`` of :meth:`run_grid` and
+        :meth:`grid_pressure`)."""
+        return np.sqrt(np.asarray(P, dtype=float))
+
     def profile(self, x, y=0.0):
         """The gap [P/E*] at ``(x, y)`` [a_m] with the contact line on ``x = 0`` (``y`` along it, 0 at the
         mid-length): ``(2/pi) x^2 r_m / (y + r_m)``, each slice's Hertz gap ``x^2 / (2 R(r))`` with ``R(r) = r
@@ -300,7 +307,7 @@ class Cone:
         """
         from .solver3d import MAX_GRID_ELEMENTS
         theta = reach_x / self.r_m
-        wide = self.r2 * math.sin(theta) + scale**1.5 * math.sqrt(self.r2 / self.r_m) * 1.01 + h
+        wide = self.r2 * math.sin(theta) + scale * math.sqrt(self.r2 / self.r_m) * 1.01 + h
         long = 0.5 * self.length + h
         xe = h * (np.arange(2 * math.ceil(wide / h - 0.5) + 2) - math.ceil(wide / h - 0.5) - 0.5)
         ye = h * (np.arange(2 * math.ceil(long / h - 0.5) + 2) - math.ceil(long / h - 0.5) - 0.5)
@@ -315,14 +322,15 @@ class Cone:
 
         Each slice at the distance ``u`` from the apex (along the rotated line,
         ``r1 <= u <= r2``) is a Hertz line contact of half-width ``a(u) =
-        sqrt(P u / r_m)`` and peak ``sqrt(P r_m / u)`` (``P = scale^3``, the
-        normal load over the nominal one; uniform along the line). Across an
+        s sqrt(u / r_m)`` and peak ``s sqrt(r_m / u)`` (``s = scale =
+        sqrt(P)``, :meth:`load_scale`, ``P`` the normal load over the nominal
+        one; uniform along the line). Across an
         element the distance ``v`` from the rotated line is linear in ``x``,
         so each of :data:`_SUB_ROWS` sub-rows of an element row is integrated
         exactly across; the means are scaled to the load ``P Fn`` (a fraction of
         a per cent at the ends, which the sub-rows resolve to ``dx/8``).
         """
-        P = float(scale) ** 3
+        P = float(scale) ** 2
         theta = float(xc) / self.r_m
         h = float(x_edges[1] - x_edges[0])
         x = 0.5 * (np.asarray(x_edges[1:]) + np.asarray(x_edges[:-1]))
@@ -332,7 +340,7 @@ class Cone:
         u = Y * c + x[None, :] * s
         inside = (u >= self.r1) & (u <= self.r2) & (u > 0)
         us = np.where(inside, u, 1.0)
-        a = np.sqrt(P * us / self.r_m)
+        a = float(scale) * np.sqrt(us / self.r_m)
         v0 = (x[None, :] - 0.5 * h) * c - Y * s
         v1 = (x[None, :] + 0.5 * h) * c - Y * s
         # p0(u) a(u) = P: the integral across is P [F(v1/a) - F(v0/a)] / cos(theta)

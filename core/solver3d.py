@@ -1529,7 +1529,7 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
         from .registry import REGISTRY, make_body
         if body in REGISTRY and REGISTRY[body].kind == "point":
             body = make_body(body)
-    if hasattr(body, "grid_pressure"):  # a height map, a cone: its own grid
+    if hasattr(body, "grid_pressure"):  # a body with its own pressure (a height map, a cone); its grid: default_dx
         if ratio is not None:
             raise ValueError(f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
     else:

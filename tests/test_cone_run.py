@@ -134,6 +134,21 @@ def test_cone_pressure_is_the_slice_models_rotated_about_the_apex():
     np.testing.assert_allclose(centroid, u * math.tan(theta), atol=0.02)
 
 
+def test_pressure_under_another_normal_load():
+    """Under the normal load P (nominal 1) a line contact's half-width grows as sqrt(P) (Cone.load_scale, the
+    scale of the grid and the pressure): the element pressures carry P Fn, the peak and the width grow as sqrt(P)."""
+    c = Cone(inner=0.5)
+    dx = 0.1
+    s = float(c.load_scale(1.44))
+    assert s == pytest.approx(1.2)
+    xe, ye = c.run_grid(0.3, s, dx)
+    base, loaded = c.grid_pressure(xe, ye, 0.0, 1.0), c.grid_pressure(xe, ye, 0.0, s)
+    assert loaded.sum() * dx * dx == pytest.approx(1.44 * c.total_load, rel=1e-12)
+    row = (ye.size - 1) // 2
+    assert loaded[row].max() / base[row].max() == pytest.approx(1.2, rel=0.02)
+    assert (loaded[row] > 0).sum() > (base[row] > 0).sum()
+
+
 def test_grid_limit_is_the_slice_formula_to_the_grid():
     """Melan's programme on the run's grid (the discrete p_min of a run's positions) against the slice formula:
     the q_y = 0 programme is the slice model's on the grid and tends to it (0.6085, 0.6061 at a/4, a/10 against
