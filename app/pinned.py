@@ -26,7 +26,7 @@ MAX_PINS = 4
 #: second cue besides colour).
 PIN_STYLES = (("#56B4E9", "dashed"), ("#009E73", "dotdash"), ("#CC79A7", "dotted"), ("#000000", "dashdot"))
 #: The figures that draw pinned runs, and the kind of run each draws.
-KINDS = {"displacement": core.CycleResult, "increments": core.CycleResult, "traction": core.CycleResult,
+KINDS = {"displacement": core.LineResult, "increments": core.LineResult, "traction": core.LineResult,
          "point_displacement": core.PointContactResult, "point_increments": core.PointContactResult,
          "point_cut": core.PointContactResult}
 _EMPTY = (np.zeros(0), np.zeros(0))

@@ -31,13 +31,13 @@ def _load_locked():
         from . import approximations, histories  # noqa: F401
         from .kernels import influence_matrix, strip_u0  # noqa: F401
         from .schedule import Schedule, rocking_schedule  # noqa: F401
-        from .states import State, Zone, STATE_NAMES, ZONE_NAMES  # noqa: F401
+        from .states import State, Zone, STATE_NAMES, ZONE_NAMES, RESIDUAL_NAMES  # noqa: F401
         from .bodies import BODIES, Body, Cylinder, LineGrid, Punch, get_body, NORMAL_CHOICES  # noqa: F401
         from .normal import NormalSolution, solve_normal, solve_line, solve_patch  # noqa: F401
         from .melan import ft_limit_numerical  # noqa: F401
         from .cone import Cone  # noqa: F401
         from .heightmap import HeightMap, HeightProfile  # noqa: F401
-        from .result import CycleResult, SolverError, SolveCancelled  # noqa: F401
+        from .result import CycleResult, LineResult, SolverError, SolveCancelled  # noqa: F401
         from .engine import run, STEP_SOLVERS  # noqa: F401
         from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
                              solve_static, shakedown_state)

@@ -91,7 +91,7 @@ class ConvergedIncrement:
         ``safety * |value - coarse| / (2^1 - 1)``.
     dx : float
         The finest element width [a].
-    result : CycleResult or PointContactResult
+    result : CycleResult
         The run at ``dx``.
     body : str
         Name of the body.
@@ -200,7 +200,7 @@ def grid_error(result, *, grids=2) -> ConvergedIncrement:
 
     Parameters
     ----------
-    result : CycleResult or PointContactResult
+    result : CycleResult
         A run of :func:`core.simulate_cycles` (not of an arbitrary schedule:
         its inputs must be in ``result.params``).
     grids : {2, 3}
@@ -236,12 +236,9 @@ def grid_error(result, *, grids=2) -> ConvergedIncrement:
     dW = params.pop("dW", None)
     follows = dW is None or math.isclose(float(dW), dx)
     ft, w = params.pop("ft"), params.pop("w")
-    body = getattr(result, "body", "cylinder")
-    if not isinstance(body, str):  # a point contact: its Ellipsoid carries the ratio
-        params.pop("ratio", None)
-        params.pop("body", None)
-    else:
-        params.pop("body", None)
+    body = result.body  # the body object carries its parameters (a punch's flat, an ellipsoid's ratio)
+    for key in ("body", "ratio", *getattr(body, "parameters", {})):
+        params.pop(key, None)
     options = dict(params, tol=result.tol, shakedown_rtol=result.shakedown_rtol, body=body)
     runs = [result]
     for i in range(1, grids):
@@ -263,7 +260,7 @@ def increment_error(fine, coarse) -> ConvergedIncrement:
 
     Parameters
     ----------
-    fine, coarse : CycleResult or PointContactResult
+    fine, coarse : CycleResult
         Two runs of the same kind, inputs (``result.params``) and periods but
         the grid: ``coarse.dx == 2 fine.dx`` (within 1e-9).
 
@@ -287,14 +284,13 @@ def increment_error(fine, coarse) -> ConvergedIncrement:
     (True, True, 2)
     """
     from .result import CycleResult
-    from .solver3d import PointContactResult
 
     for name, r in (("fine", fine), ("coarse", coarse)):
-        if not isinstance(r, (CycleResult, PointContactResult)):
-            raise ValueError(f"{name} must be a core.CycleResult or core.PointContactResult, got {type(r).__name__}")
-    if type(fine) is not type(coarse):
-        raise ValueError(f"fine and coarse must be runs of the same kind, got {type(fine).__name__} and "
-                         f"{type(coarse).__name__}")
+        if not isinstance(r, CycleResult):
+            raise ValueError(f"{name} must be a core.CycleResult, got {type(r).__name__}")
+    if fine.is_patch != coarse.is_patch:
+        kinds = ["a patch" if r.is_patch else "a line" for r in (fine, coarse)]
+        raise ValueError(f"fine and coarse must be runs of the same kind, got {kinds[0]} and {kinds[1]}")
     if not math.isclose(coarse.dx, 2.0 * fine.dx, rel_tol=1e-9):
         raise ValueError(f"coarse.dx must be 2 fine.dx = {2 * fine.dx:.6g}, got {coarse.dx:.6g}")
     inputs = [{k: v for k, v in r.params.items() if k not in _GRID_KEYS} for r in (fine, coarse)]

@@ -55,11 +55,15 @@ import numpy as np
 from . import _pcg, _pdas
 from .operators import fft_size
 from .result import read_only
+from .states import RESIDUAL_NAMES
 
 __all__ = ["DenseSolver", "StepReport", "Trajectory", "RESIDUALS"]
 
-#: Names of the KKT residuals every per-step solver reports.
-RESIDUALS = _pdas.RESIDUALS
+#: Names of the KKT residuals every per-step solver reports (:data:`core.states.RESIDUAL_NAMES`, in the order
+#: of the compiled kernels' residual arrays).
+RESIDUALS = RESIDUAL_NAMES
+if _pdas.RESIDUALS != RESIDUAL_NAMES:  # pragma: no cover - the kernels index their residuals in this order
+    raise ImportError("core._pdas.RESIDUALS must equal core.states.RESIDUAL_NAMES")
 
 
 @dataclass(frozen=True)
@@ -118,6 +122,16 @@ class Trajectory:
         """Worst of each named residual so far."""
         return dict(zip(RESIDUALS, map(float, self.worst)))
 
+    def result_fields(self) -> dict:
+        """The per-step fields of a :class:`core.result.CycleResult` on a line."""
+        return dict(traction=self.traction, state=self.state, displacement=self.displacement,
+                    dissipation=self.dissipation, iterations=self.iterations, cg_iterations=self.cg_iterations,
+                    kkt_residual=self.kkt_residual)
+
+    def copied(self):
+        """The per-step arrays a repeated period copies as they are (the displacement advances, iterations are 0)."""
+        return [self.traction, self.state, self.dissipation, self.kkt_residual]
+
 
 class DenseSolver:
     """The primal-dual active-set solver on the dense influence matrix (see the module docstring).
@@ -137,6 +151,18 @@ class DenseSolver:
     name = "dense"
     #: The operator form :func:`core.solver.solve_schedule` builds for this solver (it needs the matrix).
     form = "dense"
+    #: The grid shape it solves (:func:`core.engine.grid_shape`).
+    grid = "line"
+
+    @staticmethod
+    def default_maxiter(n):
+        """Active-set iterations per step: ``50 + 2 n`` (an active set changes one element at least per iteration)."""
+        return 50 + 2 * n
+
+    @staticmethod
+    def trajectory(history, shape):
+        """The :class:`Trajectory` of ``history`` on a grid of ``shape = (n,)``."""
+        return Trajectory(len(history), shape[0])
 
     def __init__(self, operator, *, element_size, tol, maxiter):
         self.K = np.ascontiguousarray(operator.matrix(), dtype=float)
@@ -169,6 +195,12 @@ class DenseSolver:
     def traction(self) -> np.ndarray:
         """Tractions after the last step (the start of the next one)."""
         return self.state.q_prev
+
+    @property
+    def periodic_tol(self) -> float:
+        """Traction tolerance [mu p0] of the periodic detection (:mod:`core.engine`): the KKT tolerance (an exact
+        solve repeats a period to round-off)."""
+        return self.tol
 
     @property
     def residuals(self) -> dict:

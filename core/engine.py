@@ -1,19 +1,88 @@
-"""One run function: a body, an elastic operator, a per-step solver and a loading history give a result.
+"""One run function: a body on a grid, an elastic operator, a per-step solver and a loading history give a result.
 
 :func:`run` marches a :class:`~core.schedule.Schedule` (the loading history as
-data) step by step: the body gives the traction bound of every element at
+data) step by step, whatever the grid's shape: a line of elements (the line
+contacts: cylinder, punch, sampled profiles; the 1D operators of
+:mod:`core.operators`) or a patch of square elements (the point contacts:
+sphere, ellipsoid, height map; the half-space operator of
+:mod:`core.halfspace`). The body gives the traction bound of every element at
 every step, the per-step solver solves the KKT conditions of each increment on
 the operator, and the per-step arrays become a frozen
-:class:`~core.result.CycleResult`. The public entry points
+:class:`~core.result.CycleResult`. Chunking, cancelling, the time budget,
+progress, the periodic detection's stop and the repetition of the last period
+live here once, for every grid and solver. The public entry points
 (:func:`core.simulate_cycles`, :func:`core.simulate_contact`,
-:func:`core.solve_schedule`) build the parts and call it.
+:func:`core.solve_schedule`, :func:`core.solver3d.solve_point_schedule`)
+build the parts and call it.
 
 The per-step solvers are chosen by name in :data:`STEP_SOLVERS`, the one place
-where a solver is registered.
+where a solver is registered: ``"dense"`` and ``"fft"`` for a line,
+``"pcg3d"`` for a patch (:data:`SOLVER_CHOICES_BY_GRID`).
+
+The body protocol (what a discretised body gives :func:`run`)
+---------------------------------------------------------------
+``shape``
+    ``(n,)`` for a line, ``(ny, nx)`` for a patch (:func:`grid_shape`); equal to the operator's.
+``dx``, ``edges``
+    Element width [a] and the edges along x (a patch also has ``y_edges``); the
+    element measure of the load balance is ``dx`` (line) or ``dx^2`` (patch).
+``bounds(xc, P, out)``
+    The traction bound ``mu p`` [mu p0] of each step with the centres ``xc``
+    and normal loads ``P``: a line grid fills ``out`` (steps, n); a patch grid
+    returns one ``(ny, nx)`` array a step (shared and cached: a translating
+    body is solved once per offset and load, not per step).
+``load_target(Q)``
+    The sum of the element tractions (times the element measure, for a patch)
+    that carries ``Q``; ``load_target(1.0)`` is the solver's load scale.
+``name``, ``body_spec``
+    The body's name and the body object (with its parameters), kept on the result.
+``solver_options`` (patch, optional)
+    A dict of keyword options of the per-step solver that the body needs (e.g.
+    a cone's twist centre), merged into ``solver_options``.
+
+A point body object (e.g. :class:`core.point_contact.Ellipsoid`) becomes a
+patch grid through :class:`core.solver3d.PatchGrid`, which asks it for: its
+run grid (``run_grid(reach_x, scale, h)``; default: the box of its Hertz
+ellipse, ``kappa``), its pressure on the grid at a step
+(``grid_pressure(x_edges, y_edges, xc, scale)``; default: Hertz's, solved on
+the grid or in closed form), ``kernel_scale``, ``total_load`` and, optionally,
+``load_scale(P)`` (the length scale ``scale`` of its contact under the normal
+load ``P``; default ``P^(1/3)``), ``default_dx`` and ``solver_options`` (a
+dict of keyword options of :func:`core.solver3d.solve_increment`, e.g. a
+cone's twist centre, passed on every step). ``tests/test_engine.py`` defines
+such a body in the test file alone and runs it. A line body object (:class:`core.bodies.Body`) becomes a
+line grid through ``body.grid(history, dx, ...)``.
+
+The per-step solver protocol
+----------------------------
+A class of :data:`STEP_SOLVERS` has ``name``, ``form`` (the operator form it
+needs), ``grid`` (``"line"`` or ``"patch"``), ``default_maxiter(n)``,
+``trajectory(history, shape)`` (the per-step arrays it fills: ``displacement``,
+``iterations``, ``cg_iterations``, ``copied()``; a patch's also its
+snapshots), is built as ``cls(operator, element_size=, tol=, maxiter=,
+**solver_options)``, may have ``start(history)`` (called once before the
+march), and has ``step(bound, target)``, ``residuals`` (the named residuals of
+:data:`core.states.RESIDUAL_NAMES` of the last step), ``periodic_tol`` and
+``march(bounds, Q, period, load_scale, k0, k1, periodic, out) -> (reached,
+periodic_from, failed)``.
+
+The periodic detection (one rule)
+---------------------------------
+At the end of every block of steps (the loading, then each period) the
+solver compares the tractions with those at the end of the previous block;
+if no element differs by more than its ``periodic_tol`` [mu p0] and the
+block is a period of a history whose periods all have the same steps
+(:meth:`core.schedule.Schedule.is_periodic`), that period repeats for ever:
+the march stops and :func:`run` copies it for the remaining periods (the
+displacement advancing by its increment each time). ``periodic_tol`` is the
+KKT tolerance for the exact line solvers and :data:`core.solver3d.PERIODIC_TOL`
+for the patch solver, whose inexact CG solves repeat a period only to about
+ten times its tolerance.
 """
 
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
@@ -24,15 +93,20 @@ from .matrix_free import FFTSolver
 from .operators import elastic_operator
 from .result import CycleResult, SolveCancelled, SolverError
 from .schedule import Schedule
+from .solver3d import PatchSolver
 
-__all__ = ["run", "STEP_SOLVERS", "SOLVER_CHOICES", "AUTO_CROSSOVER", "select_solver", "make_operator"]
+__all__ = ["run", "STEP_SOLVERS", "SOLVER_CHOICES", "SOLVER_CHOICES_BY_GRID", "AUTO_CROSSOVER", "select_solver",
+           "make_operator", "grid_shape", "Trajectory"]
 
-#: The per-step solvers by name: each is built as ``cls(operator, element_size=, tol=, maxiter=)`` and
-#: has ``name``, ``form`` (the operator form it needs), ``march``, ``step`` and ``residuals`` (see
-#: :class:`core.dense.DenseSolver` and :class:`core.matrix_free.FFTSolver`).
-STEP_SOLVERS = {"dense": DenseSolver, "fft": FFTSolver}
-#: The values of the ``solver`` keyword.
+#: The per-step solvers by name: each is built as ``cls(operator, element_size=, tol=, maxiter=, **options)``
+#: and has ``name``, ``form`` (the operator form it needs), ``grid`` (the grid shape it solves), ``march``,
+#: ``step`` and ``residuals`` (the protocol in the module docstring; :class:`core.dense.DenseSolver`,
+#: :class:`core.matrix_free.FFTSolver`, :class:`core.solver3d.PatchSolver`).
+STEP_SOLVERS = {"dense": DenseSolver, "fft": FFTSolver, "pcg3d": PatchSolver}
+#: The values of the ``solver`` keyword for a line contact.
 SOLVER_CHOICES = ("auto", "dense", "fft")
+#: The values of the ``solver`` keyword by grid shape (``"auto"`` picks one of the others).
+SOLVER_CHOICES_BY_GRID = {"line": SOLVER_CHOICES, "patch": ("auto", "pcg3d")}
 #: Elements above which ``solver="auto"`` picks "fft", measured by ``benchmarks/solver.py`` (docs/dev/
 #: benchmarks.md): the dense solver (interval inverses of the Toeplitz matrix, FFT residuals) is faster per
 #: rocking step at every size up to its grid cap (about 5x at 3800 elements: 1.1 ms against 5.6 ms a step,
@@ -41,23 +115,45 @@ SOLVER_CHOICES = ("auto", "dense", "fft")
 AUTO_CROSSOVER = MAX_ELEMENTS
 
 
-def select_solver(solver, n):
-    """The per-step solver class for ``solver`` (``"dense"``, ``"fft"`` or ``"auto"``) on ``n`` unknowns.
+def grid_shape(body) -> str:
+    """``"line"`` or ``"patch"``: the shape of a discretised body's grid (its ``shape`` has 1 or 2 entries)."""
+    dims = len(body.shape)
+    if dims not in (1, 2):
+        raise ValueError(f"a body's grid must be a line (n,) or a patch (ny, nx), got shape {body.shape}")
+    return "line" if dims == 1 else "patch"
+
+
+def check_solver(solver, shape="line", body=None):
+    """``solver`` if it is valid for a grid of ``shape``, else ValueError naming the valid choices."""
+    choices = SOLVER_CHOICES_BY_GRID[shape]
+    if not isinstance(solver, str) or solver not in choices:
+        what = f"body={body!r:.40} (a {shape} of elements)" if body is not None else f"a {shape} of elements"
+        other = [s for s, c in STEP_SOLVERS.items() if c.grid != shape]
+        hint = (f" ({', '.join(repr(s) for s in other)} solve{'s' if len(other) == 1 else ''} the other grid "
+                f"shape)" if solver in other else "")
+        raise ValueError(f"solver must be one of {choices} for {what}, got {solver!r:.60}{hint}")
+    return solver
+
+
+def select_solver(solver, n, shape="line"):
+    """The per-step solver class for ``solver`` on ``n`` unknowns of a grid of ``shape`` (``"line"``, ``"patch"``).
+
+    ``"auto"`` is ``"fft"`` above :data:`AUTO_CROSSOVER` elements of a line,
+    ``"dense"`` below, and ``"pcg3d"`` on a patch.
 
     Raises
     ------
     ValueError
-        If ``solver`` is not one of :data:`SOLVER_CHOICES`.
+        If ``solver`` is not one of ``SOLVER_CHOICES_BY_GRID[shape]``.
     """
-    if solver not in SOLVER_CHOICES:
-        raise ValueError(f"solver must be one of {SOLVER_CHOICES}, got {solver!r:.60}")
+    check_solver(solver, shape)
     if solver == "auto":
-        solver = "fft" if n > AUTO_CROSSOVER else "dense"
+        solver = "pcg3d" if shape == "patch" else ("fft" if n > AUTO_CROSSOVER else "dense")
     return STEP_SOLVERS[solver]
 
 
 def make_operator(step_solver, n, dx, kernel="plane", **options):
-    """The elastic operator (:mod:`core.operators`) in the form ``step_solver`` needs.
+    """The elastic operator (:mod:`core.operators`) of a line grid in the form ``step_solver`` needs.
 
     The dense matrix only for the dense solver; the FFT form (the kernel's
     column and its circulant spectra, never an ``n x n`` matrix) for the
@@ -66,7 +162,7 @@ def make_operator(step_solver, n, dx, kernel="plane", **options):
     Parameters
     ----------
     step_solver : type
-        A class of :data:`STEP_SOLVERS` (its ``form``: ``"dense"`` or ``"fft"``).
+        A line class of :data:`STEP_SOLVERS` (its ``form``: ``"dense"`` or ``"fft"``).
     n, dx, kernel, **options :
         As in :func:`core.operators.elastic_operator`.
     """
@@ -74,25 +170,33 @@ def make_operator(step_solver, n, dx, kernel="plane", **options):
 
 
 def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_periodic=True, shakedown_rtol=1e-3,
-        params=None, time_budget=None, cancel=None, progress=None, chunk=256, kernel="plane", u0=None):
-    """March a loading history on a body with an elastic operator and a per-step solver.
+        params=None, time_budget=None, cancel=None, progress=None, chunk=256, kernel="plane", u0=None,
+        solver_options=None):
+    """March a loading history on a discretised body with an elastic operator and a per-step solver.
 
     Parameters
     ----------
     body : object
-        A discretised body (e.g. :class:`core.bodies.Cylinder`): ``bounds``,
-        ``load_target``, ``edges``, ``dx``, ``name``.
+        A discretised body, a line of elements (:class:`core.bodies.Cylinder`
+        on a grid, :class:`core.bodies.LineGrid`) or a patch
+        (:class:`core.solver3d.PatchGrid`): see the protocol in the module docstring.
     operator : object
-        Elastic operator on the body's grid (:mod:`core.operators`; :func:`make_operator`
-        builds the form the solver needs).
+        Elastic operator on the body's grid (:mod:`core.operators` for a line,
+        :func:`make_operator` builds the form the solver needs; the windowed
+        half-space operator for a patch).
     history : Schedule
         The steps.
     solver : str
-        ``"dense"``, ``"fft"`` or ``"auto"`` (see :func:`select_solver`).
+        A name of :data:`STEP_SOLVERS` valid for the grid's shape, or ``"auto"``
+        (see :func:`select_solver`).
     tol, maxiter, detect_periodic, shakedown_rtol, params, time_budget, cancel, progress, chunk :
-        As in :func:`core.solve_schedule` (validated there).
+        As in :func:`core.solve_schedule` (validated there). ``maxiter`` None:
+        the solver's ``default_maxiter(n)``.
     kernel, u0 :
         Recorded on the result.
+    solver_options : dict, optional
+        Keyword options of the per-step solver (a patch: ``angle``,
+        ``periodic_tol``, the body's ``solver_options``).
 
     Returns
     -------
@@ -102,26 +206,39 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
         raise ValueError(f"history must be a core.Schedule, got {type(history).__name__}")
     t0 = time.perf_counter()
     n = operator.size
-    if body.shape != tuple(operator.shape):
+    if tuple(body.shape) != tuple(operator.shape):
         raise ValueError(f"the operator's shape {tuple(operator.shape)} differs from the body's grid {body.shape}")
-    maxiter = 50 + 2 * n if maxiter is None else maxiter
-    step_solver = select_solver(solver, n)(operator, element_size=body.dx, tol=tol, maxiter=maxiter)
+    shape = grid_shape(body)
+    cls = select_solver(solver, n, shape)
+    maxiter = cls.default_maxiter(n) if maxiter is None else maxiter
+    element_size = body.dx if shape == "line" else body.dx * body.dx
+    step_solver = cls(operator, element_size=element_size, tol=tol, maxiter=maxiter,
+                      **dict(solver_options or {}))
+    if hasattr(step_solver, "start"):
+        step_solver.start(history)
     steps = len(history)
-    out = Trajectory(steps, n)
+    out = cls.trajectory(history, body.shape)
     periodic = bool(detect_periodic) and history.is_periodic()
     load_scale = float(body.load_target(1.0))
-    bounds = np.empty((min(chunk, steps), n))
+    # a line grid fills a buffer of bounds; a patch grid returns one (ny, nx) array per step
+    buffer = np.empty((min(chunk, steps), n)) if shape == "line" else None
+    # mu p_min of the last period: tracked over the history's last block as it is marched (or, when the march
+    # stops at a repeated period, over that period's bounds at the end)
+    lowest, last_block = _Lowest(), int(history.period[-1])
     done, periodic_from = 0, -1
     budget_end = None if time_budget is None else t0 + time_budget
     while done < steps:
         k1 = min(steps, done + chunk)
-        body.bounds(history.xc[done:k1], history.P[done:k1], out=bounds[:k1 - done])
+        bounds = body.bounds(history.xc[done:k1], history.P[done:k1],
+                             out=None if buffer is None else buffer[:k1 - done])
         reached, periodic_from, failed = step_solver.march(bounds, history.Q, history.period, load_scale, done, k1,
                                                            periodic, out)
+        lowest.add(bounds, history.period[done:reached], last_block)
         if failed >= 0:
             res = max(step_solver.residuals.values())
-            raise SolverError(failed, history.xc[failed], res,
-                              "the active set did not settle" if np.isfinite(res) else "no feasible active set")
+            reason = getattr(step_solver, "failure", "") or (
+                "the active set did not settle" if np.isfinite(res) else "no feasible active set")
+            raise SolverError(failed, history.xc[failed], res, reason)
         done = reached
         if periodic_from >= 0:
             break
@@ -135,22 +252,47 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
                 progress(done / steps)
     if done < steps:
         _repeat_last_period(history.period, done, periodic_from, out)
+        block = np.flatnonzero(history.period == periodic_from)
+        rows = None if buffer is None else np.empty((block.size, n))
+        lowest.add(body.bounds(history.xc[block], history.P[block], out=rows), history.period[block], periodic_from)
     if progress is not None:
         progress(1.0)
     return CycleResult(
-        edges=body.edges, xc=history.xc, P=history.P, Q=history.Q, period=history.period,
-        traction=out.traction, state=out.state, displacement=out.displacement, dissipation=out.dissipation,
-        iterations=out.iterations, cg_iterations=out.cg_iterations, kkt_residual=out.kkt_residual, kernel=kernel,
-        u0=u0,
-        periodic_from=None if periodic_from < 0 else int(periodic_from),
-        params=dict(params or {}), tol=tol, shakedown_rtol=shakedown_rtol,
-        runtime=time.perf_counter() - t0, body=body.name,
-        body_spec=getattr(body, "body_spec", None), solver=step_solver.name, residuals=out.residuals(),
-    )
+        edges=body.edges, xc=history.xc, P=history.P, Q=history.Q, period=history.period, kernel=kernel, u0=u0,
+        periodic_from=None if periodic_from < 0 else int(periodic_from), params=dict(params or {}), tol=tol,
+        shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0, body=body.body_spec,
+        solver=step_solver.name, residuals=out.residuals(), lowest_pressure=lowest.value,
+        y_edges=getattr(body, "y_edges", None) if shape == "patch" else None,
+        nu=operator.nu if shape == "patch" else None, angle=float(getattr(step_solver, "angle", 0.0)),
+        **out.result_fields())
+
+
+class _Lowest:
+    """The lowest bound of each element over one block of steps (a period): ``mu p_min`` of the last period."""
+
+    def __init__(self):
+        self.value = None
+
+    def add(self, bounds, period, block):
+        """Take the rows of ``bounds`` (an array, or a list of arrays) whose steps are in ``block`` (their
+        periods are ``period``, one per row; the block's rows are contiguous)."""
+        rows = np.flatnonzero(period == block)
+        if rows.size == 0:
+            return
+        i0, i1 = int(rows[0]), int(rows[-1]) + 1
+        if isinstance(bounds, np.ndarray):
+            low = bounds[i0:i1].min(axis=0)
+        else:
+            low = functools.reduce(np.minimum, bounds[i0 + 1:i1], bounds[i0].copy())
+        if self.value is None:
+            self.value = low
+        else:
+            np.minimum(self.value, low, out=self.value)
 
 
 def _repeat_last_period(period, done, p, out):
-    """Fill steps ``done:`` by repeating period ``p`` (its displacement advancing by its increment)."""
+    """Fill steps ``done:`` by repeating period ``p``: every per-step array of ``out.copied()`` is copied, the
+    displacement (a scalar or a vector per step) advances by the period's increment, iterations are 0."""
     block = np.flatnonzero(period == p)
     m = block.size
     start = block[0]
@@ -160,10 +302,13 @@ def _repeat_last_period(period, done, p, out):
     rest = np.arange(done, period.size)
     src = start + (rest - done) % m
     repeats = 1 + (rest - done) // m
-    out.traction[rest] = out.traction[src]
-    out.state[rest] = out.state[src]
-    disp[rest] = disp[src] + repeats * increment
-    out.dissipation[rest] = out.dissipation[src]
+    for arr in out.copied():
+        arr[rest] = arr[src]
+    disp[rest] = disp[src] + repeats.reshape((-1,) + (1,) * (disp.ndim - 1)) * increment
+    rot = getattr(out, "rotation", None)
+    if rot is not None:  # a patch free to turn about the normal (a cone): the rotation advances like the displacement
+        rot[rest] = rot[src] + repeats * (rot[block[-1]] - (rot[start - 1] if start > 0 else 0.0))
     out.iterations[rest] = 0
     out.cg_iterations[rest] = 0
-    out.kkt_residual[rest] = out.kkt_residual[src]
+    if hasattr(out, "repeat_snapshots"):
+        out.repeat_snapshots(done, rest, src)

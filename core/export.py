@@ -1,6 +1,5 @@
-"""Export a run (:class:`~core.result.CycleResult` of the cylinder, or
-:class:`~core.solver3d.PointContactResult` of a sphere or an ellipsoid) as tidy tables, CSV or JSON,
-with its parameters.
+"""Export a run (a :class:`~core.result.CycleResult`, on a line of elements: the cylinder, the punch; or on
+a patch: a sphere, an ellipsoid, a height map) as tidy tables, CSV or JSON, with its parameters.
 
 Three tables describe a run:
 
@@ -37,27 +36,25 @@ from .analytical import shakedown_traction
 from .contact import Contact
 from .point_contact import PointContact
 from .result import CycleResult
-from .solver3d import PointContactResult
 from .states import STATE_NAMES, ZONE_NAMES
 
 __all__ = ["TABLES", "ZONE_NAMES", "POINT_STATE_NAMES", "parameters", "result_table", "to_csv", "to_json"]
 
 #: Names of the tables of a run.
 TABLES = ("steps", "periods", "final")
-#: Names of a point contact's element states (``PointContactResult.state_cut``), by code.
+#: Names of a point contact's element states (``CycleResult.state`` on a patch's cut), by code.
 POINT_STATE_NAMES = ("released", "stick", "slip +x", "slip -x")
 
 
 def _check(result, contact, first_period=0):
-    if isinstance(result, PointContactResult):
+    if not isinstance(result, CycleResult):
+        raise ValueError(f"result must be a core.CycleResult, got {type(result).__name__}")
+    if result.is_patch:
         if contact is not None and not isinstance(contact, PointContact):
             raise ValueError(f"contact must be a core.PointContact or None for a point-contact run, "
                              f"got {type(contact).__name__}")
-    elif isinstance(result, CycleResult):
-        if contact is not None and not isinstance(contact, Contact):
-            raise ValueError(f"contact must be a core.Contact or None, got {type(contact).__name__}")
-    else:
-        raise ValueError(f"result must be a core.CycleResult or core.PointContactResult, got {type(result).__name__}")
+    elif contact is not None and not isinstance(contact, Contact):
+        raise ValueError(f"contact must be a core.Contact or None, got {type(contact).__name__}")
     if isinstance(first_period, bool) or not isinstance(first_period, (int, np.integer)) or not 0 <= first_period <= 1:
         raise ValueError(f"first_period must be 0 or 1, got {first_period!r}")
 
@@ -85,7 +82,7 @@ def parameters(result: CycleResult, contact: Contact | None = None) -> dict:
 
     Parameters
     ----------
-    result : CycleResult or PointContactResult
+    result : CycleResult
         The run.
     contact : Contact or PointContact, optional
         The contact in physical units; adds its inputs and derived quantities
@@ -106,7 +103,7 @@ def parameters(result: CycleResult, contact: Contact | None = None) -> dict:
     out = dict(result.summary())
     if contact is not None:
         out.update({f"contact_{k}": v for k, v in _contact_summary(contact).items()})
-        unit = "muFn_Estar_a_m" if isinstance(result, PointContactResult) else "muP_Estar_m"
+        unit = "muFn_Estar_a_m" if result.is_patch else "muP_Estar_m"
         out.update({"a_m": contact.a, "mu_p0_Pa": contact.traction_unit, unit: contact.displacement_unit})
     return {k: (v.item() if isinstance(v, np.generic) else v) for k, v in out.items()}
 
@@ -116,7 +113,7 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
 
     Parameters
     ----------
-    result : CycleResult or PointContactResult
+    result : CycleResult
         The run.
     table : {"steps", "periods", "final"}
         Which table.
@@ -148,7 +145,7 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
     _check(result, contact, first_period)
     if table not in TABLES:
         raise ValueError(f"table must be one of {TABLES}, got {table!r}")
-    if isinstance(result, PointContactResult):
+    if result.is_patch:
         return _point_table(result, table, contact, first_period)
     u_unit = None if contact is None else contact.displacement_unit
     if table == "steps":
@@ -192,7 +189,7 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
     return df
 
 
-def _point_table(result: PointContactResult, table: str, contact, first_period: int) -> pd.DataFrame:
+def _point_table(result: CycleResult, table: str, contact, first_period: int) -> pd.DataFrame:
     """:func:`result_table` of a point-contact run."""
     u_unit = None if contact is None else contact.displacement_unit
     if table == "steps":

@@ -65,7 +65,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _pcg
-from .dense import RESIDUALS, StepReport, Trajectory
+from .dense import RESIDUALS, DenseSolver, StepReport, Trajectory
 from .operators import fft_size
 from .result import read_only
 
@@ -198,6 +198,10 @@ class FFTSolver:
     name = "fft"
     #: The operator form :func:`core.solver.solve_schedule` builds for this solver.
     form = "fft"
+    #: The grid shape it solves (:func:`core.engine.grid_shape`).
+    grid = "line"
+    default_maxiter = staticmethod(DenseSolver.default_maxiter)
+    trajectory = staticmethod(DenseSolver.trajectory)
 
     def __init__(self, operator, *, element_size, tol, maxiter, warm_increment=True):
         self._N, self._spec, self._pre = _embedding(operator)
@@ -221,6 +225,12 @@ class FFTSolver:
     def total(self) -> float:
         """Rigid-body displacement so far [mu P/E*]."""
         return float(self._total[0])
+
+    @property
+    def periodic_tol(self) -> float:
+        """Traction tolerance [mu p0] of the periodic detection (:mod:`core.engine`): the KKT tolerance, as the
+        dense solver's (the compiled march compares with it)."""
+        return self.tol
 
     @property
     def traction(self) -> np.ndarray:

@@ -86,7 +86,7 @@ def time_in_periods(result) -> np.ndarray:
 
     Parameters
     ----------
-    result : CycleResult or PointContactResult
+    result : CycleResult
         A run (its ``period`` array numbers each step's period).
 
     Returns

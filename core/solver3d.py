@@ -52,6 +52,12 @@ round-off directions from CG (fewer CG iterations per step); the result equals
 the full solver's to its tolerance (``tests/test_solver3d.py``).
 Measured figures and iterations per step: ``benchmarks/solver3d.py``.
 
+In the package this is the per-step solver of a patch of elements,
+:class:`PatchSolver` (``"pcg3d"`` in :data:`core.engine.STEP_SOLVERS`), on a
+point body's grid, :class:`PatchGrid`: :func:`solve_point_schedule` and
+:func:`simulate_point_contact` build them and call :func:`core.engine.run`,
+the one run loop of every body, which returns a :class:`core.CycleResult`.
+
 References
 ----------
 .. [1] J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990.
@@ -63,9 +69,7 @@ References
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass, field
-from functools import cached_property
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.special import ellipe, ellipk
@@ -76,18 +80,24 @@ from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
 from .normal import PatchOperator, solve_normal
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
 from .resolution import DEFAULT_DX_POINT, default_dx
-from .result import PeriodVerdict, SolveCancelled, SolverError, STICK_MARGIN, central_halfwidth
+from .result import PointContactResult, STICK_MARGIN, central_halfwidth, read_only  # noqa: F401 (the alias)
 from .schedule import Schedule, rocking_schedule
+from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
-__all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "mindlin_state",
+__all__ = ["solve_increment", "twist_field", "simulate_point_contact", "solve_point_schedule", "solve_static_3d",
+           "solve_static_patch", "PatchGrid", "PatchSolver", "PatchTrajectory", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
            "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
-#: Names of the per-step residuals (see :func:`solve_increment`).
-RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "load_balance")
+#: Names of the per-step residuals (see :func:`solve_increment`): the one set of every solver,
+#: :data:`core.states.RESIDUAL_NAMES`.
+RESIDUAL_NAMES = _RESIDUAL_NAMES
 #: Default KKT tolerance of the 3D steps (tractions in mu p0, slips in mu Fn/(E* a), loads in mu Fn).
 TOL_3D = 1e-8
-#: Change of the traction [mu p0] between the ends of two periods below which the state counts as periodic.
+#: The patch solver's ``periodic_tol``: change of the traction [mu p0] between the ends of two blocks below
+#: which the state counts as periodic (the one rule of :mod:`core.engine`; the line solvers' is their KKT
+#: tolerance). The CG solves are inexact (forcing term :data:`_CG_FORCING`, acceptance at ``10 tol``), so a
+#: period repeats to about ``10 TOL_3D``, not to round-off: 100 ``TOL_3D``.
 PERIODIC_TOL = 1e-6
 #: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
 #: w = 0.6) is 0.1742, 0.1779, 0.1790, 0.1797 at a/5, a/10, a/20, a/40 with the discrete normal bound
@@ -151,17 +161,21 @@ def _symmetrize(v):
 
 
 @jit
-def _project(pxx, pyy, pxy, minv, v, out, mirror):
-    """``out = P v``: the orthogonal projection on {x in V, sum x = 0}, compiled.
+def _project(pxx, pyy, pxy, minv, v, out, mirror, tv=None):
+    """``out = P v``: the orthogonal projection on {x in V, C x = 0}, compiled.
 
     V holds both components on stick elements and ``d_perp`` on slipping ones:
     ``P_i = [[pxx, pxy], [pxy, pyy]]`` per element (the identity, ``d_perp
-    d_perp^T`` or 0), ``minv`` the inverse of their sum ``M``; the constant
-    ``M^-1 sum P_i v_i`` is removed so that ``sum P v = 0``.
+    d_perp^T`` or 0). ``C`` holds the constraints: the two force sums, and with
+    the twist (``tv``, the rigid slip ``(-(y - y_c), x - x_c)`` of a unit
+    rotation about the normal at each element) the moment ``sum tv . x``;
+    ``minv`` is the inverse of ``M = C P C^T`` (2 x 2, or 3 x 3 with the
+    twist) and ``P C^T M^-1 C P v`` is removed from ``P v``.
     """
     ny, nx = pxx.shape
     s0 = 0.0
     s1 = 0.0
+    s2 = 0.0
     for i in range(ny):
         for j in range(nx):
             a, b = v[0, i, j], v[1, i, j]
@@ -171,12 +185,25 @@ def _project(pxx, pyy, pxy, minv, v, out, mirror):
             out[1, i, j] = y1
             s0 += y0
             s1 += y1
-    m0 = minv[0, 0] * s0 + minv[0, 1] * s1
-    m1 = minv[1, 0] * s0 + minv[1, 1] * s1
-    for i in range(ny):
-        for j in range(nx):
-            out[0, i, j] -= pxx[i, j] * m0 + pxy[i, j] * m1
-            out[1, i, j] -= pxy[i, j] * m0 + pyy[i, j] * m1
+            if tv is not None:
+                s2 += tv[0, i, j] * y0 + tv[1, i, j] * y1
+    if tv is None:
+        m0 = minv[0, 0] * s0 + minv[0, 1] * s1
+        m1 = minv[1, 0] * s0 + minv[1, 1] * s1
+        for i in range(ny):
+            for j in range(nx):
+                out[0, i, j] -= pxx[i, j] * m0 + pxy[i, j] * m1
+                out[1, i, j] -= pxy[i, j] * m0 + pyy[i, j] * m1
+    else:
+        m0 = minv[0, 0] * s0 + minv[0, 1] * s1 + minv[0, 2] * s2
+        m1 = minv[1, 0] * s0 + minv[1, 1] * s1 + minv[1, 2] * s2
+        m2 = minv[2, 0] * s0 + minv[2, 1] * s1 + minv[2, 2] * s2
+        for i in range(ny):
+            for j in range(nx):
+                c0 = m0 + m2 * tv[0, i, j]
+                c1 = m1 + m2 * tv[1, i, j]
+                out[0, i, j] -= pxx[i, j] * c0 + pxy[i, j] * c1
+                out[1, i, j] -= pxy[i, j] * c0 + pyy[i, j] * c1
     if mirror:
         _symmetrize(out)
 
@@ -190,7 +217,7 @@ def _convolve(q, hxx, hyy, hxy, py, px, mirror):
 
 
 @jit
-def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror):
+def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror, tv=None):
     """``z = P M r``: the inverse continuous symbol on the stick set, ``r/(curv + K_ii)`` on slip corrections."""
     ny, nx = stick.shape
     w = np.empty((2, ny, nx))
@@ -204,11 +231,11 @@ def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror):
             for j in range(nx):
                 if not stick[i, j]:
                     zs[c, i, j] = r[c, i, j] * slip_diag[i, j]
-    _project(pxx, pyy, pxy, minv, zs, z, mirror)
+    _project(pxx, pyy, pxy, minv, zs, z, mirror, tv)
 
 
 @jit
-def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, maxiter, mirror):
+def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, maxiter, mirror, tv=None):
     """Projected preconditioned CG for ``P (K dq + curv x) = 0``, ``dq = dq_fixed + x``, ``x`` in V.
 
     ``Kdq`` is ``K dq`` of the starting ``x``; both are updated in place.
@@ -216,7 +243,8 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     (:meth:`core.halfspace.HalfSpaceOperator.spectra`). Preconditioner: the
     inverse continuous symbol on the stick set, the inverse diagonal
     ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
-    Returns the iterations and the largest residual component.
+    With ``tv`` (the twist's rigid slip field) the projection also holds the
+    moment (:func:`_project`). Returns the iterations and the largest residual component.
     """
     ny, nx = stick.shape
     r = np.empty((2, ny, nx))
@@ -225,8 +253,8 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     tmp = np.empty((2, ny, nx))
     for c in range(2):
         tmp[c] = -Kdq[c] - curv * x[c]
-    _project(pxx, pyy, pxy, minv, tmp, r, mirror)
-    _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror)
+    _project(pxx, pyy, pxy, minv, tmp, r, mirror, tv)
+    _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror, tv)
     p = z.copy()
     rz = np.sum(r * z)
     rmax = np.abs(r).max()
@@ -242,7 +270,7 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
             for i in range(ny):
                 for j in range(nx):
                     tmp[c, i, j] = Kp[c, i, j] + curv[i, j] * p[c, i, j]
-        _project(pxx, pyy, pxy, minv, tmp, Ap, mirror)
+        _project(pxx, pyy, pxy, minv, tmp, Ap, mirror, tv)
         pAp = 0.0
         for c in range(2):
             for i in range(ny):
@@ -259,7 +287,7 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
                     Kdq[c, i, j] += alpha * Kp[c, i, j]
                     r[c, i, j] -= alpha * Ap[c, i, j]
                     rmax = max(rmax, abs(r[c, i, j]))
-        _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror)
+        _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror, tv)
         rz_new = 0.0
         for c in range(2):
             for i in range(ny):
@@ -277,6 +305,21 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
 
 
 @jit
+def _inverse3(m00, m01, m02, m11, m12, m22, out):
+    """``out`` = the inverse of the symmetric 3 x 3 matrix ``[[m00, m01, m02], [m01, m11, m12], [m02, m12, m22]]``."""
+    c00 = m11 * m22 - m12 * m12
+    c01 = m02 * m12 - m01 * m22
+    c02 = m01 * m12 - m02 * m11
+    c11 = m00 * m22 - m02 * m02
+    c12 = m01 * m02 - m00 * m12
+    c22 = m00 * m11 - m01 * m01
+    det = m00 * c00 + m01 * c01 + m02 * c02
+    out[0, 0], out[0, 1], out[0, 2] = c00 / det, c01 / det, c02 / det
+    out[1, 0], out[1, 1], out[1, 2] = c01 / det, c11 / det, c12 / det
+    out[2, 0], out[2, 1], out[2, 2] = c02 / det, c12 / det, c22 / det
+
+
+@jit
 def _signature(kind):
     """A 64-bit FNV-1a hash of the element kinds: equal active sets give equal signatures."""
     h = np.uint64(14695981039346656037)
@@ -289,7 +332,7 @@ def _signature(kind):
 
 @jit
 def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, tol, maxiter, cg_maxiter, measure,
-                      mirror):
+                      mirror, tv=None):
     """The active-set / semismooth Newton loop of :func:`solve_increment`, compiled.
 
     Updates ``kind``, ``d`` and ``wcurv`` in place; returns the final traction
@@ -314,6 +357,16 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
     violator changes its kind per iteration (a least-violation pivoting rule,
     as Murty's for P-matrix LCPs), with the slip directions iterated to
     convergence between changes. A cycle in stage 2 stops with status 2.
+
+    Twist. With ``tv`` (shape ``(2, ny, nx)``: the rigid slip ``(-(y - y_c),
+    x - x_c)`` of a unit rotation about the normal at each element) the
+    increment has a third rigid unknown, the rotation ``phi`` about the
+    normal through ``(x_c, y_c)``: the slip is ``s = lam + phi tv - K dq``,
+    and the moment ``sum tv . q dA`` is held at ``target[2]`` (its
+    multiplier is ``phi``; ``lam`` is then the translation of the point
+    ``(x_c, y_c)``). Returned ``lam`` has three entries, ``phi`` last (0
+    without the twist). Without ``tv`` numba compiles the kernel without the
+    twist's terms (the ``tv is None`` branches are pruned).
     """
     ny, nx = g.shape
     contact = g > 0.0
@@ -342,8 +395,8 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
     Kdq = np.empty((2, ny, nx))
     stick = np.zeros((ny, nx), np.bool_)
     slip = np.zeros((ny, nx), np.bool_)
-    minv = np.empty((2, 2))
-    lam = np.zeros(2)
+    minv = np.zeros((3, 3))  # the 2 x 2 block without the twist
+    lam = np.zeros(3)
     cg_total = 0
     worst = np.inf
     over_max = wrong_max = tangent = cg_res = np.inf
@@ -366,9 +419,19 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
                     if contact[i, j] and g[i, j] > bg:
                         bi, bj, bg = i, j, g[i, j]
             kind[bi, bj] = _STICK
+            nstick = 1
+        if tv is not None:
+            if nstick == 1:  # the moment needs a second free element (two positions make M regular)
+                bi, bj, bg = -1, -1, -1.0
+                for i in range(ny):
+                    for j in range(nx):
+                        if contact[i, j] and kind[i, j] != _STICK and g[i, j] > bg:
+                            bi, bj, bg = i, j, g[i, j]
+                if bi >= 0:
+                    kind[bi, bj] = _STICK
         # ---- the projector of this active set and the fixed part of the traction
-        m00 = m01 = m11 = 0.0
-        b0 = b1 = 0.0
+        m00 = m01 = m11 = m02 = m12 = m22 = 0.0
+        b0 = b1 = b2 = 0.0
         for i in range(ny):
             for j in range(nx):
                 st = kind[i, j] == _STICK
@@ -390,35 +453,55 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
                 m01 += pxy[i, j]
                 b0 += base[0, i, j]
                 b1 += base[1, i, j]
-        det = m00 * m11 - m01 * m01  # > 0: at least one stick element
-        minv[0, 0], minv[0, 1], minv[1, 0], minv[1, 1] = m11 / det, -m01 / det, -m01 / det, m00 / det
-        D0, D1 = target[0] / dA - b0, target[1] / dA - b1
-        c0 = minv[0, 0] * D0 + minv[0, 1] * D1
-        c1 = minv[1, 0] * D0 + minv[1, 1] * D1
+                if tv is not None:
+                    t0, t1 = tv[0, i, j], tv[1, i, j]
+                    m02 += pxx[i, j] * t0 + pxy[i, j] * t1
+                    m12 += pxy[i, j] * t0 + pyy[i, j] * t1
+                    m22 += t0 * (pxx[i, j] * t0 + pxy[i, j] * t1) + t1 * (pxy[i, j] * t0 + pyy[i, j] * t1)
+                    b2 += t0 * base[0, i, j] + t1 * base[1, i, j]
+        D0, D1, D2 = target[0] / dA - b0, target[1] / dA - b1, 0.0
+        if tv is None:
+            det = m00 * m11 - m01 * m01  # > 0: at least one stick element
+            minv[0, 0], minv[0, 1], minv[1, 0], minv[1, 1] = m11 / det, -m01 / det, -m01 / det, m00 / det
+        else:  # M = C P C^T with the moment's row: regular with two stick elements at different places
+            D2 = target[2] / dA - b2
+            _inverse3(m00, m01, m02, m11, m12, m22, minv)
+        c0 = minv[0, 0] * D0 + minv[0, 1] * D1 + minv[0, 2] * D2
+        c1 = minv[1, 0] * D0 + minv[1, 1] * D1 + minv[1, 2] * D2
+        c2 = minv[2, 0] * D0 + minv[2, 1] * D1 + minv[2, 2] * D2
         # ---- the linear problem of this active set (warm start projected on its space, plus the particular part)
-        _project(pxx, pyy, pxy, minv, x, x0, False)
+        _project(pxx, pyy, pxy, minv, x, x0, False, tv)
         for i in range(ny):
             for j in range(nx):
-                x0[0, i, j] += pxx[i, j] * c0 + pxy[i, j] * c1
-                x0[1, i, j] += pxy[i, j] * c0 + pyy[i, j] * c1
+                e0, e1 = c0, c1
+                if tv is not None:
+                    e0 += c2 * tv[0, i, j]
+                    e1 += c2 * tv[1, i, j]
+                x0[0, i, j] += pxx[i, j] * e0 + pxy[i, j] * e1
+                x0[1, i, j] += pxy[i, j] * e0 + pyy[i, j] * e1
         if mirror:
             _symmetrize(x0)
         Kdq = _convolve(base - q_prev + x0, spec[0], spec[1], spec[2], spec[3], spec[4], mirror)
         cg_tol = 0.1 * tol if stage > 0 else max(0.1 * tol, _CG_FORCING * measure)
         its, cg_res = _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x0, Kdq, cg_tol, cg_maxiter,
-                                  mirror)
+                                  mirror, tv)
         x = x0.copy()
         cg_total += its
         # ---- the multipliers, the traction and the slips
-        y0 = y1 = 0.0
+        y0 = y1 = y2 = 0.0
         for i in range(ny):
             for j in range(nx):
                 v0 = Kdq[0, i, j] + curv[i, j] * x[0, i, j]
                 v1 = Kdq[1, i, j] + curv[i, j] * x[1, i, j]
-                y0 += pxx[i, j] * v0 + pxy[i, j] * v1
-                y1 += pxy[i, j] * v0 + pyy[i, j] * v1
-        lam[0] = minv[0, 0] * y0 + minv[0, 1] * y1
-        lam[1] = minv[1, 0] * y0 + minv[1, 1] * y1
+                w0 = pxx[i, j] * v0 + pxy[i, j] * v1
+                w1 = pxy[i, j] * v0 + pyy[i, j] * v1
+                y0 += w0
+                y1 += w1
+                if tv is not None:
+                    y2 += tv[0, i, j] * w0 + tv[1, i, j] * w1
+        lam[0] = minv[0, 0] * y0 + minv[0, 1] * y1 + minv[0, 2] * y2
+        lam[1] = minv[1, 0] * y0 + minv[1, 1] * y1 + minv[1, 2] * y2
+        lam[2] = minv[2, 0] * y0 + minv[2, 1] * y1 + minv[2, 2] * y2
         # ---- check: bounds on the stick set, slip direction on the slip set
         over_max = -np.inf
         wrong_max = -np.inf
@@ -429,7 +512,10 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
             for j in range(nx):
                 for c in range(2):
                     q[c, i, j] = base[c, i, j] + x[c, i, j]
-                    s[c, i, j] = lam[c] - Kdq[c, i, j] if contact[i, j] else 0.0
+                    rigid = lam[c]
+                    if tv is not None:
+                        rigid += lam[2] * tv[c, i, j]
+                    s[c, i, j] = rigid - Kdq[c, i, j] if contact[i, j] else 0.0
                 if stick[i, j]:
                     over[i, j] = math.hypot(q[0, i, j], q[1, i, j]) - g[i, j]
                     over_max = max(over_max, over[i, j])
@@ -575,7 +661,35 @@ def _failure(status, stage, it, maxiter, cg_maxiter, tol, over, wrong, tangent, 
     return f"{why}; unmet: {unmet} (worst violation {max(over, wrong):.3g})"
 
 
-def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
+def twist_field(x_edges, y_edges, centre):
+    """The rigid slip ``(-(y - y_c), x - x_c)`` [a] of a unit rotation about the normal through ``centre``.
+
+    At the element centres of the grid ``x_edges``, ``y_edges``: the ``twist``
+    argument of :func:`solve_increment` for a body free to turn about the
+    normal through ``centre = (x_c, y_c)`` [a] (a point on the line of action
+    of the tangential force).
+
+    Returns
+    -------
+    ndarray, shape (2, ny, nx)
+    """
+    xc, yc = (float(v) for v in centre)
+    x = 0.5 * (np.asarray(x_edges[1:], float) + np.asarray(x_edges[:-1], float))
+    y = 0.5 * (np.asarray(y_edges[1:], float) + np.asarray(y_edges[:-1], float))
+    out = np.empty((2, y.size, x.size))
+    out[0] = -(y - yc)[:, None]
+    out[1] = (x - xc)[None, :]
+    return out
+
+
+def _moment_residual(q, twist, target, dA):
+    """``|sum twist . q dA - target[2]|`` over the largest arm: the moment balance as a force [mu p0 a^2]."""
+    arm = max(float(np.abs(twist).max()), 1e-300)
+    moment = float(np.sum(twist * q)) * dA
+    return abs(moment - (float(target[2]) if len(target) > 2 else 0.0)) / arm
+
+
+def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500, twist=None):
     """Solve one increment of the 3D tangential problem (see the module docstring).
 
     Parameters
@@ -586,8 +700,9 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         Traction bounds ``mu p`` [mu p0]; 0 out of contact.
     q_prev : ndarray, shape (2, ny, nx)
         Tractions after the previous step [mu p0].
-    target : ndarray, shape (2,)
-        Required ``sum q dA`` [mu p0 a^2].
+    target : ndarray, shape (2,) or (3,)
+        Required ``sum q dA`` [mu p0 a^2]; with ``twist``, a third entry: the
+        required moment ``sum twist . q dA`` [mu p0 a^3] (0 if omitted).
     dA : float
         Element area [a^2].
     warm : _WarmStart
@@ -596,6 +711,13 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         KKT tolerance (tractions [mu p0], slips [displacement unit]).
     maxiter, cg_maxiter : int
         Largest numbers of active-set and CG iterations.
+    twist : ndarray, shape (2, ny, nx), optional
+        The body is also free to turn about the normal: the rigid slip of a
+        unit rotation at each element (:func:`twist_field`, ``(-(y - y_c), x -
+        x_c)`` [a]). The increment then has a third rigid unknown, the rotation
+        ``phi`` [displacement unit / a], with the slip ``lam + phi twist - K
+        dq`` and the moment balance above; ``lam`` is the translation of
+        ``(x_c, y_c)``. Default None: no rotation (the two force balances only).
 
     Returns
     -------
@@ -608,9 +730,10 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     info : dict
         ``iterations`` (active set), ``cg_iterations``, ``fallback`` (the
         stage of the cycle fallback reached: 0 none, 1 exact linear solves, 2
-        one change of kind per iteration; see :func:`_increment_kernel`) and
-        the residuals of :data:`RESIDUAL_NAMES` (``load_balance`` in
-        ``sum q dA`` units).
+        one change of kind per iteration; see :func:`_increment_kernel`),
+        ``twist`` (``phi``, 0 without ``twist``) and the residuals of
+        :data:`RESIDUAL_NAMES` (``load_balance`` in ``sum q dA`` units; with
+        the twist, also the moment's residual over the largest arm).
 
     Raises
     ------
@@ -623,13 +746,21 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     g, q_prev = (np.require(a, np.float64, ["C", "W"]) for a in (g, q_prev))
     warm.kind = np.require(warm.kind, np.int8, ["C", "W"])
     warm.d, warm.curv, warm.x = (np.require(a, np.float64, ["C", "W"]) for a in (warm.d, warm.curv, warm.x))
+    target = np.asarray(target, dtype=float)
+    if twist is not None:
+        twist = np.require(twist, np.float64, ["C", "W"])
+        if twist.shape != q_prev.shape:
+            raise ValueError(f"twist must have the shape {q_prev.shape} of q_prev, got {twist.shape}")
+        target = np.concatenate([target[:3], np.zeros(3 - min(target.size, 3))])
     contact = g > 0
     kind, d = warm.kind, warm.d
     kind[~contact] = _OUT
     kind[contact & (kind == _OUT)] = _STICK
     mag_prev = np.hypot(q_prev[0], q_prev[1])
     # ---- the zero increment, if feasible, is the unique solution
-    balance = np.abs(q_prev.sum(axis=(1, 2)) * dA - target).max()
+    balance = np.abs(q_prev.sum(axis=(1, 2)) * dA - target[:2]).max()
+    if twist is not None:
+        balance = max(balance, _moment_residual(q_prev, twist, target, dA))
     if (not np.any(q_prev[:, ~contact])) and np.all(mag_prev <= g + tol) and balance <= tol:
         kind[(kind == _SLIP) & (mag_prev < g - tol)] = _STICK
         warm.x[:] = 0.0
@@ -637,16 +768,29 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         info = dict(iterations=0, cg_iterations=0, stick_slip=0.0, bound=max(float((mag_prev - g).max()), 0.0),
                     slip_direction=0.0, out_of_contact=0.0, load_balance=float(balance))
         info["fallback"] = 0
+        info["twist"] = 0.0
         return q_prev.copy(), zero, np.zeros(2), info
     measure = max(float((mag_prev - g).max()), balance)
     # at nu = 0 the y problem decouples and the full products keep q_y exactly 0 (the half-cost ones to round-off)
-    gm, qm = _mirror_symmetric(g, q_prev, target, warm) if op.nu > 0 else (None, None)
+    tv = twist
+    mirror_ok = op.nu > 0
+    if twist is not None and mirror_ok:
+        # a mirror-symmetric increment has no moment about a point on the centre row (q_x even, q_y odd against
+        # twist_x odd, twist_y even): the rotation is 0 by symmetry and the half-cost path drops it; a centre off
+        # that row (or a moment required) breaks the symmetry
+        ny = g.shape[0]
+        ts = max(float(np.abs(twist).max()), 1e-300)
+        mirror_ok = (ny % 2 == 1 and target[2] == 0.0
+                     and np.abs(twist[0] + twist[0, ::-1]).max() <= _MIRROR_RTOL * ts
+                     and np.abs(twist[1] - twist[1, ::-1]).max() <= _MIRROR_RTOL * ts)
+    gm, qm = _mirror_symmetric(g, q_prev, target[:2], warm) if mirror_ok else (None, None)
     mirror = gm is not None
     if mirror:
         g, q_prev = gm, qm
+        tv = None
     q, s, lam, Kdq, x, stick, it, cg_total, status, stage, over, wrong, tangent, cg_res = _increment_kernel(
-        op.spectra(), op.self_influence, g, q_prev, np.asarray(target, float), float(dA), kind, d, warm.curv, warm.x,
-        float(tol), int(maxiter), int(cg_maxiter), float(measure), mirror)
+        op.spectra(), op.self_influence, g, q_prev, target, float(dA), kind, d, warm.curv, warm.x,
+        float(tol), int(maxiter), int(cg_maxiter), float(measure), mirror, tv)
     if status != 0:
         raise RuntimeError(_failure(status, stage, it, maxiter, cg_maxiter, tol, over, wrong, tangent, cg_res))
     if mirror:  # exactly symmetric results (the solver's sums leave round-off in the lower half)
@@ -660,15 +804,19 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     e = q / np.where(qn > 0, qn, 1.0)
     along = e[0] * s[0] + e[1] * s[1]
     direction = np.where(slipping, np.maximum(np.abs(e[0] * s[1] - e[1] * s[0]), -along), 0.0)
+    rigid = lam[:2, None, None] + (lam[2] * tv if tv is not None else 0.0)
+    load = float(np.abs(q.sum(axis=(1, 2)) * dA - target[:2]).max())
+    if twist is not None:
+        load = max(load, _moment_residual(q, twist, target, dA))
     info = dict(
-        iterations=it, cg_iterations=cg_total, fallback=int(stage),
-        stick_slip=float(np.abs(np.where(stick, lam[:, None, None] - Kdq, 0.0)).max()),
+        iterations=it, cg_iterations=cg_total, fallback=int(stage), twist=float(lam[2]),
+        stick_slip=float(np.abs(np.where(stick, rigid - Kdq, 0.0)).max()),
         bound=max(float((np.hypot(q[0], q[1]) - g).max()), 0.0),
         slip_direction=float(direction.max()),
         out_of_contact=float(np.abs(q[:, ~contact]).max()) if (~contact).any() else 0.0,
-        load_balance=float(np.abs(q.sum(axis=(1, 2)) * dA - target).max()),
+        load_balance=load,
     )
-    return q, s, lam, info
+    return q, s, lam[:2].copy(), info
 
 
 class _Window:
@@ -680,10 +828,15 @@ class _Window:
     after the step, and slips there are not needed. The FFTs shrink from the
     whole rocking range to the contact's size. Widths are rounded up to a
     multiple of :data:`_WINDOW_QUANTUM` elements so that a few operators serve a run.
+
+    It is the elastic operator of a patch grid as :func:`core.engine.run` sees
+    it: ``shape`` ``(ny, nx)``, ``size`` (elements) and ``nu``.
     """
 
     def __init__(self, ny, nx, h, nu, scale):
         self.shape, self.args = (ny, nx), (h, nu, scale)
+        self.size = ny * nx
+        self.nu = nu
         self.ops = {}
 
     def operator(self, shape):
@@ -700,13 +853,18 @@ class _Window:
         lo = min(max(i0 - (width - (i1 - i0)) // 2, 0), n - width)
         return slice(lo, lo + width)
 
-    def solve(self, g, q_prev, target, dA, warm, tol):
+    def solve(self, g, q_prev, target, dA, warm, tol, **options):
+        """:func:`solve_increment` on the window; ``options`` (``maxiter``, ``cg_maxiter``, a body's own) pass to it
+        (a ``twist`` field, given on the whole grid, cut to the window)."""
         used = (g > 0) | (q_prev != 0).any(axis=0)
         win = (self._span(used.any(axis=1), self.shape[0]), self._span(used.any(axis=0), self.shape[1]))
+        if options.get("twist") is not None:
+            options = dict(options, twist=np.ascontiguousarray(options["twist"][(slice(None),) + win]))
         part = _WarmStart(*(np.ascontiguousarray(a[(Ellipsis,) + win]) for a in (warm.kind, warm.d, warm.curv, warm.x)))
         try:
             q, s, lam, info = solve_increment(self.operator(part.kind.shape), np.ascontiguousarray(g[win]),
-                                              np.ascontiguousarray(q_prev[(slice(None),) + win]), target, dA, part, tol)
+                                              np.ascontiguousarray(q_prev[(slice(None),) + win]), target, dA, part, tol,
+                                              **options)
         finally:
             warm.kind[win], warm.d[(slice(None),) + win], warm.curv[win] = part.kind, part.d, part.curv
         warm.x = np.zeros_like(warm.x)
@@ -717,12 +875,269 @@ class _Window:
 
 
 def _state_codes(q, s, g, tol):
-    """Element states: 0 released, 1 stick, 2 slip forward (+x), 3 slip backward (the codes of core.result)."""
-    codes = np.where(g > 0, 1, 0).astype(np.int8)
+    """Element states (:class:`core.states.State`): released out of contact, stick, slip forward where the slip
+    increment's x component is >= 0, slip backward where it is < 0 (a slip increment longer than ``tol``)."""
+    codes = np.where(g > 0, State.STICK, State.RELEASED).astype(np.int8)
     slipping = (np.hypot(s[0], s[1]) > tol) & (g > 0)
-    codes[slipping & (s[0] >= 0)] = 2
-    codes[slipping & (s[0] < 0)] = 3
+    codes[slipping & (s[0] >= 0)] = State.SLIP_FORWARD
+    codes[slipping & (s[0] < 0)] = State.SLIP_BACKWARD
     return codes
+
+
+def _turning_points(schedule):
+    xc, per = schedule.xc, schedule.period
+    steps = []
+    for k in range(1, xc.size - 1):
+        if per[k] >= 0 and ((xc[k] > xc[k - 1] and xc[k] >= xc[k + 1]) or (xc[k] < xc[k - 1] and xc[k] <= xc[k + 1])):
+            steps.append(k)
+    return steps
+
+
+class PatchTrajectory:
+    """The per-step outputs of a march on a patch of elements (:class:`PatchSolver`).
+
+    Per step: the rigid-body displacement ``(steps, 2)``, the traction and the
+    states on the cut ``y = 0`` (``traction`` ``(steps, 2, nx)``, ``state``
+    ``(steps, nx)``), dissipation, iterations and the named residuals
+    (``step_residuals``, and their worst ``kkt_residual``); the full fields
+    at ``snapshot_steps`` only (``traction_snapshots``, ``state_snapshots``).
+    """
+
+    def __init__(self, steps, shape, snapshot_steps):
+        ny, nx = shape
+        self.row = ny // 2
+        self.displacement = np.zeros((steps, 2))
+        self.traction = np.zeros((steps, 2, nx))
+        self.state = np.zeros((steps, nx), np.int8)
+        self.dissipation = np.zeros(steps)
+        self.iterations = np.zeros(steps, np.int64)
+        self.cg_iterations = np.zeros(steps, np.int64)
+        self.kkt_residual = np.zeros(steps)
+        self.step_residuals = {name: np.zeros(steps) for name in RESIDUAL_NAMES}
+        self.snapshot_steps = np.array(snapshot_steps, dtype=np.int64)
+        self.snap_index = {int(k): i for i, k in enumerate(snapshot_steps)}
+        self.traction_snapshots = np.zeros((len(snapshot_steps), 2, ny, nx))
+        self.state_snapshots = np.zeros((len(snapshot_steps), ny, nx), np.int8)
+        self.last_traction = None
+        #: A body free to turn about the normal (a ``twist`` solver option): its rotation after each step.
+        self.rotation = None
+        self._turned = 0.0
+
+    def record(self, k, q, codes, total, info):
+        """Store step ``k``: traction ``q`` (2, ny, nx), states, displacement so far, the solver's ``info``."""
+        self.displacement[k] = total
+        self.traction[k], self.state[k] = q[:, self.row], codes[self.row]
+        self.iterations[k], self.cg_iterations[k] = info["iterations"], info["cg_iterations"]
+        for name in RESIDUAL_NAMES:
+            self.step_residuals[name][k] = info[name]
+        self.kkt_residual[k] = max(info[name] for name in RESIDUAL_NAMES)
+        if self.rotation is not None:
+            self._turned += info["twist"]
+            self.rotation[k] = self._turned
+        if k in self.snap_index:
+            self.traction_snapshots[self.snap_index[k]], self.state_snapshots[self.snap_index[k]] = q, codes
+        self.last_traction = q
+
+    def copied(self):
+        """The per-step arrays a repeated period copies as they are (the displacement advances, iterations are 0)."""
+        return [self.traction, self.state, self.dissipation, self.kkt_residual, *self.step_residuals.values()]
+
+    def repeat_snapshots(self, done, rest, src):
+        """Fill the snapshots of the repeated steps ``rest`` (copies of steps ``src``)."""
+        for kk in self.snapshot_steps.tolist():
+            if kk >= done:
+                j = int(src[kk - done])
+                stored = j in self.snap_index
+                self.traction_snapshots[self.snap_index[kk]] = (self.traction_snapshots[self.snap_index[j]] if stored
+                                                                else self.last_traction)
+                self.state_snapshots[self.snap_index[kk]] = (self.state_snapshots[self.snap_index[j]] if stored
+                                                             else self.state_snapshots[0])
+
+    def residuals(self) -> dict:
+        """Worst of each named residual over the steps."""
+        return {name: float(v.max()) if v.size else 0.0 for name, v in self.step_residuals.items()}
+
+    def result_fields(self) -> dict:
+        """The per-step fields of a :class:`core.result.CycleResult` on a patch."""
+        return dict(traction=self.traction, state=self.state, displacement=self.displacement,
+                    dissipation=self.dissipation, iterations=self.iterations, cg_iterations=self.cg_iterations,
+                    kkt_residual=self.kkt_residual, snapshot_steps=self.snapshot_steps,
+                    traction_snapshots=self.traction_snapshots, state_snapshots=self.state_snapshots,
+                    step_residuals=self.step_residuals,
+                    **({} if self.rotation is None else {"rotation": self.rotation}))
+
+
+class PatchSolver:
+    """The per-step solver of a patch of elements (``"pcg3d"`` in :data:`core.engine.STEP_SOLVERS`).
+
+    Each increment is the 3D active-set / projected-CG solve of
+    :func:`solve_increment` on the window of elements carrying traction
+    (:class:`_Window`), warm-started from the same phase of the previous period
+    in a periodic history. It has the protocol of :class:`core.dense.DenseSolver`
+    and :class:`core.matrix_free.FFTSolver` (``march``, ``step``, ``residuals``),
+    so :func:`core.engine.run` chunks, cancels, budgets, reports progress,
+    detects the periodic state and repeats the last period the same way for
+    every grid.
+
+    Parameters
+    ----------
+    operator : _Window
+        The windowed half-space operator of the grid (``shape`` ``(ny, nx)``).
+    element_size : float
+        Element area ``dx^2`` [a^2] (the load balance is ``sum q dA``).
+    tol : float
+        KKT tolerance of every step; a step whose worst residual exceeds ``10 tol`` fails.
+    maxiter : int, optional
+        Active-set iterations per step (default 200).
+    angle : float
+        Angle of ``Ft`` to x [rad]: the target of step ``k`` is ``Q[k] load_scale (cos, sin)``.
+    periodic_tol : float
+        Traction tolerance [mu p0] of the periodic detection (:data:`PERIODIC_TOL`):
+        the CG solves are inexact, so a repeated period repeats to about ``10 tol``, not to round-off.
+    **options
+        Passed to every :func:`solve_increment` (a body's own options, :attr:`PatchGrid.solver_options`).
+    """
+
+    name = "pcg3d"
+    #: The operator form it needs: the windowed half-space operator of a patch grid.
+    form = "patch"
+    #: The grid shape it solves.
+    grid = "patch"
+
+    def __init__(self, operator, *, element_size, tol, maxiter=None, angle=0.0, periodic_tol=PERIODIC_TOL, **options):
+        self.window = operator
+        self.shape = tuple(operator.shape)
+        self.dA = float(element_size)
+        self.tol = float(tol)
+        self.maxiter = self.default_maxiter(operator.size) if maxiter is None else int(maxiter)
+        self.angle = float(angle)
+        self.direction = np.array([math.cos(self.angle), math.sin(self.angle)])
+        self.periodic_tol = float(periodic_tol)
+        self.options = dict(options)
+        self.q = np.zeros((2,) + self.shape)
+        self.q_block_end = np.zeros_like(self.q)
+        self.warm = _WarmStart.empty(self.shape)
+        self.total = 0.0 * self.direction
+        self.period_steps = 0
+        self.phase_warm = {}
+        self.failure = ""
+        self._residuals = dict.fromkeys(RESIDUAL_NAMES, 0.0)
+
+    @staticmethod
+    def default_maxiter(n):
+        """Active-set iterations per step: 200 (the semismooth Newton steps do not grow with the grid)."""
+        return 200
+
+    @staticmethod
+    def trajectory(history, shape):
+        """The :class:`PatchTrajectory` of ``history`` on a ``(ny, nx)`` grid, with its snapshot steps: the end
+        of the loading, the turning points and the last step (the last period's only, beyond
+        :data:`MAX_SNAPSHOT_VALUES`)."""
+        ny, nx = shape
+        steps = len(history)
+        turning = set(_turning_points(history))
+        load_end = int(np.flatnonzero(history.period < 0)[-1]) if (history.period < 0).any() else -1
+        snap_all = sorted(turning | {load_end, steps - 1} - {-1})
+        if len(snap_all) * 3 * ny * nx > MAX_SNAPSHOT_VALUES:  # keep the last period's turning points only
+            last = set(np.flatnonzero(history.period == history.period[-1]).tolist())
+            snap_all = sorted((turning & last) | {load_end, steps - 1} - {-1})
+        return PatchTrajectory(steps, shape, snap_all)
+
+    def start(self, history):
+        """Before the march: in a periodic history, warm-start each step from the same phase one period earlier."""
+        self.period_steps = (int(np.count_nonzero(history.period == 0)) if _PHASE_WARM and history.is_periodic()
+                             else 0)
+
+    @property
+    def traction(self):
+        """Tractions after the last step, shape (2, ny, nx)."""
+        return self.q
+
+    @property
+    def residuals(self) -> dict:
+        """The named residuals of the last step."""
+        return dict(self._residuals)
+
+    def step(self, bound, target):
+        """Solve one increment from the current tractions and advance to it.
+
+        Parameters
+        ----------
+        bound : ndarray, shape (ny, nx)
+            Traction bound ``mu p`` [mu p0].
+        target : array_like, shape (2,)
+            Required ``sum q dA`` [mu p0 a^2].
+
+        Returns
+        -------
+        core.dense.StepReport
+            With the traction (2, ny, nx), the states, the displacement increment (2,).
+        """
+        from .dense import StepReport
+        try:
+            q, s, lam, info = self.window.solve(bound, self.q, np.asarray(target, float), self.dA, self.warm,
+                                                self.tol, maxiter=self.maxiter, **self.options)
+        except RuntimeError as e:
+            self.failure = str(e)
+            self._residuals = dict.fromkeys(RESIDUAL_NAMES, math.inf)
+            return StepReport(traction=self.q.copy(), state=_state_codes(self.q, 0 * self.q, bound, self.tol),
+                              displacement=np.zeros(2), iterations=self.maxiter, residuals=self.residuals,
+                              converged=False)
+        self._residuals = {name: info[name] for name in RESIDUAL_NAMES}
+        ok = max(self._residuals.values()) <= 10.0 * self.tol
+        if ok:
+            self.q = q
+            self.total = self.total + lam
+        return StepReport(traction=q, state=_state_codes(q, s, bound, self.tol), displacement=lam,
+                          iterations=int(info["iterations"]), residuals=self.residuals, converged=bool(ok),
+                          cg_iterations=int(info["cg_iterations"]))
+
+    def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out: PatchTrajectory):
+        """Solve steps ``k0:k1`` in order (``bounds[k - k0]``: the bound ``(ny, nx)`` of step ``k``; target
+        ``Q[k] load_scale`` along ``angle``).
+
+        Returns
+        -------
+        (reached, periodic_from, failed) : tuple of int
+            As :meth:`core.dense.DenseSolver.march`; a failed step leaves its
+            reason in :attr:`failure`.
+        """
+        steps = Q.size
+        if self.options.get("twist") is not None and out.rotation is None:  # free to turn: record the rotation
+            out.rotation = np.zeros(steps)
+        for k in range(int(k0), int(k1)):
+            g = bounds[k - k0]
+            per = int(period[k])
+            target = Q[k] * load_scale * self.direction
+            if k - self.period_steps in self.phase_warm:  # the same phase one period earlier predicts this step best
+                self.warm = self.phase_warm.pop(k - self.period_steps)
+            # ---- solve the increment
+            try:
+                q, s, lam, info = self.window.solve(g, self.q, target, self.dA, self.warm, self.tol,
+                                                    maxiter=self.maxiter, **self.options)
+            except RuntimeError as e:
+                self.failure = str(e)
+                self._residuals = dict.fromkeys(RESIDUAL_NAMES, math.inf)
+                return k, -1, k
+            self._residuals = {name: info[name] for name in RESIDUAL_NAMES}
+            if not max(self._residuals.values()) <= 10.0 * self.tol:
+                self.failure = "residual above tolerance"
+                return k, -1, k
+            # ---- record it
+            out.dissipation[k] = float(np.vdot(q, s)) * self.dA / load_scale
+            if self.period_steps and per >= 0:
+                w = self.warm
+                self.phase_warm[k] = _WarmStart(w.kind.copy(), w.d.copy(), w.curv.copy(), w.x.copy())
+            self.q = q
+            self.total = self.total + lam
+            out.record(k, q, _state_codes(q, s, g, self.tol), self.total, info)
+            # ---- periodic detection: a period that ends where the previous block ended repeats for ever
+            if k + 1 < steps and period[k + 1] != per:
+                same = float(np.abs(q - self.q_block_end).max()) <= self.periodic_tol
+                self.q_block_end = q.copy()
+                if same and detect_periodic and per >= 0:
+                    return k + 1, per, -1
+        return int(k1), -1, -1
 
 
 # --------------------------------------------------------------------------
@@ -863,6 +1278,92 @@ def _grid(body, reach_x, scale, h):
     return xe, ye
 
 
+class PatchGrid:
+    """A point-contact body on a patch of square elements: what :func:`core.engine.run` asks of it.
+
+    The patch-grid side of the engine's body protocol (see :mod:`core.engine`):
+    ``shape`` ``(ny, nx)``, ``size``, ``dx``, ``edges`` (along x), ``y_edges``;
+    :meth:`bounds` (the traction bound ``mu p`` of each step, one ``(ny, nx)``
+    array a step, cached by centre and load scale: a body that only translates
+    is solved once per offset from the grid, :func:`_pressure`);
+    :meth:`load_target` (``Q`` times the body's total load); ``solver_options``
+    (the body's own options of :class:`PatchSolver`, e.g. a cone's twist
+    centre); ``body_spec`` (the body).
+
+    The body supplies (duck-typed): ``name``, ``total_load`` [p0 a^2],
+    ``kernel_scale`` (the half-space kernel's factor in its units) and either
+    ``kappa`` (an ellipsoid: Hertz's pressure, closed form or solved on the
+    grid) or ``run_grid(reach_x, scale, h)`` and ``grid_pressure(x_edges,
+    y_edges, xc, scale)`` (its own grid and pressure: a height map, a cone);
+    optionally ``load_scale(P)`` (the length scale of its contact under the
+    normal load ``P``, the ``scale`` above; default ``P^(1/3)``),
+    ``default_dx``, ``solver_options`` (a dict of keyword options of
+    :func:`solve_increment`, passed through :class:`PatchSolver` and
+    :meth:`_Window.solve`) and ``twist_centre`` (``(x_c, y_c)`` [a]: the body
+    is free to turn about the normal through it, a cone; its
+    :func:`twist_field` on the grid becomes the ``twist`` option of every
+    :func:`solve_increment`, and the run records the rotation).
+
+    Parameters
+    ----------
+    body : object
+        The body (:class:`core.point_contact.Ellipsoid`, :class:`core.heightmap.HeightMap`, ...).
+    x_edges, y_edges : ndarray
+        Edges of square elements [a]; a row centred on ``y = 0``.
+    normal : {"exact", "numerical"}
+        The Hertz bodies' pressure (see :func:`_pressure`).
+    """
+
+    def __init__(self, body, x_edges, y_edges, normal="numerical"):
+        self.body_spec = body
+        self.name = body.name
+        self.normal = normal
+        self.x_edges = read_only(np.array(x_edges, dtype=float))
+        self.y_edges = read_only(np.array(y_edges, dtype=float))
+        self.edges = self.x_edges
+        self.dx = float(self.x_edges[1] - self.x_edges[0])
+        self.shape = (self.y_edges.size - 1, self.x_edges.size - 1)
+        self.size = self.shape[0] * self.shape[1]
+        self.solver_options = dict(getattr(body, "solver_options", None) or {})
+        centre = getattr(body, "twist_centre", None)  # free to turn about the normal through it (a cone)
+        if centre is not None:
+            self.solver_options["twist"] = twist_field(self.x_edges, self.y_edges, centre)
+        self._cache = {}
+
+    @classmethod
+    def for_history(cls, body, history, dx, normal="numerical"):
+        """The grid covering every contact of ``history``: the body's ``run_grid`` or the ellipse's box."""
+        own = getattr(body, "load_scale", None)
+        scales = np.asarray(own(history.P), dtype=float) if own is not None else np.cbrt(history.P)
+        if hasattr(body, "run_grid"):  # a body with its own grid (a height map)
+            xe, ye = body.run_grid(float(np.max(np.abs(history.xc))), float(scales.max()), dx)
+        else:
+            xe, ye = _grid(body, float(np.max(np.abs(history.xc) + scales)), float(scales.max()), dx)
+        return cls(body, xe, ye, normal)
+
+    def load_scale(self, P):
+        """The contact's length scale under the normal load ``P`` [nominal]: the body's ``load_scale(P)`` if it
+        has one, else ``P^(1/3)`` (Hertz, point contact)."""
+        own = getattr(self.body_spec, "load_scale", None)
+        return np.asarray(own(P), dtype=float) if own is not None else np.cbrt(P)
+
+    def pressure(self, xc, scale=1.0):
+        """Element pressure [p0], shape (ny, nx), with the centre at ``xc`` and the length scale ``scale`` (cached)."""
+        key = (float(xc), float(scale))
+        g = self._cache.get(key)
+        if g is None:
+            g = self._cache[key] = _pressure(self.x_edges, self.y_edges, key[0], self.body_spec, key[1], self.normal)
+        return g
+
+    def bounds(self, xc, P, out=None):
+        """The traction bound ``mu p`` [mu p0] of each step: a list of ``(ny, nx)`` arrays (shared: do not write)."""
+        return [self.pressure(x, s) for x, s in zip(np.asarray(xc, float).tolist(), self.load_scale(P).tolist())]
+
+    def load_target(self, Q):
+        """``sum q dA`` [mu p0 a^2] that carries the tangential load ``Q`` [mu Fn]: ``Q`` times the total load."""
+        return np.asarray(Q, dtype=float) * self.body_spec.total_load
+
+
 # --------------------------------------------------------------------------
 # results
 # --------------------------------------------------------------------------
@@ -898,151 +1399,12 @@ class _GridFields:
         return (self.y_edges.size - 1) // 2
 
 
-@dataclass(frozen=True, eq=False)
-class PointContactResult(PeriodVerdict, _GridFields):
-    """The transient of a rocking point contact: per step, per period, and its verdict.
-
-    Normalised units: lengths in ``a`` (semi-axis along x), pressure in ``p0``,
-    tractions in ``mu p0``, loads in ``mu Fn``, displacements in
-    ``mu Fn/(E* a)``, dissipation in ``(mu Fn)^2/(E* a)``. Arrays are read-only.
-
-    Attributes
-    ----------
-    body : Ellipsoid
-        The body (``body.kappa = b/a``).
-    nu, angle : float
-        Substrate's Poisson ratio; angle of ``Ft`` to the rocking direction [rad].
-    x_edges, y_edges : ndarray
-        Grid edges; the grid has a row centred on ``y = 0`` (the cut).
-    xc, P, Q, period : ndarray, shape (steps,)
-        The schedule (``P`` in nominal ``Fn``, ``Q = Ft/(mu Fn0)``).
-    displacement : ndarray, shape (steps, 2)
-        Rigid-body displacement (x, y) after each step.
-    traction_cut : ndarray, shape (steps, 2, nx)
-        Traction (both components) on the row ``y = 0`` after each step.
-    state_cut : ndarray of int8, shape (steps, nx)
-        Element states on that row (0 released, 1 stick, 2 slip +x, 3 slip -x).
-    snapshot_steps : ndarray of int
-        Steps whose full fields are stored: the end of the loading, the turning
-        points, the last step.
-    traction_snapshots : ndarray, shape (k, 2, ny, nx)
-    state_snapshots : ndarray of int8, shape (k, ny, nx)
-    lowest_pressure : ndarray, shape (ny, nx)
-        Lowest element pressure of the last period [p0].
-    dissipation, iterations, cg_iterations : ndarray, shape (steps,)
-        Frictional work (>= 0), active-set and CG iterations of each step.
-    residuals : dict of ndarray
-        Per-step residuals named in :data:`RESIDUAL_NAMES`.
-    periodic_from : int or None
-        Period from which the state repeated to the tolerance, later periods copied.
-    """
-
-    increment_unit = "mu Fn/(E* a)"  # of increment_per_period, D_inf and the verdict's reason
-
-    body: Ellipsoid
-    nu: float
-    angle: float
-    x_edges: np.ndarray
-    y_edges: np.ndarray
-    xc: np.ndarray
-    P: np.ndarray
-    Q: np.ndarray
-    period: np.ndarray
-    displacement: np.ndarray
-    traction_cut: np.ndarray
-    state_cut: np.ndarray
-    snapshot_steps: np.ndarray
-    traction_snapshots: np.ndarray
-    state_snapshots: np.ndarray
-    lowest_pressure: np.ndarray
-    dissipation: np.ndarray
-    iterations: np.ndarray
-    cg_iterations: np.ndarray
-    residuals: dict
-    periodic_from: int | None
-    params: dict = field(default_factory=dict)
-    tol: float = TOL_3D
-    shakedown_rtol: float = 1e-3
-    runtime: float = 0.0
-
-    @property
-    def dx(self) -> float:
-        return float(self.x_edges[1] - self.x_edges[0])
-
-    @property
-    def periods(self) -> int:
-        return int(self.period.max()) + 1 if self.period.size else 0
-
-    def pressure(self, step):
-        """Element pressure at ``step`` [p0], shape (ny, nx): the traction bound in mu p0 (:func:`_pressure`)."""
-        return _pressure(self.x_edges, self.y_edges, float(self.xc[step]), self.body, float(self.P[step]) ** (1.0 / 3.0),
-                         self.params.get("normal", "numerical"))
-
-    @property
-    def final_traction(self):
-        """Traction after the last step, shape (2, ny, nx)."""
-        return self.traction_snapshots[-1]
-
-    @property
-    def final_state(self):
-        return self.state_snapshots[-1]
-
-    # ---- per period --------------------------------------------------------
-    @cached_property
-    def increment_per_period(self):
-        """Rigid-body displacement increment of each period along Ft [mu Fn/(E* a)]."""
-        ends = np.append(np.flatnonzero(np.diff(self.period) != 0), self.period.size - 1)
-        along = self.displacement @ np.array([math.cos(self.angle), math.sin(self.angle)])
-        disp = along[ends]
-        return np.diff(disp) if self.period[0] < 0 else np.diff(np.concatenate([[0.0], disp]))
-
-    # ---- the final state ---------------------------------------------------
-    @cached_property
-    def stick_halfwidth(self) -> float:
-        """Half-extent along x [a] of the central zone on ``y = 0`` whose final ``|q|`` stays below mu p_min."""
-        q = self.traction_cut[-1]
-        bound = self.lowest_pressure[self.cut_row]
-        mask = (bound > 0) & (np.hypot(q[0], q[1]) < bound - STICK_MARGIN)
-        return central_halfwidth(mask, self.x_edges)
-
-    @property
-    def max_residual(self) -> float:
-        return max(float(v.max()) for v in self.residuals.values()) if self.xc.size else 0.0
-
-    @property
-    def max_kkt_residual(self) -> float:
-        """Worst KKT residual over all steps (the name the cylinder's result and the sweep tables use)."""
-        return self.max_residual
-
-    def summary(self) -> dict:
-        inc = self.increment_per_period
-        return {"dx": self.dx, **self.params, "body": self.body.name, "ratio": self.body.ratio, "regime": self.regime,
-                "regime_reason": self.regime_reason, "stick_halfwidth": self.stick_halfwidth,
-                "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
-                "D_inf": self.D_inf, "D_inf_error": self.D_inf_error, "decay_ratio": self.decay_ratio,
-                "periods_to_decide": self.periods_to_decide,
-                "shakedown_period": self.shakedown_period, "max_kkt_residual": self.max_kkt_residual,
-                "elements": int((self.x_edges.size - 1) * (self.y_edges.size - 1)), "steps": int(self.xc.size),
-                "periodic_from": self.periodic_from, "max_iterations": int(self.iterations.max()),
-                "max_cg_iterations": int(self.cg_iterations.max()), "max_residual": self.max_residual,
-                "runtime_s": self.runtime}
-
-
 # --------------------------------------------------------------------------
 # a run over a schedule
 # --------------------------------------------------------------------------
-def _turning_points(schedule):
-    xc, per = schedule.xc, schedule.period
-    steps = []
-    for k in range(1, xc.size - 1):
-        if per[k] >= 0 and ((xc[k] > xc[k - 1] and xc[k] >= xc[k + 1]) or (xc[k] < xc[k - 1] and xc[k] <= xc[k + 1])):
-            steps.append(k)
-    return steps
-
-
 def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, detect_periodic=True,
                          periodic_tol=PERIODIC_TOL, shakedown_rtol=1e-3, params=None, time_budget=None, cancel=None,
-                         progress=None, chunk=50, normal="auto"):
+                         progress=None, chunk=50, normal="auto", solver="auto"):
     """Solve a loading :class:`~core.schedule.Schedule` for a point contact, step by step.
 
     Parameters
@@ -1076,10 +1438,14 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
         :func:`core.normal.solve_normal` (CONTACT's bound); ``"exact"`` the
         element means of Hertz's closed form. A height map has no closed form:
         ``"exact"`` is refused for it.
+    solver : {"auto", "pcg3d"}
+        The per-step solver (:data:`core.engine.STEP_SOLVERS`): a patch of
+        elements runs :class:`PatchSolver`; the line solvers are refused.
 
     Returns
     -------
-    PointContactResult
+    CycleResult
+        On a patch of elements (``is_patch``).
 
     Raises
     ------
@@ -1100,123 +1466,20 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     chunk = check_int("chunk", chunk, 1, 10**7)
     normal = _normal_mode(normal, body)
     params = dict(params or {}, normal=normal)
-    t0 = time.perf_counter()
-    scales = np.cbrt(schedule.P)
-    if hasattr(body, "run_grid"):  # a height map: its own grid
-        xe, ye = body.run_grid(float(np.max(np.abs(schedule.xc))), float(scales.max()), dx)
-    else:
-        xe, ye = _grid(body, float(np.max(np.abs(schedule.xc) + scales)), float(scales.max()), dx)
-    ny, nx = ye.size - 1, xe.size - 1
-    window = _Window(ny, nx, dx, nu, body.kernel_scale)
-    dA = dx * dx
-    direction = np.array([math.cos(angle), math.sin(angle)])
-    steps = len(schedule)
-    turning = set(_turning_points(schedule))
-    load_end = int(np.flatnonzero(schedule.period < 0)[-1]) if (schedule.period < 0).any() else -1
-    snap_all = sorted(turning | {load_end, steps - 1} - {-1})
-    if len(snap_all) * 3 * ny * nx > MAX_SNAPSHOT_VALUES:  # keep the last period's turning points only
-        last = set(np.flatnonzero(schedule.period == schedule.period[-1]).tolist())
-        snap_all = sorted((turning & last) | {load_end, steps - 1} - {-1})
-    snap_index = {k: i for i, k in enumerate(snap_all)}
-    row = ny // 2
-    disp = np.zeros((steps, 2))
-    tcut = np.zeros((steps, 2, nx))
-    scut = np.zeros((steps, nx), np.int8)
-    tsnap = np.zeros((len(snap_all), 2, ny, nx))
-    ssnap = np.zeros((len(snap_all), ny, nx), np.int8)
-    diss = np.zeros(steps)
-    iters = np.zeros(steps, np.int64)
-    cg = np.zeros(steps, np.int64)
-    res = {name: np.zeros(steps) for name in RESIDUAL_NAMES}
-    pressure_cache = {}
-    warm = _WarmStart.empty((ny, nx))
-    q = np.zeros((2, ny, nx))
-    periodic = bool(detect_periodic) and schedule.is_periodic()
-    # warm starts by phase: the state of a step one period earlier (same pressure, same load)
-    period_steps = int(np.count_nonzero(schedule.period == 0)) if _PHASE_WARM and schedule.is_periodic() else 0
-    phase_warm = {}
-    period_start_q = None
-    periodic_from = None
-    pmin = {}
-    total = 0.0 * direction
-    budget_end = None if time_budget is None else t0 + float(time_budget)
-    k = 0
-    while k < steps:
-        key = (float(schedule.xc[k]), float(scales[k]))
-        g = pressure_cache.get(key)
-        if g is None:
-            g = pressure_cache[key] = _pressure(xe, ye, key[0], body, key[1], normal)
-        per = int(schedule.period[k])
-        pmin[per] = g if per not in pmin else np.minimum(pmin[per], g)
-        target = schedule.Q[k] * body.total_load * direction
-        if k - period_steps in phase_warm:  # the same phase one period earlier predicts this step best
-            warm = phase_warm.pop(k - period_steps)
-        try:
-            q_new, s, lam, info = window.solve(g, q, target, dA, warm, tol)
-        except RuntimeError as e:
-            raise SolverError(k, schedule.xc[k], float("inf"), str(e)) from e
-        worst = max(info[name] for name in RESIDUAL_NAMES)
-        if not worst <= 10.0 * tol:
-            raise SolverError(k, schedule.xc[k], worst, "residual above tolerance")
-        diss[k] = float(np.vdot(q_new, s)) * dA / body.total_load
-        if period_steps and per >= 0:
-            phase_warm[k] = _WarmStart(warm.kind.copy(), warm.d.copy(), warm.curv.copy(), warm.x.copy())
-        q = q_new
-        total = total + lam
-        disp[k] = total
-        codes = _state_codes(q, s, g, tol)
-        tcut[k], scut[k] = q[:, row], codes[row]
-        iters[k], cg[k] = info["iterations"], info["cg_iterations"]
-        for name in RESIDUAL_NAMES:
-            res[name][k] = info[name]
-        if k in snap_index:
-            tsnap[snap_index[k]], ssnap[snap_index[k]] = q, codes
-        k += 1
-        # ---- periodic detection at the end of each period
-        if k < steps and schedule.period[k] != schedule.period[k - 1] and per >= 0 and periodic:
-            if period_start_q is not None and np.abs(q - period_start_q).max() <= periodic_tol:
-                periodic_from = per
-                break
-            period_start_q = q.copy()
-        if k % chunk == 0 and k < steps:
-            if cancel is not None and cancel():
-                raise SolveCancelled(f"solve cancelled after {k} of {steps} steps")
-            if budget_end is not None and time.perf_counter() > budget_end:
-                raise SolveCancelled(f"solve stopped after {time_budget:g} s (its time budget) at step {k} of {steps}")
-            if progress is not None:
-                progress(k / steps)
-    if k < steps:  # copy the repeating period
-        block = np.flatnonzero(schedule.period == periodic_from)
-        m, start = block.size, block[0]
-        before = disp[start - 1]
-        inc = disp[block[-1]] - before
-        rest = np.arange(k, steps)
-        src = start + (rest - k) % m
-        rep = 1 + (rest - k) // m
-        disp[rest] = disp[src] + rep[:, None] * inc
-        for arr in (tcut, scut, diss):
-            arr[rest] = arr[src]
-        for name in RESIDUAL_NAMES:
-            res[name][rest] = res[name][src]
-        for kk in snap_all:
-            if kk >= k:
-                tsnap[snap_index[kk]] = tsnap[snap_index[src[kk - k]]] if src[kk - k] in snap_index else q
-                ssnap[snap_index[kk]] = ssnap[snap_index[src[kk - k]]] if src[kk - k] in snap_index else ssnap[0]
-    if progress is not None:
-        progress(1.0)
-    last_period = int(schedule.period[-1]) if periodic_from is None else periodic_from
-    return PointContactResult(
-        body=body, nu=nu, angle=angle, x_edges=xe, y_edges=ye, xc=np.array(schedule.xc), P=np.array(schedule.P),
-        Q=np.array(schedule.Q), period=np.array(schedule.period), displacement=disp, traction_cut=tcut,
-        state_cut=scut, snapshot_steps=np.array(snap_all, dtype=np.int64), traction_snapshots=tsnap,
-        state_snapshots=ssnap, lowest_pressure=pmin[last_period], dissipation=diss, iterations=iters,
-        cg_iterations=cg, residuals=res, periodic_from=periodic_from, params=params, tol=tol,
-        shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0)
+    from .engine import check_solver, run
+    check_solver(solver, "patch", body)
+    grid = PatchGrid.for_history(body, schedule, dx, normal)
+    operator = _Window(*grid.shape, dx, nu, body.kernel_scale)
+    return run(grid, operator, schedule, solver=solver, tol=tol, detect_periodic=detect_periodic,
+               shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget, cancel=cancel,
+               progress=progress, chunk=chunk, kernel="halfspace",
+               solver_options=dict(grid.solver_options, angle=angle, periodic_tol=periodic_tol))
 
 
 def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
                            shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=PERIODIC_TOL,
-                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, normal="auto"):
+                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, normal="auto",
+                           solver="auto"):
     """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
 
     Parameters
@@ -1246,12 +1509,13 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
         As in :func:`core.schedule.rocking_schedule`.
     tol : float, optional
         KKT tolerance of every step; default :data:`TOL_3D`.
-    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress, normal :
+    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress, normal, solver :
         As in :func:`solve_point_schedule`.
 
     Returns
     -------
-    PointContactResult
+    CycleResult
+        On a patch of elements (``is_patch``).
         With ``increment_per_period`` [mu Fn/(E* a)], ``regime``, ``stick_halfwidth`` [a].
 
     Examples
@@ -1261,10 +1525,13 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     >>> r.regime
     'shakedown'
     """
-    if hasattr(body, "grid_pressure"):  # a height map: its own grid
+    if isinstance(body, str) and body not in ("sphere", "ellipsoid"):  # another registered point body, e.g. "cone"
+        from .registry import REGISTRY, make_body
+        if body in REGISTRY and REGISTRY[body].kind == "point":
+            body = make_body(body)
+    if hasattr(body, "grid_pressure"):  # a body with its own pressure (a height map, a cone); its grid: default_dx
         if ratio is not None:
             raise ValueError(f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
-        dx = body.spacing if dx is None else dx
     else:
         body = resolve_body(body, ratio)
     tol = TOL_3D if tol is None else tol
@@ -1276,7 +1543,7 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
                   load_steps=int(load_steps))
     return solve_point_schedule(schedule, dx, body, nu=nu, angle=angle, tol=tol, detect_periodic=detect_periodic,
                                 periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget,
-                                cancel=cancel, progress=progress, normal=normal)
+                                cancel=cancel, progress=progress, normal=normal, solver=solver)
 
 
 # --------------------------------------------------------------------------
@@ -1319,11 +1586,50 @@ class StaticResult3D(_GridFields):
         return central_halfwidth(self.state[:, (self.x_edges.size - 1) // 2] == 1, self.y_edges)
 
 
+def solve_static_patch(bound, ft, dx, *, body=None, nu=0.5, angle=0.0, tol=TOL_3D, solver="auto"):
+    """Static partial slip on a patch of elements centred on the origin: :func:`core.solve_static`'s patch case.
+
+    Parameters
+    ----------
+    bound : array_like, shape (ny, nx)
+        Traction bound [mu p0], >= 0, on square elements of side ``dx`` centred on ``(0, 0)`` (odd counts).
+    ft : float
+        ``Ft / (mu Fn)``, below what the bound carries.
+    dx : float
+        Element side [a], in [0.005, 0.5].
+    body : object, optional
+        The point body (its ``total_load`` and ``kernel_scale``; default the sphere).
+    nu, angle, tol :
+        As in :func:`solve_point_schedule`.
+    solver : {"auto", "pcg3d"}
+        The patch solver; the line solvers are refused.
+
+    Returns
+    -------
+    StaticResult3D
+    """
+    from .engine import check_solver
+    from ._validate import check_range
+
+    check_solver(solver, "patch", body)
+    bound = check_range("bound", bound, 0.0, None)
+    if bound.ndim != 2 or bound.shape[0] % 2 == 0 or bound.shape[1] % 2 == 0:
+        raise ValueError(f"bound must be a 2-D array of odd sizes (a patch centred on 0), got shape {bound.shape}")
+    if bound.size > MAX_GRID_ELEMENTS:
+        raise ValueError(f"bound has {bound.size} elements (> {MAX_GRID_ELEMENTS}): use a larger dx")
+    dx = check_scalar("dx", dx, 0.005, 0.5)
+    body = resolve_body("sphere" if body is None else body) if not hasattr(body, "grid_pressure") else body
+    ny, nx = bound.shape
+    return _static_patch(bound, ft, dx * (np.arange(nx + 1) - nx / 2), dx * (np.arange(ny + 1) - ny / 2), body,
+                         nu=nu, angle=angle, tol=tol)
+
+
 def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
-    """Static partial slip under a traction bound, loaded from zero in one step.
+    """Static partial slip under a traction bound on the grid ``x_edges``, ``y_edges`` (see :func:`core.solve_static`).
 
     With ``bound = mu p`` it is Mindlin's problem; with ``mu p_min`` the
-    shaken-down state of a rocking contact.
+    shaken-down state of a rocking contact. The former name of the patch case
+    of :func:`core.solve_static`, for a grid given by its edges.
 
     Parameters
     ----------
@@ -1341,6 +1647,10 @@ def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol
     -------
     StaticResult3D
     """
+    return _static_patch(bound, ft, x_edges, y_edges, body, nu=nu, angle=angle, tol=tol)
+
+
+def _static_patch(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
     h = float(x_edges[1] - x_edges[0])
     dA = h * h
     carried = float(bound.sum()) * dA / body.total_load

@@ -1,4 +1,4 @@
-"""Element states and zones: one code each, shared by the solvers, the result, the export and the app.
+"""Element states, zones and residual names: one code each, shared by every solver, the result, the export and the app.
 
 :class:`State` is what a per-step solver records for every element at every
 step (``CycleResult.state``); :class:`Zone` classifies the final traction of a
@@ -11,11 +11,16 @@ from __future__ import annotations
 
 from enum import IntEnum
 
-__all__ = ["State", "Zone", "STATE_NAMES", "ZONE_NAMES"]
+__all__ = ["State", "Zone", "STATE_NAMES", "ZONE_NAMES", "RESIDUAL_NAMES"]
 
 
 class State(IntEnum):
-    """State of an element at the end of a step (the codes stored in ``CycleResult.state``, int8)."""
+    """State of an element at the end of a step (the codes stored in ``CycleResult.state``, int8).
+
+    The same codes on a line and on a patch of elements: on a patch the slip
+    increment is a vector, "forward" when its x component (the rocking
+    direction) is >= 0, and the traction is on the Coulomb disk along it.
+    """
 
     RELEASED = 0        #: out of contact (traction 0)
     STICK = 1           #: no slip increment (including at the bound with zero slip)
@@ -46,3 +51,10 @@ class Zone(IntEnum):
 STATE_NAMES = ("released", "stick", "slip forward", "slip backward")
 #: Names of the zones, indexed by code.
 ZONE_NAMES = ("no contact", "stick", "slip", "zero traction")
+
+#: Names of the KKT residuals every per-step solver reports, for a line and for a patch alike (the
+#: ``residuals`` of a step and of a :class:`core.result.CycleResult`): ``stick_slip``, the slip on the
+#: stick set [displacement unit]; ``bound``, ``|q|`` above ``mu p`` [mu p0]; ``slip_direction``, slip
+#: against (or, on a patch, across) the traction; ``out_of_contact``, traction where ``p = 0`` [mu p0];
+#: ``load_balance``, the sum of the tractions against the load (``sum q`` on a line, ``sum q dA`` on a patch).
+RESIDUAL_NAMES = ("stick_slip", "bound", "slip_direction", "out_of_contact", "load_balance")

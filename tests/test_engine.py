@@ -81,7 +81,7 @@ def test_entry_points_are_the_run_function_on_the_parts():
     auto = core.simulate_cycles(0.58, 0.52, periods=3, dx=1 / 30)
     for r in (via, auto):
         assert np.array_equal(r.traction, direct.traction) and np.array_equal(r.displacement, direct.displacement)
-    assert direct.solver == "dense" and direct.body == "cylinder" and not direct.cg_iterations.any()
+    assert direct.solver == "dense" and direct.body_name == "cylinder" and not direct.cg_iterations.any()
     assert set(direct.residuals) == set(RESIDUALS) and max(direct.residuals.values()) <= direct.tol
     assert direct.max_kkt_residual == pytest.approx(max(direct.residuals.values()))
     with pytest.raises(ValueError, match="shape"):
@@ -160,3 +160,131 @@ def test_grid_caps_by_solver():
         core.simulate_cycles(0.2, 0.0, periods=1, dx=dx, solver="dense")
     with pytest.raises(ValueError, match=rf"dx = .* \(> {MAX_FFT_ELEMENTS}\): dx must be >= "):
         core.simulate_cycles(0.2, 0.5, periods=1, dx=1e-4)
+
+
+# ---- one engine for lines and patches -----------------------------------------------------------------------
+def test_one_set_of_residual_names_and_state_codes_for_every_grid():
+    from core import _pdas
+    from core.solver3d import RESIDUAL_NAMES as PATCH_NAMES, _state_codes
+    from core.states import RESIDUAL_NAMES
+    assert RESIDUALS == PATCH_NAMES == RESIDUAL_NAMES == _pdas.RESIDUALS
+    # a patch's states: released where p = 0, stick, slip forward/backward by the slip's x component
+    g = np.array([[0.0, 1.0, 1.0, 1.0]])
+    s = np.zeros((2, 1, 4))
+    s[0, 0, 2], s[0, 0, 3], s[1, 0, 1] = 1e-3, -1e-3, 0.0
+    codes = _state_codes(np.zeros((2, 1, 4)), s, g, 1e-8)
+    assert codes.tolist() == [[State.RELEASED, State.STICK, State.SLIP_FORWARD, State.SLIP_BACKWARD]]
+
+
+def test_every_step_solver_is_registered_for_one_grid_shape():
+    from core.engine import STEP_SOLVERS, SOLVER_CHOICES_BY_GRID
+    from core.solver3d import PatchSolver
+    assert STEP_SOLVERS["pcg3d"] is PatchSolver
+    for name, cls in STEP_SOLVERS.items():
+        assert name in SOLVER_CHOICES_BY_GRID[cls.grid] and cls.name == name
+    assert select_solver("auto", 10**6, "patch") is PatchSolver
+    with pytest.raises(ValueError, match=r"\('auto', 'pcg3d'\).*'dense'"):
+        select_solver("dense", 100, "patch")
+
+
+def test_a_patch_runs_through_the_same_loop_with_its_period_repeated():
+    """A sphere that shakes down: the march stops at the repeated period and run copies it, as for a line."""
+    calls = []
+    r = core.simulate_cycles(0.2, 0.3, periods=12, dx=0.2, body="sphere", progress=calls.append)
+    assert r.solver == "pcg3d" and r.periodic_from is not None and calls[-1] == 1.0
+    full = core.simulate_cycles(0.2, 0.3, periods=12, dx=0.2, body="sphere", detect_periodic=False)
+    assert full.periodic_from is None
+    assert_allclose(r.increment_per_period, full.increment_per_period, atol=1e-6)
+    copied = r.period > r.periodic_from
+    assert not r.iterations[copied].any() and full.iterations[copied].any()
+
+
+def test_a_patch_run_can_be_cancelled_between_chunks():
+    from core.result import SolveCancelled
+    from core.schedule import rocking_schedule
+    from core.solver3d import solve_point_schedule
+    from core.point_contact import Ellipsoid
+    with pytest.raises(SolveCancelled, match="cancelled after 10 of"):
+        solve_point_schedule(rocking_schedule(0.3, 0.3, periods=4, dW=0.2), 0.2, Ellipsoid(1.0), chunk=10,
+                             cancel=lambda: True)
+
+
+def test_one_result_type_keeps_the_body_object_for_both_shapes():
+    line = core.simulate_cycles(0.2, 0.3, periods=4, dx=0.1, body=core.Punch(flat=0.5))
+    patch = core.simulate_cycles(0.2, 0.3, periods=4, dx=0.2, body="ellipsoid", ratio=2.0)
+    for r, body, name in ((line, core.Punch(flat=0.5), "punch"), (patch, core.Ellipsoid(2.0), "ellipsoid")):
+        assert type(r) is core.CycleResult and r.body == body and r.body_name == name and r.body_spec is r.body
+        assert set(r.residuals) == set(core.RESIDUAL_NAMES) and r.max_kkt_residual <= 10 * r.tol
+        assert r.increment_per_period.size == 4 and r.summary()["regime"] == r.regime
+        assert r.lowest_pressure.shape == r.pressure_at(0).shape == r.final_state.shape
+    assert not line.is_patch and line.y_edges is None and line.increment_unit == "mu P/E*"
+    assert patch.is_patch and patch.traction.shape == (len(patch.xc), 2, patch.x.size)
+    assert patch.increment_unit == "mu Fn/(E* a)" and patch.kernel == "halfspace" and patch.solver == "pcg3d"
+    # the former names keep working: the point-contact alias tells a patch run from a line run
+    assert isinstance(patch, core.PointContactResult) and not isinstance(line, core.PointContactResult)
+    assert isinstance(line, core.LineResult) and not isinstance(patch, core.LineResult)
+    assert patch.traction_cut is patch.traction and patch.x_edges is patch.edges
+    assert_allclose(patch.pressure(3), patch.pressure_at(3))
+    assert line.pressure.shape == line.traction.shape
+    assert_allclose(line.pressure_at(3), line.pressure[3])
+
+
+@pytest.mark.parametrize("body, solver, valid", [("sphere", "dense", "'pcg3d'"), ("sphere", "fft", "'pcg3d'"),
+                                                 ("cylinder", "pcg3d", "'dense', 'fft'"),
+                                                 ("punch", "pcg3d", "'dense', 'fft'")])
+def test_solver_is_honoured_or_refused_naming_the_choices_for_every_body(body, solver, valid):
+    with pytest.raises(ValueError, match=rf"solver must be one of .*{valid}"):
+        core.simulate_cycles(0.2, 0.3, periods=1, dx=0.25, body=body, solver=solver)
+
+
+def test_the_patch_solver_can_be_named():
+    r = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.25, body="sphere", solver="pcg3d")
+    auto = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.25, body="sphere")
+    assert r.solver == auto.solver == "pcg3d"
+    assert_allclose(r.increment_per_period, auto.increment_per_period, rtol=0, atol=0)
+
+
+def test_one_static_solve_for_a_line_and_a_patch():
+    """core.solve_static dispatches on the bound's shape; shakedown_state on the body; the old names agree."""
+    from core.solver3d import _grid, _pressure, shakedown_state_3d, solve_static_3d
+    body = core.Ellipsoid(1.0)
+    xe, ye = _grid(body, 1.0, 1.0, 0.1)
+    p = _pressure(xe, ye, 0.0, body)
+    patch = core.solve_static(p, 0.5, 0.1)
+    old = solve_static_3d(p, 0.5, xe, ye, body)
+    assert_allclose(patch.traction, old.traction, rtol=0, atol=0)
+    assert_allclose(patch.x_edges, xe)
+    line = core.solve_static(Cylinder.for_reach(1.0, 0.05).bounds([0.0], [1.0])[0], 0.5, 0.05)
+    assert line.traction.ndim == 1 and max(line.residuals.values()) <= 1e-10
+    sd = core.shakedown_state(0.3, 0.3, 0.1, body="sphere")
+    assert_allclose(sd.traction, shakedown_state_3d(0.3, 0.3, 0.1).traction, rtol=0, atol=0)
+    with pytest.raises(ValueError, match=r"\('auto', 'pcg3d'\)"):
+        core.solve_static(p, 0.5, 0.1, solver="dense")
+
+
+class _TabulatedSphere:
+    """A point body written against the patch protocol alone (its own grid and pressure, a solver option)."""
+
+    name = "tabulated sphere"
+    solver_options = {"cg_maxiter": 400}
+
+    def __init__(self):
+        self.sphere = core.Ellipsoid(1.0)
+        self.total_load, self.kernel_scale = self.sphere.total_load, self.sphere.kernel_scale
+
+    def run_grid(self, reach_x, scale, h):
+        from core.solver3d import _grid
+        return _grid(self.sphere, reach_x + scale, scale, h)
+
+    def grid_pressure(self, x_edges, y_edges, xc, scale):
+        from core.solver3d import _pressure
+        return _pressure(x_edges, y_edges, xc, self.sphere, scale)
+
+
+def test_a_point_body_plugs_into_the_engine_through_its_hooks():
+    body = _TabulatedSphere()
+    r = core.simulate_cycles(0.5, 0.3, periods=3, dx=0.2, body=body)
+    ref = core.simulate_cycles(0.5, 0.3, periods=3, dx=0.2, body="sphere")
+    assert r.is_patch and r.body is body and r.body_name == "tabulated sphere" and r.solver == "pcg3d"
+    assert_allclose(r.increment_per_period, ref.increment_per_period, rtol=1e-12)
+    assert_allclose(r.pressure_at(5), ref.pressure_at(5), rtol=0, atol=0)

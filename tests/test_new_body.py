@@ -56,7 +56,7 @@ def test_runs_limit_and_sweep():
     below = core.simulate_cycles(0.9 * lim, 0.3, periods=30, body=b)
     above = core.simulate_cycles(1.1 * lim, 0.3, periods=30, body=b)
     assert below.regime == "shakedown" and above.regime == "ratcheting"
-    assert above.body == "crowned" and above.body_spec == b and above.params["c"] == 0.5
+    assert above.body_name == "crowned" and above.body == b and above.params["c"] == 0.5
     assert above.params["normal"] == "numerical"
     assert above.pressure.shape == above.traction.shape
     t = core.sweep([0.9 * lim, 1.1 * lim], [0.3], body=b, periods=30)

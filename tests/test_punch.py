@@ -124,14 +124,14 @@ def test_numerical_normal_gives_the_exact_increments(body, factor):
 
 def test_result_keeps_the_body():
     r = core.simulate_cycles(0.2, 0.3, periods=3, body="punch")
-    assert r.body == "punch" and r.body_spec == core.Punch(flat=0.5) and r.params["flat"] == 0.5
+    assert r.body_name == "punch" and r.body == core.Punch(flat=0.5) and r.params["flat"] == 0.5
     assert r.params["normal"] == "exact"
     assert np.allclose(r.pressure, LineGrid(core.Punch(0.5), r.edges, "exact").bounds(r.xc, r.P))
     r = core.simulate_cycles(0.2, 0.3, periods=3, body=core.Punch(flat=0.8), normal="numerical")
-    assert r.body_spec == core.Punch(flat=0.8) and r.params["normal"] == "numerical"
+    assert r.body == core.Punch(flat=0.8) and r.params["normal"] == "numerical"
     assert r.pressure.sum(axis=1) * r.dx == pytest.approx(np.full(r.xc.size, np.pi / 2), rel=1e-9)
     c = core.simulate_cycles(0.2, 0.3, periods=3)
-    assert c.body == "cylinder" and c.body_spec == core.Cylinder() and "normal" not in c.params
+    assert c.body_name == "cylinder" and c.body == core.Cylinder() and "normal" not in c.params
 
 
 def test_sweep_takes_a_body_object():

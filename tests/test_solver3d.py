@@ -119,7 +119,7 @@ def test_result_is_read_only(bracket):
     with pytest.raises(ValueError):
         below.traction_cut[0, 0, 0] = 1.0
     with pytest.raises(ValueError):
-        below.residuals["bound"][0] = 1.0
+        below.step_residuals["bound"][0] = 1.0
 
 
 def test_force_at_right_angle_and_ellipsoid():
