@@ -256,7 +256,7 @@ class CardsMixin:
             return state.body
 
     def _badge(self, ft, w, result, error, pending=False):
-        predicted, rule = prediction(ft, w, self._body_spec())
+        predicted, rule = prediction(ft, w, CardsMixin._body_spec(self))  # self may be the class (headless tests)
         if error.startswith("limit only"):  # a body whose cycles the explorer cannot run yet: its limit only
             return ('<span class="regime-badge regime-none" data-regime="limit-only">LIMIT ONLY</span>'
                     f'<div class="regime-note">{html.escape(rule)} predicts {html.escape(predicted)} for '

@@ -46,7 +46,11 @@ run grid (``run_grid(reach_x, scale, h)``; default: the box of its Hertz
 ellipse, ``kappa``), its pressure on the grid at a step
 (``grid_pressure(x_edges, y_edges, xc, scale)``; default: Hertz's, solved on
 the grid or in closed form), ``kernel_scale``, ``total_load`` and, optionally,
-``solver_options``. A line body object (:class:`core.bodies.Body`) becomes a
+``load_scale(P)`` (the length scale ``scale`` of its contact under the normal
+load ``P``; default ``P^(1/3)``), ``default_dx`` and ``solver_options`` (a
+dict of keyword options of :func:`core.solver3d.solve_increment`, e.g. a
+cone's twist centre, passed on every step). ``tests/test_engine.py`` defines
+such a body in the test file alone and runs it. A line body object (:class:`core.bodies.Body`) becomes a
 line grid through ``body.grid(history, dx, ...)``.
 
 The per-step solver protocol
@@ -123,12 +127,11 @@ def check_solver(solver, shape="line", body=None):
     """``solver`` if it is valid for a grid of ``shape``, else ValueError naming the valid choices."""
     choices = SOLVER_CHOICES_BY_GRID[shape]
     if not isinstance(solver, str) or solver not in choices:
-        what = f"body={body!r:.40}" if body is not None else f"a {shape} of elements"
+        what = f"body={body!r:.40} (a {shape} of elements)" if body is not None else f"a {shape} of elements"
         other = [s for s, c in STEP_SOLVERS.items() if c.grid != shape]
         hint = (f" ({', '.join(repr(s) for s in other)} solve{'s' if len(other) == 1 else ''} the other grid "
                 f"shape)" if solver in other else "")
-        raise ValueError(f"solver must be one of {choices} for {what} (a {shape} of elements), "
-                         f"got {solver!r:.60}{hint}")
+        raise ValueError(f"solver must be one of {choices} for {what}, got {solver!r:.60}{hint}")
     return solver
 
 
@@ -219,7 +222,9 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     load_scale = float(body.load_target(1.0))
     # a line grid fills a buffer of bounds; a patch grid returns one (ny, nx) array per step
     buffer = np.empty((min(chunk, steps), n)) if shape == "line" else None
-    lowest = _Lowest()
+    # mu p_min of the last period: tracked over the history's last block as it is marched (or, when the march
+    # stops at a repeated period, over that period's bounds at the end)
+    lowest, last_block = _Lowest(), int(history.period[-1])
     done, periodic_from = 0, -1
     budget_end = None if time_budget is None else t0 + time_budget
     while done < steps:
@@ -228,7 +233,7 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
                              out=None if buffer is None else buffer[:k1 - done])
         reached, periodic_from, failed = step_solver.march(bounds, history.Q, history.period, load_scale, done, k1,
                                                            periodic, out)
-        lowest.add(bounds, history.period[done:reached])
+        lowest.add(bounds, history.period[done:reached], last_block)
         if failed >= 0:
             res = max(step_solver.residuals.values())
             reason = getattr(step_solver, "failure", "") or (
@@ -247,6 +252,9 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
                 progress(done / steps)
     if done < steps:
         _repeat_last_period(history.period, done, periodic_from, out)
+        block = np.flatnonzero(history.period == periodic_from)
+        rows = None if buffer is None else np.empty((block.size, n))
+        lowest.add(body.bounds(history.xc[block], history.P[block], out=rows), history.period[block], periodic_from)
     if progress is not None:
         progress(1.0)
     return CycleResult(
@@ -260,26 +268,26 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
 
 
 class _Lowest:
-    """The lowest bound of each element over the last block (period) marched: ``mu p_min`` of the last period."""
+    """The lowest bound of each element over one block of steps (a period): ``mu p_min`` of the last period."""
 
     def __init__(self):
-        self.block, self.value = None, None
+        self.value = None
 
-    def add(self, bounds, period):
-        """Take the rows of ``bounds`` (an array, or a list of arrays) of the steps whose periods are ``period``."""
-        if period.size == 0:
+    def add(self, bounds, period, block):
+        """Take the rows of ``bounds`` (an array, or a list of arrays) whose steps are in ``block`` (their
+        periods are ``period``, one per row; the block's rows are contiguous)."""
+        rows = np.flatnonzero(period == block)
+        if rows.size == 0:
             return
-        cuts = np.flatnonzero(np.diff(period)) + 1
-        for rows in np.split(np.arange(period.size), cuts):
-            block = int(period[rows[0]])
-            if isinstance(bounds, np.ndarray):
-                low = bounds[rows].min(axis=0)
-            else:
-                low = functools.reduce(np.minimum, (bounds[i] for i in rows[1:]), bounds[rows[0]].copy())
-            if block == self.block:
-                np.minimum(self.value, low, out=self.value)
-            else:
-                self.block, self.value = block, low
+        i0, i1 = int(rows[0]), int(rows[-1]) + 1
+        if isinstance(bounds, np.ndarray):
+            low = bounds[i0:i1].min(axis=0)
+        else:
+            low = functools.reduce(np.minimum, bounds[i0 + 1:i1], bounds[i0].copy())
+        if self.value is None:
+            self.value = low
+        else:
+            np.minimum(self.value, low, out=self.value)
 
 
 def _repeat_last_period(period, done, p, out):
@@ -297,6 +305,9 @@ def _repeat_last_period(period, done, p, out):
     for arr in out.copied():
         arr[rest] = arr[src]
     disp[rest] = disp[src] + repeats.reshape((-1,) + (1,) * (disp.ndim - 1)) * increment
+    rot = getattr(out, "rotation", None)
+    if rot is not None:  # a patch free to turn about the normal (a cone): the rotation advances like the displacement
+        rot[rest] = rot[src] + repeats * (rot[block[-1]] - (rot[start - 1] if start > 0 else 0.0))
     out.iterations[rest] = 0
     out.cg_iterations[rest] = 0
     if hasattr(out, "repeat_snapshots"):

@@ -77,7 +77,8 @@ class HeightProfile(Body):
     True
     """
 
-    name = "heightmap"
+    #: Its name on a result (``body_name``); not a registry name (a profile is given as an object).
+    name = "profile"
 
     def __init__(self, heights, spacing, centre=None):
         h = np.array(heights, dtype=float)
@@ -154,7 +155,8 @@ class HeightMap:
     True
     """
 
-    name = "heightmap2d"
+    #: Its registry and CLI name (``core.registry``, ``--body heightmap``), and its name on a result.
+    name = "heightmap"
     dim = 2
     #: Nominal load [p0 a^2] and kernel factor of the sphere's units (:mod:`core.point_contact`).
     load = 2.0 * math.pi / 3.0

@@ -220,34 +220,66 @@ class ShakedownState:
     stick_halfwidth: float
 
 
-def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=KKT_TOL, solver="auto"):
-    """Static partial slip under an arbitrary traction bound, loaded from zero in one step.
+def _is_line_body(body) -> bool:
+    """Whether ``body`` (a name, class or object) is a line contact (:class:`core.bodies.Body`; else a point body)."""
+    return isinstance(body, Body) or (isinstance(body, type) and issubclass(body, Body)) or (
+        isinstance(body, str) and body in BODIES)
+
+
+def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None, solver="auto", body=None, nu=0.5,
+                 angle=0.0):
+    """Static partial slip under an arbitrary traction bound, loaded from zero in one step: a line or a patch.
 
     Solves ``min 1/2 q^T K q`` subject to ``|q_i| <= bound_i`` and
     ``sum q_i dx = (pi/2) Q``: with ``bound = mu p`` it is Cattaneo-Mindlin;
     with ``bound = mu`` times the lowest pressure of a rocking period it is the
-    shaken-down state (:func:`shakedown_state`).
+    shaken-down state (:func:`shakedown_state`). A 2-D ``bound`` (or a point
+    ``body``) is a patch of elements centred on the origin: the same problem
+    with vector tractions on Coulomb disks, ``sum q dA = Q Fn`` along ``angle``
+    (Mindlin's, or a point contact's shaken-down state), solved by the patch
+    solver (:func:`core.solver3d.solve_static_patch`).
 
     Parameters
     ----------
-    bound : array_like, shape (n,)
-        Traction bound per element [mu p0], >= 0.
+    bound : array_like, shape (n,) or (ny, nx)
+        Traction bound per element [mu p0], >= 0 (a patch: odd sizes, centred on the origin).
     Q : float
-        Tangential load [mu P]; ``|Q| < (2/pi) sum(bound) dx``.
+        Tangential load [mu P]; ``|Q| < (2/pi) sum(bound) dx`` (a patch: ``ft = Ft/(mu Fn)`` in [0, what the bound carries)).
     dx : float
         Element width [a].
     kernel, kernel_options, solver :
-        As in :func:`solve_schedule`.
-    tol : float
-        KKT tolerance.
+        As in :func:`solve_schedule` (a patch: ``solver`` ``"auto"`` or ``"pcg3d"``; no kernel options).
+    tol : float, optional
+        KKT tolerance (default :data:`KKT_TOL`; a patch: :data:`core.solver3d.TOL_3D`).
+    body : object, optional
+        A patch's point body (default the sphere); a line body is not needed.
+    nu, angle : float
+        A patch's Poisson ratio and the angle of ``Ft`` to x [rad].
 
     Returns
     -------
-    StaticSolution
-        ``traction`` [mu p0], ``displacement`` [mu P/E*], ``iterations`` and the named ``residuals``.
+    StaticSolution or core.solver3d.StaticResult3D
+        A line: ``traction`` [mu p0], ``displacement`` [mu P/E*], ``iterations`` and the named
+        ``residuals``; a patch: the fields on the grid, the states and ``stick_halfwidth``.
+
+    Examples
+    --------
+    Mindlin's stick radius ``(1 - ft)^(1/3)`` on a coarse patch (``dx = a/10``), to an element:
+
+    >>> import numpy as np, core
+    >>> x = 0.1 * np.arange(-12, 13)
+    >>> p = np.sqrt(np.clip(1 - x[None, :] ** 2 - x[:, None] ** 2, 0, None))
+    >>> s = core.solve_static(p, 0.5, 0.1)
+    >>> abs(s.stick_halfwidth - 0.5 ** (1 / 3)) <= 0.1
+    True
     """
     from ._validate import check_range
 
+    if np.ndim(bound) == 2 or (body is not None and not _is_line_body(body)):
+        from .solver3d import TOL_3D, solve_static_patch
+        return solve_static_patch(bound, Q, dx, body=body, nu=nu, angle=angle, solver=solver,
+                                  tol=TOL_3D if tol is None else tol)
+    tol = KKT_TOL if tol is None else tol
     bound = check_range("bound", bound, 0.0, None)
     if bound.ndim != 1 or bound.size < 1 or bound.size > MAX_ELEMENTS:
         raise ValueError(f"bound must be a 1-D array of 1 to {MAX_ELEMENTS} elements")
@@ -267,8 +299,8 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=KKT_T
                           residuals=step.residuals)
 
 
-def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0.5, tol=KKT_TOL, solver="auto",
-                    body="cylinder", normal="auto"):
+def shakedown_state(ft, w, dx=None, *, kernel="plane", L_over_a=None, nu=0.5, tol=None, solver="auto",
+                    body="cylinder", normal="auto", ratio=None, angle=0.0):
     """The shaken-down traction, computed directly as one static partial-slip problem.
 
     After shakedown nothing slips, and every element carries at most ``mu``
@@ -281,16 +313,20 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
 
     Parameters
     ----------
-    ft, w, dx, kernel, L_over_a, nu, tol, body, normal :
+    ft, w, dx, kernel, L_over_a, nu, tol, body, normal, ratio, angle :
         As in :func:`simulate_cycles` (the rocking steps do not matter here).
         A line body other than the exact cylinder takes its lowest pressure over
         centres a quarter element apart (:meth:`core.bodies.LineGrid.lowest_bound`).
+        A point body (``"sphere"``, ``"ellipsoid"`` with ``ratio``, an
+        :class:`core.point_contact.Ellipsoid`) runs
+        :func:`core.solver3d.shakedown_state_3d` (``dx`` default 0.05, its grid).
 
     Returns
     -------
-    ShakedownState
+    ShakedownState or core.solver3d.StaticResult3D
         ``x`` (element centres [a]), ``traction`` [mu p0], ``bound`` (``mu p_min``
-        per element [mu p0]) and ``stick_halfwidth`` (``c_sd / a``, 0 if none).
+        per element [mu p0]) and ``stick_halfwidth`` (``c_sd / a``, 0 if none);
+        a point body's fields are on its patch.
 
     Examples
     --------
@@ -302,6 +338,15 @@ def shakedown_state(ft, w, dx=DEFAULT_DX, *, kernel="plane", L_over_a=None, nu=0
     >>> bool((abs(sd.traction) <= sd.bound + 1e-9).all())
     True
     """
+    if not _is_line_body(body):
+        from .solver3d import TOL_3D, shakedown_state_3d
+        check_solver(solver, "patch", body)
+        return shakedown_state_3d(ft, w, 0.05 if dx is None else dx, body, ratio=ratio, nu=nu, angle=angle,
+                                  tol=TOL_3D if tol is None else tol)
+    if ratio is not None or angle != 0.0:
+        raise ValueError(f"ratio and angle are the point contacts', not body={body!r:.40}'s")
+    tol = KKT_TOL if tol is None else tol
+    dx = DEFAULT_DX if dx is None else dx
     ft = check_scalar("ft", ft, -1.0, 1.0, lo_closed=False, hi_closed=False)
     w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
     dx = check_scalar("dx", dx, 1e-4, 0.5)
@@ -415,8 +460,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     >>> abs(r.stick_halfwidth - float(core.shakedown_stick_halfwidth(0.2, 0.3))) < 0.05
     True
     """
-    line = isinstance(body, Body) or (isinstance(body, type) and issubclass(body, Body)) or (
-        isinstance(body, str) and body in BODIES)
+    line = _is_line_body(body)
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
     if not line:  # point contacts: a patch of elements (core/solver3d.py builds it and runs core.engine.run)

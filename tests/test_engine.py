@@ -242,3 +242,49 @@ def test_the_patch_solver_can_be_named():
     auto = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.25, body="sphere")
     assert r.solver == auto.solver == "pcg3d"
     assert_allclose(r.increment_per_period, auto.increment_per_period, rtol=0, atol=0)
+
+
+def test_one_static_solve_for_a_line_and_a_patch():
+    """core.solve_static dispatches on the bound's shape; shakedown_state on the body; the old names agree."""
+    from core.solver3d import _grid, _pressure, shakedown_state_3d, solve_static_3d
+    body = core.Ellipsoid(1.0)
+    xe, ye = _grid(body, 1.0, 1.0, 0.1)
+    p = _pressure(xe, ye, 0.0, body)
+    patch = core.solve_static(p, 0.5, 0.1)
+    old = solve_static_3d(p, 0.5, xe, ye, body)
+    assert_allclose(patch.traction, old.traction, rtol=0, atol=0)
+    assert_allclose(patch.x_edges, xe)
+    line = core.solve_static(Cylinder.for_reach(1.0, 0.05).bounds([0.0], [1.0])[0], 0.5, 0.05)
+    assert line.traction.ndim == 1 and max(line.residuals.values()) <= 1e-10
+    sd = core.shakedown_state(0.3, 0.3, 0.1, body="sphere")
+    assert_allclose(sd.traction, shakedown_state_3d(0.3, 0.3, 0.1).traction, rtol=0, atol=0)
+    with pytest.raises(ValueError, match=r"\('auto', 'pcg3d'\)"):
+        core.solve_static(p, 0.5, 0.1, solver="dense")
+
+
+class _TabulatedSphere:
+    """A point body written against the patch protocol alone (its own grid and pressure, a solver option)."""
+
+    name = "tabulated sphere"
+    solver_options = {"cg_maxiter": 400}
+
+    def __init__(self):
+        self.sphere = core.Ellipsoid(1.0)
+        self.total_load, self.kernel_scale = self.sphere.total_load, self.sphere.kernel_scale
+
+    def run_grid(self, reach_x, scale, h):
+        from core.solver3d import _grid
+        return _grid(self.sphere, reach_x + scale, scale, h)
+
+    def grid_pressure(self, x_edges, y_edges, xc, scale):
+        from core.solver3d import _pressure
+        return _pressure(x_edges, y_edges, xc, self.sphere, scale)
+
+
+def test_a_point_body_plugs_into_the_engine_through_its_hooks():
+    body = _TabulatedSphere()
+    r = core.simulate_cycles(0.5, 0.3, periods=3, dx=0.2, body=body)
+    ref = core.simulate_cycles(0.5, 0.3, periods=3, dx=0.2, body="sphere")
+    assert r.is_patch and r.body is body and r.body_name == "tabulated sphere" and r.solver == "pcg3d"
+    assert_allclose(r.increment_per_period, ref.increment_per_period, rtol=1e-12)
+    assert_allclose(r.pressure_at(5), ref.pressure_at(5), rtol=0, atol=0)

@@ -16,7 +16,7 @@ def test_sampled_cylinder_is_the_cylinder():
     r = core.simulate_cycles(0.5, 0.3, periods=8, body=body)
     ref = core.simulate_cycles(0.5, 0.3, periods=8)
     assert np.allclose(r.increment_per_period, ref.increment_per_period, rtol=2e-3, atol=1e-6)
-    assert r.body_name == "heightmap" and r.body is body
+    assert r.body_name == "profile" and r.body is body
 
 
 def test_measured_punch_from_a_surfacetopography_file(tmp_path):
@@ -150,9 +150,15 @@ def test_cli_runs_a_height_map_file(tmp_path):
     p = _cli("run", "--ft", "0.478", "--w", "0.3", "--body", "heightmap", "--file", str(path), "--length-unit", "100",
              "--height-unit", "2", "--periods", "30")
     assert p.returncode == 0, p.stderr
-    assert "heightmap2d, 3D half-space" in p.stdout and "shakedown" in p.stdout
+    assert "heightmap, 3D half-space" in p.stdout and "shakedown" in p.stdout
     assert "exact limit at this w      0.5312" in p.stdout and "dx = 0.1 a" in p.stdout
     for args, message in ((("--body", "heightmap"), "heightmap' needs a"),
                           (("--body", "sphere", "--file", str(path)), "--file is for --body heightmap")):
         p = _cli("run", "--ft", "0.3", "--w", "0.3", "--periods", "2", *args)
         assert p.returncode != 0 and message in p.stderr, p.stderr
+
+
+def test_a_height_map_has_one_name_registry_cli_and_result():
+    from core.registry import REGISTRY
+    assert HeightMap.name == "heightmap" and "heightmap" in REGISTRY and REGISTRY["heightmap"].kind == "point"
+    assert HeightProfile.name not in REGISTRY  # a line profile is given as an object, under its own name

@@ -87,6 +87,37 @@ def test_undetermined_says_how_many_more_periods_and_they_decide():
     assert classify_increments(inc[:20 + more // 10], 1e-3, floor=noise * 0.1).regime == "undetermined"
 
 
+#: Increments per period of the free cone (inner 0) at w 0.3, ft 0.5485 (5 % below its grid limit), a_m/10,
+#: 40 periods, measured on the engine: their ratio rises from 0.94 to 0.958; 200 periods shake down (period 101).
+CONE_NEAR_LIMIT = [
+    0.0154944, 0.00531817, 0.00263579, 0.00188348, 0.00149531, 0.00125124, 0.00107989, 0.000954743, 0.000855401,
+    0.000773957, 0.000706031, 0.00064879, 0.000599169, 0.000555979, 0.000517832, 0.000484301, 0.000454168,
+    0.000428048, 0.000404241, 0.000382161, 0.000362516, 0.000343652, 0.000326033, 0.000310231, 0.000295323,
+    0.000280875, 0.000267348, 0.000255299, 0.000243828, 0.000232769, 0.000222244, 0.000212179, 0.000203174,
+    0.000194728, 0.000186453, 0.000178461, 0.000170792, 0.000163471, 0.000156542, 0.000150024]
+
+
+def test_the_cone_slowly_shaking_down_is_not_called_ratcheting():
+    """One tail's fit extrapolates these to D_inf = 6.4e-5 +- 1.2e-5 (r 0.938), but tails of 32, 24, 16, 12
+    periods give 1.2e-4, 6.4e-5, 4.0e-5, 2.7e-5: the limit drifts down, the trend is not steady. The rule called
+    this ratcheting before the tails had to agree within SETTLED_FRACTION of D_inf."""
+    v = classify_increments(CONE_NEAR_LIMIT, 1e-3, floor=1e-9)
+    assert v.regime == "undetermined" and "disagrees" in v.reason, v.reason
+    assert 10 < v.periods_to_decide < 200
+
+
+@pytest.mark.parametrize("a, b, r1, r2", [(1e-3, 5e-4, 0.9, 0.97), (1e-3, 3e-4, 0.85, 0.96), (2e-3, 2e-4, 0.8, 0.975)])
+def test_a_decay_that_slows_down_is_not_called_ratcheting(a, b, r1, r2):
+    """Two decaying modes (the free cone near its limit: per-period ratios 0.94 rising to 0.958 over 40 periods)
+    look like ``D_inf + C r^n`` with ``D_inf > 0`` on one tail, but the fitted limit falls tail after tail: not a
+    steady trend, so 40 periods are undetermined, and enough periods shake down."""
+    n = np.arange(400)
+    inc = a * r1 ** n + b * r2 ** n
+    v = classify_increments(inc[:40], 1e-3, floor=1e-9)
+    assert v.regime == "undetermined" and "disagrees" in v.reason and v.periods_to_decide > 0
+    assert classify_increments(inc, 1e-3, floor=1e-9).regime == "shakedown"
+
+
 def test_fit_trend_recovers_the_parameters():
     t = fit_trend(0.3 + 0.7 * 0.8 ** np.arange(15), floor=1e-12)
     assert (t.D_inf, t.ratio) == (pytest.approx(0.3, abs=1e-9), pytest.approx(0.8, abs=1e-8))
