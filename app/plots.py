@@ -632,7 +632,7 @@ FIGURES = {
                 caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,
                    layers=_states_layers, inputs=("units", "result", "frame")),
     "displacement": dict(opts=dict(title="Cylinder displacement", **key_opts("bottom_right")),
-                caption="What you see: the body's rigid-body displacement (the cylinder's, the punch's...) over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
+                caption="What you see: the body's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),
                 caption="What you see: how far the body walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
