@@ -16,7 +16,7 @@ import numpy as np
 
 import core
 
-__all__ = ["CardsMixin", "prediction", "limit_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
+__all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
            "fmt", "count", "STRIP_KEYS"]
 
 #: The rows of the cards shown in the strip, in its order, with their short names there (the first row of each
@@ -34,16 +34,39 @@ def _closure(ft: float, w: float) -> tuple[float, float, float]:
     return (float(core.shakedown_stick_halfwidth(ft, w)), float(core.ft_limit(w)), float(core.w_limit(ft)))
 
 
-def limit_name(body: str) -> str:
-    """How the exact limit of ``body`` is cited."""
-    return "eq 35" if body == "cylinder" else f"the {body}'s exact limit"
+def body_name(body) -> str:
+    """The name of a body given by name or object (a height map is the registry's 'heightmap')."""
+    if isinstance(body, str):
+        return body
+    name = str(getattr(body, "name", type(body).__name__))
+    return "heightmap" if name.startswith("heightmap") else name
 
 
-def prediction(ft: float, w: float, body: str) -> tuple[str, str]:
-    """The regime the exact limit of ``body`` predicts for ``ft``, ``w``, and how that limit is cited."""
-    if body == "cylinder":
+def limit_name(body) -> str:
+    """How the exact limit of ``body`` (a name or a body object) is cited."""
+    name = body_name(body)
+    return "eq 35" if name == "cylinder" else f"the {name}'s exact limit"
+
+
+@functools.lru_cache(maxsize=4096)
+def body_limits(ft: float, w: float, body) -> tuple[float, float]:
+    """``ft_lim(w)`` and ``w_lim(ft)`` of ``body`` (a name or a body object; :func:`core.ft_limit`,
+    :func:`core.w_limit`), memoised (the cards are redrawn several times per slider move); NaN where the limit
+    cannot be evaluated."""
+    try:
+        return float(core.ft_limit(w, body=body)), float(core.w_limit(ft, body=body))
+    except (ValueError, TypeError, NotImplementedError):
+        return math.nan, math.nan
+
+
+def prediction(ft: float, w: float, body) -> tuple[str, str]:
+    """The regime the exact limit of ``body`` (a name or a body object) predicts for ``ft``, ``w``, and how that
+    limit is cited."""
+    if body_name(body) == "cylinder":
         return str(core.classify_regime(ft, w)), limit_name(body)
-    lim = float(core.ft_limit(w, body=body))
+    lim = body_limits(ft, w, body)[0]
+    if not math.isfinite(lim):
+        return "unknown", limit_name(body)
     return ("shakedown" if ft <= lim else "ratcheting"), limit_name(body)
 
 
@@ -76,8 +99,9 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
         rows += [("Ft (tangential force)", fmt(c.Ft, "N")), ("W (rocking amplitude)", fmt(c.W * 1e6, "µm")),
                  ("a (semi-axis along x)", fmt(c.a * 1e3, "mm")), ("b (semi-axis along y)", fmt(c.b * 1e3, "mm")),
                  ("p0 (peak pressure)", fmt(c.p0 / 1e6, "MPa")), ("ν of the half-space kernel", fmt(c.nu, "", 3))]
-    lim, wlim = float(core.ft_limit(w, body=body)), float(core.w_limit(ft, body=body))
-    rows += [(f"ft_lim(w), {body} (exact)", fmt(lim)), (f"w_lim(ft), {body} (exact)", fmt(wlim)),
+    lim, wlim = body_limits(ft, w, body)
+    name = body_name(body)
+    rows += [(f"ft_lim(w), {name} (exact)", fmt(lim)), (f"w_lim(ft), {name} (exact)", fmt(wlim)),
              ("ft_lim(w), cylinder (eq 35)", fmt(float(core.ft_limit(w)))),
              ("margin ft / ft_lim", fmt(ft / lim, "", 3) if lim > 0 else "–"),
              ("margin w / w_lim", fmt(w / wlim, "", 3) if wlim > 0 else "–")]
@@ -98,7 +122,7 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
     rows.append(("grid error of Δu", "estimating…" if grid_error is None
                  else grid_error_text(grid_error, inc, scale, unit)))
     nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
-    rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{round(1 / result.dx):d}), "
+    rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{1 / result.dx:.3g}), "
                           f"{result.xc.size} steps"))
     return rows
 
@@ -114,9 +138,12 @@ def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "") ->
     return f"±{100 * rel:.0f} % ({absolute})" if math.isfinite(rel) else absolute
 
 
-def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6) -> list:
-    """The rows of the cylinder's cards: inputs in physical units, the closure's and the solver's numbers, the
-    margins (``wait``: why the solver's are not shown, or None)."""
+def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, body="cylinder") -> list:
+    """The rows of a line body's cards: inputs in physical units (the cylinder's Hertz scales), the closure's
+    (the cylinder's only) and the solver's numbers, the exact limits and the margins (``wait``: why the solver's
+    are not shown, or None). ``body``: the cylinder, or another line body (a name or an object)."""
+    if body_name(body) != "cylinder":
+        return _line_rows(ft, w, mu, contact, result, wait, units, cycles, body)
     rows = []
     physical = units == "physical"
     c = None if contact is None else contact.replace(mu=mu, ft=ft, w=w)
@@ -143,6 +170,38 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
         um = inc * c.displacement_unit * 1e6
         rows.append(("creep per period (last)", fmt(um, "µm", 3)))
         rows.append((f"creep after {count(cycles)} periods", fmt(um * cycles / 1e3, "mm", 3)))
+    else:
+        unit_u = "U0" if result.u0 else "μP/E*"
+        rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
+    rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., {result.xc.size} steps"))
+    return rows
+
+
+def _line_rows(ft, w, mu, contact, result, wait, units, cycles, body) -> list:
+    """The cards of a line body other than the cylinder: its exact limits (Melan, :func:`core.ft_limit`), no closure."""
+    rows = []
+    c = None if contact is None else contact.replace(mu=mu, ft=ft, w=w)
+    if c is not None:
+        rows += [("Ft (tangential force)", fmt(ft * mu * c.Fn, "N")),
+                 ("W (rocking amplitude)", fmt(w * c.a * 1e6, "µm")),
+                 ("a (the cylinder of R's half-width)", fmt(c.a * 1e3, "mm"))]
+    lim, wlim = body_limits(ft, w, body)
+    name = body_name(body)
+    physical = units == "physical" and c is not None
+    scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
+    rows += [("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
+             (f"ft_lim(w), {name} (exact)", fmt(lim)), (f"w_lim(ft), {name} (exact)", fmt(wlim)),
+             ("ft_lim(w), cylinder (eq 35)", fmt(float(core.ft_limit(w)))),
+             ("margin ft / ft_lim", fmt(ft / lim, "", 3) if lim > 0 else "–"),
+             ("margin w / w_lim", fmt(w / wlim, "", 3) if wlim > 0 else "–")]
+    if wait:
+        rows += [("Δu last period", wait), ("solve", wait)]
+        return rows
+    inc = float(result.increment_per_period[-1])
+    if physical:
+        um = inc * c.displacement_unit * 1e6
+        rows += [("creep per period (last)", fmt(um, "µm", 3)),
+                 (f"creep after {count(cycles)} periods", fmt(um * cycles / 1e3, "mm", 3))]
     else:
         unit_u = "U0" if result.u0 else "μP/E*"
         rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
@@ -186,9 +245,22 @@ class CardsMixin:
                 and abs(float(result.params.get("w", math.nan)) - w) < 1e-9
                 and (point is None or isinstance(result, core.PointContactResult) == point))
 
+    def _body_spec(self):
+        """The current body as an object (its parameters), or its name if it cannot be built from the inputs."""
+        state = getattr(self, "state", None)  # (also called on the class, headless)
+        if state is None:
+            return "cylinder"
+        try:
+            return "cylinder" if state.body == "cylinder" else state.body_object()
+        except ValueError:
+            return state.body
+
     def _badge(self, ft, w, result, error, pending=False):
-        body = getattr(getattr(self, "state", None), "body", "cylinder")  # (also called on the class, headless)
-        predicted, rule = prediction(ft, w, body)
+        predicted, rule = prediction(ft, w, CardsMixin._body_spec(self))  # self may be the class (headless tests)
+        if error.startswith("limit only"):  # a body whose cycles the explorer cannot run yet: its limit only
+            return ('<span class="regime-badge regime-none" data-regime="limit-only">LIMIT ONLY</span>'
+                    f'<div class="regime-note">{html.escape(rule)} predicts {html.escape(predicted)} for '
+                    f'ft = {ft:.2f}, w = {w:.2f}<br>{html.escape(error)}</div>')
         if error:
             return ('<span class="regime-badge regime-none" data-regime="invalid">INVALID INPUT</span>'
                     f'<div class="regime-note">{html.escape(error)}</div>')
@@ -218,8 +290,8 @@ class CardsMixin:
         wait = None if fresh else ("solving…" if pending or result is None else "release the slider")
         if isinstance(contact, core.PointContact) or point:
             error = grid_error if (grid_error is not None and fresh and grid_error.result is result) else None
-            return point_rows(ft, w, mu, contact, result, wait, units, cycles, self.state.body, error), wait
-        return cylinder_rows(ft, w, mu, contact, result, wait, units, cycles), wait
+            return point_rows(ft, w, mu, contact, result, wait, units, cycles, self._body_spec(), error), wait
+        return cylinder_rows(ft, w, mu, contact, result, wait, units, cycles, self._body_spec()), wait
 
     def _cards(self, ft, w, mu, contact, result, pending=False, units="normalised", cycles=10**6, grid_error=None):
         """Every summary card (HTML). Numerical values are shown only when the run shown is the current inputs'

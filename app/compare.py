@@ -18,7 +18,7 @@ import param
 import core
 
 from . import panes
-from .cards import prediction
+from .cards import body_name, prediction
 from .pinned import MAX_PINS, PIN_STYLES, Pin, label
 
 __all__ = ["MAX_PINS", "PIN_STYLES", "Pin", "Pins", "table_html"]
@@ -39,11 +39,21 @@ def _fmt(v, digits=3) -> str:
     return "–" if v is None or not math.isfinite(v) else f"{v:.{digits}g}"
 
 
-def _body(result) -> str:
-    """The body of a run (a cylinder's run: its kernel too)."""
+def _spec(result):
+    """The body of a run as an object (a point run's body; a line run's ``body_spec``), or its name."""
     if isinstance(result, core.PointContactResult):
-        return result.body.name
-    return f"cylinder, {result.kernel}"
+        return result.body
+    return getattr(result, "body_spec", None) or result.body
+
+
+def _body(result) -> str:
+    """The body of a run, with its parameters (a line run: its kernel too)."""
+    spec = _spec(result)
+    text = body_name(spec)
+    params = {} if isinstance(spec, str) or text in ("cylinder", "sphere") else dict(getattr(spec, "parameters", {}))
+    if params:
+        text += " (" + ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in params.items()) + ")"
+    return text if isinstance(result, core.PointContactResult) else f"{text}, {result.kernel}"
 
 
 def table_html(pins) -> str:
@@ -62,7 +72,7 @@ def table_html(pins) -> str:
         u0 = getattr(r, "u0", None)
         point = isinstance(r, core.PointContactResult)
         inc_text = f"{inc / u0:.3g} U0" if u0 else f"{inc:.3g} {'μFn/(E*a)' if point else 'μP/E*'}"
-        predicted, rule = prediction(i["ft"], i["w"], r.body.name if point else "cylinder")
+        predicted, rule = prediction(i["ft"], i["w"], _spec(r))
         rows.append(
             f"<tr data-pin='{k + 1}'><td><span class='swatch' style='border-top: 4px {style} {color}'></span>"
             f"{label(k)} <small>{html.escape(_body(r))}</small></td><td>{i['ft']:.2f}, {i['w']:.2f}</td>"

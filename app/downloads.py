@@ -54,7 +54,8 @@ class DownloadsMixin:
     def _name_downloads(self) -> None:
         """Download names that carry the run's parameters (a folder of downloads stays readable)."""
         r = self.result
-        body = "" if not isinstance(r, core.PointContactResult) else f"_{r.body.name}"
+        name = None if r is None else str(getattr(r.body, "name", r.body))  # a cylinder-kind run: its body's name
+        body = "" if name in (None, "cylinder") else f"_{name}"
         tag = "" if r is None else "{}_ft{:.2f}_w{:.2f}_mu{:.2f}_{}p".format(
             body, float(r.params.get("ft", 0)), float(r.params.get("w", 0)), self.state.mu, r.periods)
         self.csv_download.filename = f"shakedown_{self.csv_table.value}{tag}.csv"

@@ -13,7 +13,7 @@ import os
 
 import panel as pn
 
-from . import plots, point_view
+from . import bodies, plots, point_view
 from .live import LiveFigure, WhenShown
 from .styles import CSS
 
@@ -32,7 +32,7 @@ GRID = ("sketch", "states", "increments", "point_pressure", "point_traction", "p
 
 def key_figures(body: str) -> tuple[str, ...]:
     """The first-screen figures of ``body`` (any body the app offers: the cylinder, or a point contact)."""
-    return KEY_FIGURES["cylinder" if body == "cylinder" else "point"]
+    return KEY_FIGURES["point" if bodies.kind(body) == "point" else "cylinder"]
 
 #: The explorer parameter behind each input of the figures (:class:`app.plots.Inputs`).
 FIGURE_INPUTS = {"ft": "ft_live", "w": "w_live", "units": "plot_units", "result": "result", "frame": "frame",

@@ -97,7 +97,7 @@ class LayoutMixin:
         estimated discretisation error): one click doubles the elements per a and re-runs."""
         button = pn.widgets.Button(label="Refine grid", width=210, height=28, css_classes=["refine-grid"],
                                    margin=(0, 10, 2, 10), stylesheets=[":host button {font-size: 13px; padding: 0;}"],
-                                   visible=self.state.param.body.rx() != "cylinder")
+                                   visible=self.state.param.body.rx().rx.pipe(lambda b: self.state.refinable))
 
         def label(resolution):
             finer = min(2 * resolution, MAX_POINT_RESOLUTION)
@@ -197,7 +197,7 @@ class LayoutMixin:
     def template(self) -> pn.template.BaseTemplate:
         """The served page: sidebar, header with the presentation-mode switch, the main area."""
         present = pn.widgets.Toggle(label="Presentation mode", width=170, css_classes=["presentation-toggle"],
-                                    button_type="light", margin=(8, 10))
+                                    color="light", margin=(8, 10))
         present.jscallback(value="""
             const on = cb_obj.active;
             document.documentElement.classList.toggle('presenting', on);

@@ -54,9 +54,15 @@ class MapMixin:
         opts = dict(periods=self.state.periods, dx=self.state.dx, kernel=self.state.kernel,
                     shape=self.state.schedule)
         if self.state.point:  # the current body's map: no kernel (the half-space's)
-            ratio = self.state.ratio if self.state.body == "ellipsoid" else None
-            return dict(periods=self.state.periods, dx=self.state.dx, shape=self.state.schedule,
-                        body=self.state.body, ratio=ratio)
+            options = self.state.solver_options()  # a body with a grid of its own: its dx
+            body = options.get("body")
+            if body is None:  # an ellipsoid: by name, with its ratio
+                ratio = None if self.state.body == "sphere" else float(self.state.body_object().ratio)
+                return dict(periods=self.state.periods, dx=self.state.dx, shape=self.state.schedule,
+                            body=self.state.body, ratio=ratio)
+            return dict(periods=self.state.periods, dx=options["dx"], shape=self.state.schedule, body=body)
+        if self.state.body != "cylinder":  # another line body: the object, with its parameters
+            opts["body"] = self.state.body_object()
         if opts["kernel"] == "strip":
             if self.contact is None:  # invalid geometry: no strip to take L/a from
                 opts["kernel"] = "plane"

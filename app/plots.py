@@ -20,6 +20,7 @@ A layer whose glyph colour encodes a state is a :class:`~app.live.Styled`.
 from __future__ import annotations
 
 import functools
+import math
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -112,6 +113,21 @@ def _step(result: core.CycleResult, frame: int | None) -> int:
     return last if frame is None else int(np.clip(frame, 0, last))
 
 
+def line_body(result):
+    """The line body of a cylinder-kind run when it is not the cylinder (a punch...), else None: the cylinder's
+    figures draw its closed forms (Hertz, eq 35, the closure) for the cylinder and the body's own curves otherwise."""
+    body = getattr(result, "body_spec", None)
+    return None if body is None or isinstance(body, core.Cylinder) else body
+
+
+@lru_cache(maxsize=16)
+def _body_pressure(body, w: float) -> tuple:
+    """A line body's pressure at ``xc = 0`` and its lowest over the cycle ``[-w, w]`` (:func:`core.melan.lowest_pressure`)."""
+    from core.melan import lowest_pressure
+    x, p, p_min = lowest_pressure(body, min(max(w, 0.0), 0.999))
+    return x, p, p_min
+
+
 class Inputs(NamedTuple):
     """Everything the figures depend on."""
 
@@ -139,7 +155,7 @@ def _pressure_specs(units: Units) -> list:
 
 
 @_memo
-def pressure_curves(w: float, units: Units) -> tuple:
+def pressure_curves(w: float, units: Units, body=None) -> tuple:
     """Hertz pressure at the centre and at the reversal points ``±W``, and μ times the lowest pressure.
 
     Parameters
@@ -148,9 +164,15 @@ def pressure_curves(w: float, units: Units) -> tuple:
         ``W / a``.
     units : Units
         Display units.
+    body : core.bodies.Body, optional
+        A line body other than the cylinder: its own pressure (:func:`core.melan.lowest_pressure`).
     """
     x = _x_grid(w)
     X, P = x * units.x, units.p
+    if body is not None:
+        xs, p, low = _body_pressure(body, w)
+        return ((X, P * np.interp(x, xs, p)), (X, P * np.interp(x - w, xs, p)), (X, P * np.interp(x + w, xs, p)),
+                (X, P * units.mu * np.interp(x, xs, low)))
     return ((X, P * core.hertz_pressure(x, 0.0)), (X, P * core.hertz_pressure(x, w)),
             (X, P * core.hertz_pressure(x, -w)), (X, P * units.mu * core.lowest_pressure(x, w)))
 
@@ -161,12 +183,17 @@ def pressure_step(units: Units, result: core.CycleResult | None = None, frame: i
     if result is None:
         return _EMPTY
     xc = float(result.xc[_step(result, frame)])
+    body = line_body(result)
+    if body is not None:
+        xs, p, _ = _body_pressure(body, float(result.params.get("w", 0.0)))
+        x = np.linspace(xc - 1.05, xc + 1.05, 211)
+        return (x * units.x, units.p * np.interp(x - xc, xs, p))
     x = np.linspace(xc - 1.0, xc + 1.0, 201)
     return (x * units.x, units.p * core.hertz_pressure(x, xc))
 
 
 def _pressure_layers(i: Inputs) -> tuple:
-    return (*pressure_curves(i.w, i.units), pressure_step(i.units, i.result, i.frame))
+    return (*pressure_curves(i.w, i.units, line_body(i.result)), pressure_step(i.units, i.result, i.frame))
 
 
 # --------------------------------------------------------------------------
@@ -228,15 +255,20 @@ def _traction_specs(units: Units) -> list:
 
 
 @_memo
-def traction_bounds(w: float, units: Units) -> tuple:
-    """The bounds ±μ p_min of the shaken-down traction (they follow the w slider)."""
+def traction_bounds(w: float, units: Units, body=None) -> tuple:
+    """The bounds ±μ p_min of the shaken-down traction (they follow the w slider; a line body other than the
+    cylinder: its own p_min)."""
     x = _x_grid(w)
-    low = units.q * core.lowest_pressure(x, w)
+    if body is not None:
+        xs, _, p_min = _body_pressure(body, w)
+        low = units.q * np.interp(x, xs, p_min)
+    else:
+        low = units.q * core.lowest_pressure(x, w)
     return ((x * units.x, low), (x * units.x, -low))
 
 
 @_memo
-def traction_closure(ft: float, w: float, units: Units) -> tuple:
+def traction_closure(ft: float, w: float, units: Units, body=None) -> tuple:
     """The paper's closure for the shaken-down traction (eqs 22–30); it follows the ft and w sliders.
 
     Parameters
@@ -246,6 +278,8 @@ def traction_closure(ft: float, w: float, units: Units) -> tuple:
     units : Units
         Display units.
     """
+    if body is not None:  # the paper's closure is the cylinder's
+        return _EMPTY
     x = _x_grid(w)
     return (x * units.x, units.q * core.shakedown_traction(x, ft, w))
 
@@ -281,7 +315,8 @@ def traction_run(units: Units, result: core.CycleResult | None = None, frame: in
 
 def _traction_layers(i: Inputs) -> tuple:
     *zones_and_bounds, numerical = traction_run(i.units, i.result, i.frame)
-    return (*zones_and_bounds, *traction_bounds(i.w, i.units), traction_closure(i.ft, i.w, i.units), numerical,
+    body = line_body(i.result)
+    return (*zones_and_bounds, *traction_bounds(i.w, i.units, body), traction_closure(i.ft, i.w, i.units, body), numerical,
             *pinned.layers("traction", i.pinned, i.units))
 
 
@@ -343,9 +378,14 @@ def state_marks(result: core.CycleResult | None, units: Units) -> tuple:
         return _EMPTY, _EMPTY, [], [], []
     X = units.x
     t = time_axis(result)
-    a_now = np.sqrt(result.P)
+    body = line_body(result)
     ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
-    c_closure = float(core.shakedown_stick_halfwidth(abs(ft), w)) * X
+    if body is None:
+        a_now = np.sqrt(result.P)
+        c_closure = float(core.shakedown_stick_halfwidth(abs(ft), w)) * X
+    else:  # another line body: its own half-width, no closure
+        a_now = np.full(np.shape(result.P), float(body.half_width(1.0))) * np.sqrt(result.P)
+        c_closure = math.nan
 
     def pair(v):
         return [] if not np.isfinite(v) else [-v, v]
@@ -386,7 +426,7 @@ def displacement_curves(result: core.CycleResult | None, units: Units) -> tuple:
         return _EMPTY, []
     usd = []
     ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
-    if result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w)):
+    if line_body(result) is None and result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w)):
         usd = [float(approx.shakedown_displacement_approx(ft, w)) * result.u0 * units.u]
     return (time_axis(result), result.displacement * units.u), usd
 
@@ -508,6 +548,8 @@ def _map_specs(label: str = "solver") -> list:
         Layer(hv.Points, kd, (), "numerical limit ±½ step",
               dict(color="black", fill_color="white", marker="diamond", size=11, line_width=2)),
         *map_base(),
+        Layer(hv.Curve, kd[:1], kd[1:], "this body's exact limit (Melan)",
+              dict(color=_C["green"], line_width=LINE + 1, line_dash="solid")),
         Layer(hv.Points, kd, (), "current point", dict(size=18, marker="circle", line_color="black", line_width=2)),
     ]
 
@@ -540,8 +582,11 @@ def map_point(ft: float, w: float, regime: str | None = None) -> Styled:
 
 def _body_of(run) -> str:
     """The body of a run or a sweep table (a table without a 'body' column is the cylinder's)."""
-    if isinstance(run, core.PointContactResult):
-        return run.body.name
+    if isinstance(run, (core.PointContactResult, core.CycleResult)):
+        spec = run.body if isinstance(run, core.PointContactResult) else (getattr(run, "body_spec", None) or run.body)
+        if isinstance(spec, str) or isinstance(spec, (core.Cylinder, core.Ellipsoid)):
+            return spec if isinstance(spec, str) else str(spec.name)
+        return repr(spec)  # a body with parameters, as core.sweep names it: Punch(flat=0.8)
     columns = getattr(run, "columns", ())
     return str(run["body"].iloc[0]) if "body" in columns and len(run) else "cylinder"
 
@@ -550,7 +595,18 @@ def _map_layers(i: Inputs) -> tuple:
     regime = None if i.result is None else i.result.regime
     # a sweep of another body than the run's is not drawn (the cylinder's shipped map beside a sphere's run)
     table = i.table if i.result is None or _body_of(i.result) == _body_of(i.table) else None
-    return (*map_numerical(table), *[None] * len(map_base()), map_point(i.ft, i.w, regime))
+    return (*map_numerical(table), *[None] * len(map_base()), body_limit(i.result), map_point(i.ft, i.w, regime))
+
+
+def body_limit(result) -> tuple:
+    """The exact limit of the run's body when it is neither the cylinder nor an ellipsoid (their closed forms are
+    drawn already), as ``(ft_lim(w), w)`` (:func:`app.bodies.limit_curve`)."""
+    from . import bodies
+
+    body = None if result is None else getattr(result, "body_spec", None) or getattr(result, "body", None)
+    if body is None or isinstance(body, (str, core.Cylinder)) or bodies.is_ellipsoid(body):
+        return _EMPTY
+    return bodies.limit_curve(body)
 
 
 # --------------------------------------------------------------------------
@@ -559,13 +615,15 @@ def _map_layers(i: Inputs) -> tuple:
 #: Each figure: its title and options, a one-line "what you see" caption, its layers' looks (a function of the units), its layers' data (a function
 #: of :class:`Inputs`), and the inputs these depend on.
 FIGURES = {
-    "sketch": dict(opts=dict(title="The cylinder at the player's step", yaxis=None, show_grid=False,
+    "sketch": dict(opts=dict(title="The body at the player's step", yaxis=None, show_grid=False,
                              legend_position="right", legend_cols=1),
-                   caption="What you see: the rocking cylinder (not to scale) at the player's step: its contact 2a, "
-                           "the way it rolls and the trailing edge, where the contact lets go.",
-                   specs=sketch.specs, layers=sketch.layers, inputs=("result", "frame")),
+                   caption="What you see: the rocking body (not to scale; a point contact: its section on y = 0) at "
+                           "the player's step: its contact 2a, its pressure, the way it moves and the trailing edge, "
+                           "where the contact lets go.",
+                   specs=sketch.specs, layers=sketch.layers, inputs=("result", "frame"),
+                   result=(core.CycleResult, core.PointContactResult)),
     "pressure": dict(opts=dict(title="Pressure and μ p_min", **key_opts("top_right")),
-                caption="What you see: the Hertz pressure moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
+                caption="What you see: the body's pressure (the cylinder's: Hertz's) moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
     "traction": dict(opts=dict(title="Traction vs closure", **key_opts("top_right")),
                 caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: stick, slip (hatched), no contact.", specs=_traction_specs,
@@ -580,7 +638,7 @@ FIGURES = {
                 caption="What you see: how far the cylinder walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result", "pinned")),
     "map": dict(opts=dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
-                caption="What you see: below the black curve (eq 35, the cylinder) or the purple one (sphere, ellipsoid) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
+                caption="What you see: below the black curve (eq 35, the cylinder), the purple one (sphere, ellipsoid) or the green one (the run's body, Melan's exact limit) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
                 specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table"),
                 result=(core.CycleResult, core.PointContactResult)),
 }

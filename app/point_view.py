@@ -34,12 +34,12 @@ import panel as pn
 import core
 from core.point_contact import hertz_pressure_3d
 
-from . import pinned, plots
+from . import bodies, pinned, plots
 from .live import Layer
 from .plots import LINE, OKABE_ITO as _C, ZONE_COLORS, ZONE_HATCH, Units
 from .state import POINT_RESOLUTION
 from .units import along_ft
-from .widgets import IntSlider, filled_when
+from .widgets import FloatSlider, IntSlider, filled_when
 
 __all__ = ["FIGURES", "shown", "body_inputs", "stored_step", "zone_codes", "pressure_map", "traction_map",
            "zone_map", "cut_layers", "displacement_layers", "increment_layers", "ZONE_NAMES"]
@@ -66,9 +66,10 @@ def _figure(name, title, caption, inputs, specs, **opts):
 
 def shown(name: str, body: str) -> bool:
     """Whether figure ``name`` of :data:`app.plots.FIGURES` applies to ``body`` (its ``result`` kind)."""
-    kinds = plots.FIGURES[name].get("result", core.CycleResult)
+    kinds = plots.FIGURES[name].get("result", core.LineResult)
     kinds = kinds if isinstance(kinds, tuple) else (kinds,)
-    return (core.CycleResult if body == "cylinder" else core.PointContactResult) in kinds
+    own = core.PointContactResult if bodies.kind(body) == "point" else core.LineResult
+    return any(k is own or k is core.CycleResult for k in kinds)  # CycleResult: every run
 
 
 # --------------------------------------------------------------------------
@@ -97,7 +98,10 @@ def _bounds(result, units: Units) -> tuple:
 
 
 def _outline(result, step, units: Units) -> tuple:
-    """The contact ellipse at ``step`` (semi-axes ``s`` and ``kappa s``, ``s`` the load scale)."""
+    """The contact ellipse at ``step`` (semi-axes ``s`` and ``kappa s``, ``s`` the load scale); none for a body
+    that is not an ellipsoid (its contact is where the map shows pressure)."""
+    if not bodies.is_ellipsoid(result.body):
+        return _EMPTY
     t = np.linspace(0.0, 2.0 * np.pi, 121)
     s = float(result.P[step]) ** (1.0 / 3.0)
     return ((float(result.xc[step]) + s * np.cos(t)) * units.x, result.body.kappa * s * np.sin(t) * units.x)
@@ -191,9 +195,9 @@ _COARSE = (f"Point contacts run on a coarse grid by default (dx = a/{POINT_RESOL
            "short); refine it under 'Body'.")
 
 
-@_figure("point_pressure", "Pressure at the player's step (Hertz, uncoupled)",
-         "What you see: the Hertz pressure over the contact plane at the player's step; the rocking moves it "
-         "along x. " + _COARSE, ("units", "result", "frame"), _pressure_specs, **_MAP)
+@_figure("point_pressure", "Pressure at the player's step (uncoupled)",
+         "What you see: the body's pressure over the contact plane at the player's step (Hertz's for a sphere or "
+         "an ellipsoid, solved numerically for a height map); the rocking moves it along x. " + _COARSE, ("units", "result", "frame"), _pressure_specs, **_MAP)
 def _pressure_layers(i):
     return pressure_map(i.units, i.result, i.frame)
 
@@ -246,10 +250,13 @@ def cut_layers(units: Units, result=None, frame=None) -> tuple:
     ever = (result.state_cut != 0).any(axis=0)
     codes = np.where(s == 1, 1, np.where(s >= 2, 2, np.where(ever, 3, 0)))
     zones = plots._zone_rectangles(result.x_edges, codes, 1.15 * Q, X)
-    x = np.linspace(result.x_edges[0], result.x_edges[-1], 401)
-    scale = float(result.P[k]) ** (1.0 / 3.0)
-    p = scale * hertz_pressure_3d(x / scale, 0.0, float(result.xc[k]) / scale, result.body.kappa)
     edges = np.repeat(result.x_edges * X, 2)[1:-1]
+    if bodies.is_ellipsoid(result.body):  # Hertz's closed form
+        x = np.linspace(result.x_edges[0], result.x_edges[-1], 401)
+        scale = float(result.P[k]) ** (1.0 / 3.0)
+        p = scale * hertz_pressure_3d(x / scale, 0.0, float(result.xc[k]) / scale, result.body.kappa)
+    else:  # the run's own element pressure on the row of y = 0, as stairs
+        x, p = edges / X, np.repeat(result.pressure(k)[_centre_row(result)], 2)
     q = result.traction_cut[k]
     return (*zones, (x * X, Q * p), (x * X, -Q * p), (edges, np.repeat(Q * q[1], 2)), (edges, np.repeat(Q * q[0], 2)))
 
@@ -262,14 +269,31 @@ def _pmin_cut(w: float, units: Units, reach: float) -> tuple:
     return (x * units.x, low), (x * units.x, -low)
 
 
+def _centre_row(result) -> int:
+    """The row of elements on ``y = 0`` (the one whose y-range holds 0)."""
+    return int(np.clip(np.searchsorted(result.y_edges, 0.0) - 1, 0, result.y_edges.size - 2))
+
+
+@functools.lru_cache(maxsize=8)
+def _pmin_run(units: Units, result) -> tuple:
+    """±μ p_min on ``y = 0`` of a run: the lowest element pressure over its cycle (``result.lowest_pressure``)."""
+    edges = np.repeat(result.x_edges * units.x, 2)[1:-1]
+    low = units.q * np.repeat(result.lowest_pressure[_centre_row(result)], 2)
+    return (edges, low), (edges, -low)
+
+
 @_figure("point_cut", "Traction on y = 0",
          "What you see: the traction on the line y = 0 at the player's step (stairs: elements) inside ±μ p, and "
          "±μ p_min, the exact bound a shaken-down traction stays within; shaded: stick, slip (hatched), released.",
          ("w", "units", "result", "frame", "pinned"), _cut_specs, **plots.key_opts("top_right"))
 def _cut_layers(i):
     *zones, up, down, qy, qx = cut_layers(i.units, i.result, i.frame)
-    reach = 1.0 + i.w if i.result is None else float(max(abs(i.result.x_edges[0]), i.result.x_edges[-1]))
-    return (*zones, up, down, *_pmin_cut(float(i.w), i.units, reach), qy, qx,
+    if i.result is not None and not bodies.is_ellipsoid(i.result.body):
+        pmin = _pmin_run(i.units, i.result)  # the run's own p_min (no closed form)
+    else:
+        reach = 1.0 + i.w if i.result is None else float(max(abs(i.result.x_edges[0]), i.result.x_edges[-1]))
+        pmin = _pmin_cut(float(i.w), i.units, reach)
+    return (*zones, up, down, *pmin, qy, qx,
             *pinned.layers("point_cut", i.pinned, i.units))
 
 
@@ -338,20 +362,107 @@ hv.opts.defaults(*[hv.opts.Overlay(plots.group(name), **{
 # --------------------------------------------------------------------------
 # the inputs
 # --------------------------------------------------------------------------
+def _parameter_widget(state, body: str, p):
+    """The input of parameter ``p`` of ``body`` (:mod:`app.bodies`): a slider, a number box for a scale, or the
+    choice of a file (the built-in demo, or an upload) with its upload button; the registry's doc as tooltip."""
+    name = bodies.state_name(body, p.name)
+    if p.path:
+        return _source_input(state, body, p, name)
+    spec = state.param[name]
+    if bodies.wide(p):
+        return pn.widgets.FloatInput.from_param(spec, sizing_mode="stretch_width", description=spec.doc)
+    slider = FloatSlider.from_param(spec, sizing_mode="stretch_width", throttled=True,
+                                    css_classes=[f"body-param-{name}"])
+    return pn.Row(slider, pn.widgets.TooltipIcon(value=spec.doc, margin=(20, 0, 0, 0)), sizing_mode="stretch_width",
+                  margin=0)
+
+
+def _source_input(state, body, p, name):
+    """A file parameter: a menu of the sources (the built-in demo, files uploaded in this session) and an upload."""
+    def options(current):
+        out = {"built-in demo": "demo"} if (body, p.name) in bodies.DEMO_FILES else {}
+        if current != "demo":
+            out[f"uploaded ({current[7:15]})"] = current
+        return out
+
+    select = pn.widgets.Select(label=f"{p.name} ({body})", options=options(getattr(state, name)),
+                               value=getattr(state, name), sizing_mode="stretch_width", description=p.doc,
+                               css_classes=[f"body-source-{name}"])
+    upload = pn.widgets.FileInput(sizing_mode="stretch_width", multiple=False, css_classes=[f"body-upload-{name}"])
+    message = pn.pane.Markdown("", visible=False, margin=(0, 10), styles={"font-size": "13px"})
+
+    def chosen(event):
+        if event.new is not None:
+            setattr(state, name, event.new)
+
+    def followed(event):
+        select.param.update(options=options(event.new), value=event.new)
+
+    def uploaded(event):
+        if not event.new:
+            return
+        try:
+            source = bodies.store_upload(event.new, upload.filename or "")
+        except ValueError as e:
+            message.param.update(object=f"*{e}*", visible=True)
+            return
+        message.param.update(object="", visible=False)
+        setattr(state, name, source)
+
+    select.param.watch(chosen, "value")
+    state.param.watch(followed, name)
+    upload.param.watch(uploaded, "value")
+    return pn.Column(select, upload, message, sizing_mode="stretch_width", margin=0)
+
+
+def _body_note(state, body: str) -> str:
+    text = bodies.note(body)
+    try:
+        obj = bodies.make(body, state.body_values(body))
+    except ValueError as e:
+        return text + f" *{e}*"
+    if not bodies.runs_cycles(body, obj):
+        text += (" **Limit only:** the explorer cannot run this body's cycles yet; its exact limit (Melan) is on "
+                 "the cards and the map.")
+    elif bodies.own_grid(obj):
+        text += f" It runs on its own grid (dx = {float(obj.default_dx):g} a, its samples)."
+    elif bodies.kind(body) == "point":
+        text += f" A coarse grid by default (dx = a/{POINT_RESOLUTION}) keeps a run short; refine it for converged numbers."
+    return text
+
+
+#: The body selector wraps onto a second row when the registry's bodies do not fit the sidebar's width.
+_SELECT_CSS = """
+.bk-btn-group { flex-wrap: wrap; row-gap: 4px; }
+.bk-btn-group > .bk-btn { flex: 1 0 auto; border-radius: 4px !important; margin-left: 0 !important; }
+"""
+
+
+def _body_widgets(state, body: str) -> list:
+    """The inputs of ``body``'s parameters and its note (which follows them)."""
+    names = [bodies.state_name(body, p.name) for p in bodies.parameters(body)]
+    note = pn.pane.Markdown(_body_note(state, body), styles={"font-size": "13px"}, margin=(0, 10),
+                            css_classes=["body-note"])
+    if names:
+        state.param.watch(lambda e: setattr(note, "object", _body_note(state, body)), names)
+    return [*[_parameter_widget(state, body, p) for p in bodies.parameters(body)], note]
+
+
 def body_inputs(state) -> list:
-    """The body selector, the ellipsoid's ratio and the point-contact grid (widgets over ``state``; the last two
-    are put in the page when a point contact is first chosen)."""
-    select = pn.widgets.RadioButtonGroup.from_param(state.param.body, button_type="primary", button_style="outline",
-                                                    sizing_mode="stretch_width", css_classes=["body-select"])
-    ratio = pn.widgets.FloatInput.from_param(state.param.ratio, sizing_mode="stretch_width",
-                                             visible=state.param.body.rx() == "ellipsoid")
-    grid = IntSlider.from_param(state.param.point_resolution, sizing_mode="stretch_width", throttled=True,
-                                visible=state.param.body.rx() != "cylinder")
-    note = pn.pane.Markdown(
-        "Sphere and ellipsoid: R is the radius along the rocking direction x; a coarse grid by default "
-        f"(dx = a/{POINT_RESOLUTION}) keeps a run short; refine it for converged numbers.", styles={"font-size": "13px"}, margin=(0, 10),
-        visible=state.param.body.rx() != "cylinder")
-    point = state.param.body.rx() != "cylinder"  # built when first needed: most pages are a cylinder's
-    return [pn.pane.Markdown("### Body"), select,
-            filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=point), point,
-                         lambda: [ratio, grid, note])]
+    """The body selector (every body of :data:`core.registry.REGISTRY`), the current body's parameters and note,
+    and the point-contact grid (widgets over ``state``; a body's inputs are put in the page when it is first
+    chosen)."""
+    select = pn.widgets.RadioButtonGroup.from_param(state.param.body, color="primary", variant="outline",
+                                                    sizing_mode="stretch_width", css_classes=["body-select"],
+                                                    stylesheets=[_SELECT_CSS])
+    out = [pn.pane.Markdown("### Body"), select]
+    for body in bodies.BODIES:
+        chosen = state.param.body.rx() == body  # built when first chosen: most pages are a cylinder's
+        out.append(filled_when(
+            pn.Column(sizing_mode="stretch_width", margin=0, visible=chosen, css_classes=[f"body-inputs-{body}"]),
+            chosen, functools.partial(_body_widgets, state, body)))
+    point = state.param.body.rx().rx.pipe(lambda b: bodies.kind(b) == "point")
+    refinable = state.param.body.rx().rx.pipe(lambda b: state.refinable)
+    out.append(filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=refinable), point, lambda: [
+        IntSlider.from_param(state.param.point_resolution, sizing_mode="stretch_width", throttled=True)]))
+    return out

@@ -137,24 +137,37 @@ RESULTS = ResultCache(CACHE_ITEMS, CACHE_MB * 2**20)
 
 
 def run_key(contact, options: dict) -> tuple:
-    """A hashable key of everything a run depends on (a cylinder's :class:`core.Contact` or a :class:`core.PointContact`)."""
+    """A hashable key of everything a run depends on (a line body's :class:`core.Contact` or a
+    :class:`core.PointContact`, and the options; a body object by its ``repr``: its name and parameters, a height
+    map's data digest)."""
     if isinstance(contact, core.PointContact):
         inputs = {"point_contact": True, **dataclasses.asdict(contact)}
     else:
         inputs = contact.summary()
-    return tuple(sorted(inputs.items())) + tuple(sorted(options.items()))
+    opts = {k: (f"{type(v).__name__}:{v!r}" if k == "body" else v) for k, v in options.items()}
+    return tuple(sorted(inputs.items())) + tuple(sorted(opts.items()))
 
 
-def runner(contact):
-    """The run of ``contact`` as one callable of the solver options: :func:`core.simulate_contact` for the
-    cylinder, :meth:`core.PointContact.simulate` for a sphere or an ellipsoid (both need only ``core``)."""
+def _point_body_run(contact, periods=10, dx=None, *, body, **options):
+    """A point body other than an ellipsoid (e.g. a height map) under ``contact``'s loads: :func:`core.simulate_cycles`
+    with ``body`` (the sphere's scales of ``contact``; its ``nu`` and the angle of Ft)."""
+    return core.simulate_cycles(contact.ft, contact.w, periods, dx, body=body, angle=contact.angle, nu=contact.nu,
+                                **options)
+
+
+def runner(contact, options: dict | None = None):
+    """The run of ``contact`` as one callable of the solver options: :func:`core.simulate_contact` for a line body
+    (the cylinder, or another given by the option ``body``), :meth:`core.PointContact.simulate` for a sphere or
+    an ellipsoid, :func:`core.simulate_cycles` for another point body (option ``body``); all need only ``core``."""
     if isinstance(contact, core.PointContact):
+        if options and "body" in options:
+            return functools.partial(_point_body_run, contact)
         return contact.simulate
     return functools.partial(core.simulate_contact, contact)
 
 
 def _compute(contact, options, cancel=None, time_budget=SOLVE_BUDGET_S):
-    result = runner(contact)(**options, cancel=cancel, time_budget=time_budget)
+    result = runner(contact, options)(**options, cancel=cancel, time_budget=time_budget)
     result.pressure  # noqa: B018 - computed once here, off the UI thread
     return result
 
@@ -245,7 +258,7 @@ class _Cluster:
 
     def _remote(self, contact, options, time_budget) -> Future:
         # core's own run function, so that the workers need only ``core``; no cancel() across processes
-        return self.executor().submit(runner(contact), time_budget=time_budget, **options)
+        return self.executor().submit(runner(contact, options), time_budget=time_budget, **options)
 
     def run(self, contact, options, cancel, time_budget) -> core.CycleResult:
         future = self._remote(contact, options, time_budget)

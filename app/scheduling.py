@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import math
+import types
 
 import panel as pn
 from panel.io.state import set_curdoc
@@ -17,6 +19,7 @@ from panel.io.state import set_curdoc
 import core
 from core.convergence import increment_error
 
+from . import bodies
 from .runs import RESULTS, run_key, solve, submit
 
 __all__ = ["SolveMixin", "SPINNER_DELAY_MS"]
@@ -130,6 +133,9 @@ class SolveMixin:
         """The discretisation error of a point contact's increment (:func:`core.increment_error`):
         the same run at twice the element width (an eighth of the cost), solved like any run (cached, in the
         worker pool), then shown on the run card (:attr:`grid_error`)."""
+        if "body" in options and bodies.own_grid(options["body"]):  # a body on its own fixed grid: no coarser run
+            self.grid_error = types.SimpleNamespace(result=result, error=math.nan)  # the cards: "not estimated"
+            return
         if 2 * result.dx > 0.5:
             return
         coarse_options = {**options, "dx": 2 * float(options.get("dx", result.dx))}

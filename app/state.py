@@ -20,6 +20,7 @@ import param
 
 import core
 
+from . import bodies
 from .limits import MAX_PERIODS, MAX_RESOLUTION
 
 __all__ = ["ExplorerState", "BODIES", "POINT_RESOLUTION", "MAX_POINT_RESOLUTION", "PRESETS", "PRESET_NOTES", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
@@ -28,8 +29,8 @@ __all__ = ["ExplorerState", "BODIES", "POINT_RESOLUTION", "MAX_POINT_RESOLUTION"
 MAX_QUERY_VALUE_LENGTH = 64
 
 _MM, _MPA = 1e-3, 1e6
-#: The bodies of the body selector: the cylinder (a line contact) and the point contacts of :mod:`core.point_contact`.
-BODIES = ("cylinder", "sphere", "ellipsoid")
+#: The bodies of the body selector: every body of :data:`core.registry.REGISTRY`, in its order (:mod:`app.bodies`).
+BODIES = bodies.BODIES
 #: Default elements per semi-axis of a point-contact run: coarse, so that a run of 10 periods takes seconds.
 POINT_RESOLUTION = 10
 #: Finest point-contact grid the explorer accepts (elements per semi-axis: up to about 160 x 80 elements at 40).
@@ -55,11 +56,9 @@ class ExplorerState(param.Parameterized):
                       step=0.01, label="μ (friction)", doc="Coulomb friction coefficient μ [-], in (0, 10].")
     # ---- the body -------------------------------------------------------------
     body = param.Selector(default="cylinder", objects=list(BODIES), label="Body",
-                          doc="The rocking body: 'cylinder' (line contact, the paper's), 'sphere' or 'ellipsoid' "
-                              "(point contacts; the ellipsoid's radii ratio is 'ratio').")
-    ratio = param.Number(2.0, bounds=(0.05, 20.0), softbounds=(0.2, 5.0), step=0.1, label="Ry/Rx (ellipsoid)",
-                         doc="The ellipsoid's ratio of principal relative radii Ry/Rx [-] (x: the rocking direction), "
-                             "in [0.05, 20]; used when body = ellipsoid.")
+                          doc="The rocking body, one of core.registry's: " + "; ".join(
+                              f"'{b}' ({bodies.entry(b).kind}): {bodies.entry(b).doc}" for b in BODIES)
+                          + ". Its parameters are inputs of their own (app.bodies).")
     # ---- geometry and materials --------------------------------------------
     R = param.Number(40.0, bounds=(0.0, 1e5), inclusive_bounds=(False, True), softbounds=(1.0, 200.0),
                      step=1.0, label="R [mm]",
@@ -92,7 +91,7 @@ class ExplorerState(param.Parameterized):
                                    f"[5, {MAX_RESOLUTION}] (SHAKEDOWN_MAX_RESOLUTION).")
     point_resolution = param.Integer(
         POINT_RESOLUTION, bounds=(4, MAX_POINT_RESOLUTION), softbounds=(4, MAX_POINT_RESOLUTION), step=1,
-        label="Elements per a (sphere, ellipsoid)",
+        label="Elements per a (point contacts)",
         doc=f"Grid of a point contact: elements per semi-axis a (dx = a/point_resolution; the elements of the 2D grid "
             f"grow as its square, the steps in proportion), in [4, {MAX_POINT_RESOLUTION}]; coarse by default.")
     kernel = param.Selector(default="strip", objects=["strip", "plane"], label="Kernel",
@@ -117,36 +116,76 @@ class ExplorerState(param.Parameterized):
                                "or 'physical' (mm, MPa, µm).")
 
     # ---- slider values without float noise ----------------------------------
-    @param.depends("ft", "w", "mu", "ratio", watch=True, on_init=True)
-    def _round(self):
+    def _round(self, *_):
         """Round the sliders' values to 1e-6 (a browser's slider steps give 0.44000000000000006, which the URL
-        would show)."""
-        noisy = {k: round(v, 6) for k in ("ft", "w", "mu", "ratio") if (v := getattr(self, k)) != round(v, 6)}
+        would show); watches ft, w, mu and the bodies' numeric parameters."""
+        noisy = {k: round(v, 6) for k in _ROUNDED if isinstance(v := getattr(self, k), float) and v != round(v, 6)}
         if noisy:
             self.param.update(**noisy)
 
+    def __init__(self, **params):
+        super().__init__(**params)
+        self._round()
+        self.param.watch(self._round, list(_ROUNDED))
+
     # ---- derived ------------------------------------------------------------
     @property
+    def kind(self) -> str:
+        """The kind of the current body: ``"line"`` (1D engine, like the cylinder) or ``"point"``."""
+        return bodies.kind(self.body)
+
+    @property
     def point(self) -> bool:
-        """True for a point contact (sphere or ellipsoid)."""
-        return self.body != "cylinder"
+        """True for a point contact (the sphere, the ellipsoid, a height map...)."""
+        return self.kind == "point"
 
-    def contact(self) -> core.Contact | core.PointContact:
-        """The contact in SI units, with this state's ``ft`` and ``w``.
+    def body_values(self, body: str | None = None) -> dict:
+        """The parameters of ``body`` (default: the current one) as the inputs hold them, by parameter name."""
+        body = self.body if body is None else body
+        return {p.name: getattr(self, bodies.state_name(body, p.name)) for p in bodies.parameters(body)}
 
-        A :class:`core.Contact` for the cylinder; a :class:`core.PointContact`
-        for the sphere (``Rx = Ry = R``) and the ellipsoid (``Rx = R``,
-        ``Ry = ratio R``), where ``w`` is ``W`` over the contact's semi-axis
-        along x and ``L`` and the kernel do not apply.
+    def body_object(self):
+        """The current body with its parameters (:func:`app.bodies.make`, built by the registry entry).
 
         Raises
         ------
         ValueError
-            If the inputs do not make a valid contact (the message names the field).
+            If the body cannot be built from the inputs (the message names the parameter).
+        """
+        return bodies.make(self.body, self.body_values())
+
+    @property
+    def refinable(self) -> bool:
+        """Whether the point-contact grid input applies (a point body not on a grid of its own)."""
+        if not self.point:
+            return False
+        try:
+            return not bodies.own_grid(self.body_object())
+        except ValueError:
+            return True
+
+    def contact(self) -> core.Contact | core.PointContact:
+        """The contact in SI units, with this state's ``ft`` and ``w``.
+
+        A :class:`core.Contact` for a line body (the cylinder's geometry: the
+        physical scales of any line body); a :class:`core.PointContact` for a
+        point body: the sphere (``Rx = Ry = R``), an ellipsoid (``Rx = R``,
+        ``Ry = ratio R``), another point body at the scales of the sphere of
+        radius R; ``w`` is ``W`` over the contact's semi-axis along x and
+        ``L`` and the kernel do not apply.
+
+        Raises
+        ------
+        ValueError
+            If the inputs do not make a valid contact or body (the message names the field).
         """
         rigid = self.rigid
+        body = self.body_object()
+        if not bodies.runs_cycles(self.body, body):
+            raise ValueError(f"limit only: the explorer cannot run the cycles of body {self.body!r} yet "
+                             f"({type(body).__name__}); its exact limit is on the cards and the map")
         if self.point:
-            ratio = self.ratio if self.body == "ellipsoid" else 1.0
+            ratio = float(body.ratio) if bodies.is_ellipsoid(body) else 1.0
             c = core.PointContact(Rx=self.R * _MM, Ry=self.R * ratio * _MM, Fn=self.Fn, mu=self.mu,
                                   E2=self.E2 * _MPA, nu2=self.nu2, E1=math.inf if rigid else self.E1 * _MPA,
                                   nu1=0.3 if rigid else self.nu1, Ft=self.ft * self.mu * self.Fn)
@@ -167,8 +206,14 @@ class ExplorerState(param.Parameterized):
         """Keyword arguments of the run of :meth:`contact`: :func:`core.simulate_contact` for the cylinder,
         :meth:`core.PointContact.simulate` for a point contact (no kernel: the half-space's)."""
         if self.point:
-            return dict(periods=self.periods, dx=self.dx, shape=self.schedule)
+            body = self.body_object()
+            if bodies.is_ellipsoid(body):
+                return dict(periods=self.periods, dx=self.dx, shape=self.schedule)
+            dx = float(body.default_dx) if bodies.own_grid(body) else self.dx
+            return dict(periods=self.periods, dx=dx, shape=self.schedule, body=body)
         options = dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
+        if self.body != "cylinder":  # another line body: the cylinder's engine with this body's gap
+            options["body"] = self.body_object()
         if self.loading == "normal":
             options.update(history="normal", amplitude=self.amplitude, phase=math.radians(self.phase))
         return options
@@ -219,6 +264,11 @@ PRESET_NOTES: dict[str, str] = {
         "ft_lim(0.26) = 0.673 > 0.58, and the solver agrees: it shakes down. The badge's SHAKEDOWN is not a bug."),
 }
 
+for _name, _p in bodies.state_parameters().items():  # every body's parameters, from core.registry
+    ExplorerState.param.add_parameter(_name, _p)
+#: The inputs whose slider values are rounded (see :meth:`ExplorerState._round`).
+_ROUNDED = ("ft", "w", "mu", *(n for n, p in bodies.state_parameters().items() if isinstance(p, param.Number)))
+
 #: Parameters synced with the URL, each under its own name.
 URL_PARAMETERS = tuple(p for p in ExplorerState.param if p != "name")
 
@@ -242,6 +292,8 @@ def _convert(p: param.Parameter, name: str, text: str):
         if text not in p.objects:
             raise ValueError(f"{name} must be one of {', '.join(map(str, p.objects))}, got {text!r}")
         return text
+    if isinstance(p, param.String):
+        return text
     if isinstance(p, param.Integer):
         try:
             value = float(text)
@@ -262,6 +314,8 @@ def _convert(p: param.Parameter, name: str, text: str):
 
 
 def _range_text(p: param.Parameter) -> str:
+    if isinstance(p, param.String):
+        return "demo or upload-<digest>" if p.regex == bodies.SOURCE_PATTERN.pattern else f"/{p.regex}/"
     lo, hi = p.bounds
     ilo, ihi = getattr(p, "inclusive_bounds", (True, True))
     return f"{'[' if ilo else '('}{lo:g}, {hi:g}{']' if ihi else ')'}"

@@ -37,7 +37,15 @@ grid convergence.
    solve is 17-18 ms (35x35 map, a/10) and 29-61 ms (71x71, a/20) against 0.4-4.5 s for a 10-period run: the
    per-offset solves cost < 7 % of a run, the shift is exact (the discrete problem is translation-invariant).
 
-Run: python benchmarks/solver3d.py [--quick] [--no-fine]
+9. The cone (core.Cone): a frustum (inner 0.5) and a full cone, L/a_m = 10, w = 0.3, 10 % either side of Melan's
+   limit on the run's grid, at a/10 and a/20 (see cones()). Measured at load average 3.4: a/10 1.4-1.7 s CPU
+   (3605 and 4429 elements, 121 steps, 8-10 active-set and 23-40 CG iterations a step), a/20 17-28 s CPU
+   (13195 and 17255 elements, 241 steps). The twist option (issue 20, the cone's third rigid unknown) leaves the
+   sphere's path as it was (numba prunes it): the a/20 case of 1, back to back with main after the engine merge,
+   1.62 and 1.48 s CPU on main, 1.68 and 1.50 s on the cone branch (load average 5-8), the same iterations per
+   step (5.46 and 14.3) and increments equal to 3e-16.
+
+Run: python benchmarks/solver3d.py [--quick] [--no-fine] [--cone (the cone's row alone)]
 """
 
 import sys
@@ -218,6 +226,34 @@ def height_maps(quick=False):
                   f"limit {lim:.4f}, last increment {r.increment_per_period[-1]:.5f} ({r.regime})")
 
 
+def cones(quick=False):
+    """The cone's row: a run of the rocking frustum (inner 0.5) and of the full cone (inner 0), L/a_m = 10, w = 0.3,
+    10 % either side of Melan's limit on the run's grid, 10 periods, at a/10 and the default a/20: the wall and CPU
+    time, the grid, the steps and the iterations per computed step (the twist adds a third rigid unknown)."""
+    import core
+
+    print("\ncone (L/a_m = 10, w = 0.3, 10 periods; ft = 0.9 lo and 1.1 hi of the grid's Melan limit [lo, hi]):")
+    for inner in (0.5, 0.0):
+        for dx in ((0.1,) if quick else (0.1, 0.05)):
+            body = core.Cone(inner=inner)
+            t = time.perf_counter()
+            lim = body.grid_limit(0.3, dx=dx)
+            lp = time.perf_counter() - t
+            for f, key in ((0.9, "lo"), (1.1, "hi")):
+                t, c = time.perf_counter(), time.process_time()
+                r = core.simulate_cycles(f * lim[key], 0.3, periods=10, dx=dx, body=body)
+                wall, cpu = time.perf_counter() - t, time.process_time() - c
+                computed = r.xc.size if r.periodic_from is None else int(
+                    np.flatnonzero(r.period == r.periodic_from)[-1]) + 1
+                elements = (r.x_edges.size - 1) * (r.y_edges.size - 1)
+                print(f"  inner {inner}, dx=a/{round(1 / dx)}: ft {f * lim[key]:.4f} ({f} {key}; limit [{lim['lo']:.4f}, "
+                      f"{lim['hi']:.4f}], LP {lp:.2f} s): {wall:.2f} s wall, {cpu:.2f} s CPU, {elements} elements, "
+                      f"{r.xc.size} steps, {computed} computed; per step: active-set "
+                      f"{r.iterations[:computed].mean():.2f}, CG {r.cg_iterations[:computed].mean():.1f}; {r.regime}, "
+                      f"last increment {r.increment_per_period[-1]:.3g} mu Fn/(E* a_m), twist "
+                      f"{r.twist_per_period[-1]:.3g} mu Fn/(E* a_m^2) rad, worst residual {r.max_residual:.1e}")
+
+
 def main(quick=False, fine=True):
     timed_cases(quick, fine)
     mindlin(dx=0.1 if quick else 0.05)
@@ -227,7 +263,11 @@ def main(quick=False, fine=True):
     contact_comparison(elements=(20, 40) if quick else ((20, 40, 60, 80) if fine else (20, 40, 60)))
     normal_solve()
     height_maps(quick)
+    cones(quick)
 
 
 if __name__ == "__main__":
-    main(quick="--quick" in sys.argv, fine="--no-fine" not in sys.argv)
+    if "--cone" in sys.argv:  # the cone's row alone
+        cones(quick="--quick" in sys.argv)
+    else:
+        main(quick="--quick" in sys.argv, fine="--no-fine" not in sys.argv)

@@ -53,8 +53,9 @@ _SHAPES = ("triangle", "sine")
 _NORMALS = ("auto", "exact", "numerical")
 # the body flags: which body each belongs to (core/registry.py lists the bodies and their parameters)
 _BODY_FLAGS = {"flat": ("punch",), "ratio": ("ellipsoid",), "angle": ("sphere", "ellipsoid", "heightmap"),
-               "file": ("heightmap",), "length_unit": ("heightmap",), "height_unit": ("heightmap",)}
-_BODY_NAMES = ("cylinder", "punch", "sphere", "ellipsoid", "heightmap")  # core.registry.REGISTRY's names
+               "file": ("heightmap",), "length_unit": ("heightmap",), "height_unit": ("heightmap",),
+               "inner": ("cone",), "length": ("cone",), "load_at": ("cone",)}
+_BODY_NAMES = ("cylinder", "punch", "sphere", "ellipsoid", "heightmap", "cone")  # core.registry.REGISTRY's names
 _DEFAULT_DX = 1.0 / 40.0  # core.resolution.DEFAULT_DX_LINE: the cylinder's default grid
 _DEFAULT_DX_POINT = 1.0 / 20.0  # core.resolution.DEFAULT_DX_POINT: the point contacts' default grid
 _MAX_ELEMENTS = 16384  # core.solver.MAX_FFT_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many
@@ -292,7 +293,7 @@ def _add_solver_options(parser, kernel_default="plane"):
     add("--body", type=_arg(lambda text: _text("body", text)), action=_Once, metavar="NAME",
         help=f"the rocking body: {', '.join(_BODY_NAMES)} (core/registry.py; default {_PASS_THROUGH['body']}); "
              "its parameters: --flat (punch), --ratio and --angle (ellipsoid), --file, --length-unit and "
-             "--height-unit (heightmap)")
+             "--height-unit (heightmap), --inner, --length and --load-at (cone)")
     add("--flat", type=_number("flat", 0.0, 1.0, hi_closed=False), action=_Once, metavar="B/A",
         help="--body punch: the flat's half-width over the contact half-width, in [0, 1) (default 0.5; 0 is the "
              "cylinder)")
@@ -308,6 +309,13 @@ def _add_solver_options(parser, kernel_default="plane"):
         metavar="A", help="--body heightmap: the length a in the file's length unit (default 1)")
     add("--height-unit", dest="height_unit", type=_number("height_unit", 0.0, None, lo_closed=False), action=_Once,
         metavar="U", help="--body heightmap: P/(E* a) in the file's height unit (default 1)")
+    add("--inner", type=_number("inner", 0.0, 1.0, hi_closed=False), action=_Once, metavar="R1/R2",
+        help="--body cone: the inner end's distance from the apex over the outer end's, in [0, 1) (default 0.5; "
+             "0 is a full cone); a and w are measured at the mid-length")
+    add("--length", type=_number("length", 4.0, 200.0), action=_Once, metavar="L/A",
+        help="--body cone: the contact length over the half-width at the mid-length, in [4, 200] (default 10)")
+    add("--load-at", dest="load_at", type=_number("load_at", 0.0, 1.0), action=_Once, metavar="F",
+        help="--body cone: where Ft acts along the contact, (r_F - r1)/(r2 - r1) in [0, 1] (default 0.5)")
     add("--normal", type=_choice("normal", _NORMALS), action=_Once,
         help="the pressure: exact (closed form), numerical (the normal problem solved by constrained conjugate "
              "gradients) or auto (the default: a line contact's closed form where there is one; a point contact's "
@@ -492,6 +500,9 @@ def _body_options(args, options) -> None:
         from .registry import make_body
         options["body"] = make_body(body, **{k: given[k] for k in ("file", "length_unit", "height_unit")
                                              if k in given})
+    if body == "cone":
+        from .registry import make_body
+        options["body"] = make_body(body, **{k: given[k] for k in ("inner", "length", "load_at") if k in given})
     if "ratio" in given:
         options["ratio"] = given["ratio"]
     if "angle" in given:
@@ -617,6 +628,8 @@ def _cmd_run(args) -> int:
         *_trend_rows(s, unit_u),
         ("increment, last period", _fmt(s["increment_last_period"], unit_u)),
         ("increment, first period", _fmt(float(inc[0]) if inc.size else None, unit_u)),
+        *([("twist, last period", _fmt(s["twist_last_period"], "mu Fn/(E* a^2) rad"))]
+          if "twist_last_period" in s else []),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),
         *([("  paper's ansatz (eq 30)", _fmt(c_paper, "a"))] if line else []),
         (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),

@@ -55,13 +55,15 @@ Examples
 
 from __future__ import annotations
 
+import math
 
 import numpy as np
 from scipy.optimize import brentq
 
 from ._validate import check_scalar
 
-__all__ = ["Cone", "cone_ft_limit", "cone_w_limit", "slice_amplitude", "lowest_pressure_density"]
+__all__ = ["Cone", "cone_ft_limit", "cone_w_limit", "slice_amplitude", "lowest_pressure_density", "DEFAULT_LENGTH",
+           "LENGTH_RANGE", "DEFAULT_DX"]
 
 
 def _quad(inner, n=4000):
@@ -142,15 +144,54 @@ def cone_w_limit(ft, inner=0.5, load_point="centre"):
     return brentq(lambda v: cone_ft_limit(v, inner, load_point) - ft, 0.0, hi, xtol=1e-10)
 
 
+#: Default slenderness ``L / a_m`` (contact length over the half-width at the mid-length) of a cone's runs.
+DEFAULT_LENGTH = 10.0
+#: Range of ``length`` (``L / a_m``): long enough for the slice model, short enough for the run's grid.
+LENGTH_RANGE = (4.0, 200.0)
+#: Default element side [a_m] of a cone's runs: a/10, 20 elements across the contact at the mid-length and
+#: ``10 L/a_m`` along it. Measured (benchmarks/solver3d.py, L/a_m = 10, w = 0.3, 10 periods, 1.1 times the grid's
+#: limit): the increment per period 0.00891 (inner 0.5) and 0.00823 (inner 0) at a/10 against 0.00892 and 0.00808
+#: at a/20 (0.1 % and 1.9 %: the full cone's apex, where the contact is narrow, wants the finer grid), at 1.4-1.7 s
+#: CPU against 17-28 s.
+DEFAULT_DX = 0.1
+#: Sub-rows per element row in the element means of the slice pressure (:meth:`Cone.grid_pressure`).
+_SUB_ROWS = 8
+
+
+def _half_integral(s):
+    """``integral_0^s sqrt(1 - t^2) dt`` for ``s`` clipped to [-1, 1]."""
+    s = np.clip(s, -1.0, 1.0)
+    return 0.5 * (s * np.sqrt(1.0 - s * s) + np.arcsin(s))
+
+
 class Cone:
-    """The rocking cone or frustum as an object with parameters (its limit; see the module's text).
+    """The rocking cone or frustum: its limit (slices) and its cycles on the 3D solver.
+
+    Units of a run: lengths in ``a_m`` (the half-width at the mid-length
+    ``r_m``), pressures in ``p0m = 2 P/(pi a_m)`` (the peak there), tractions
+    in ``mu p0m``, loads in ``mu Fn`` (``Fn = P L``), the displacement of the
+    load point in ``mu Fn/(E* a_m)`` and the rotation about the normal in
+    ``mu Fn/(E* a_m^2)`` [rad]. The run's grid (:meth:`run_grid`) has ``x``
+    across the contact line (the rocking direction, along ``Ft``) and ``y``
+    along it, with ``y = 0`` at the mid-length and the apex at ``(0, -r_m)``;
+    the rocking position ``xc`` of a schedule is the arc ``W_m = r_m theta``
+    the contact line moves at the mid-length (so ``w = W_m / a_m``), and the
+    line is at the angle ``theta = xc / r_m`` about the apex.
 
     Parameters
     ----------
     inner : float
         ``r1 / r2`` in [0, 1) (0: a full cone). Default 0.5.
     load_point : "centre", float or None
-        Where ``Ft`` acts (see :func:`cone_ft_limit`).
+        Where ``Ft`` acts (see :func:`cone_ft_limit`): the mid-length, a
+        distance from the apex in ``r2``, or None (the rotation about the normal
+        restrained: no moment condition, and a run without the twist).
+    length : float
+        The slenderness ``L / a_m``, the contact length ``r2 - r1`` over the
+        half-width at the mid-length, in [4, 200] (default 10). The slice model
+        needs it large; the limit does not depend on it (only on ``inner``),
+        the increments do (through the elastic coupling of the slices), and the
+        run's grid grows with it.
 
     Examples
     --------
@@ -158,22 +199,37 @@ class Cone:
     >>> c = Cone(inner=0.5)
     >>> bool(c.ft_limit(0.3) < c.ft_limit(0.3, restrained=True))
     True
+    >>> import core
+    >>> r = core.simulate_cycles(0.3, 0.3, periods=6, dx=0.25, body=c)
+    >>> r.regime, r.twist_per_period.size
+    ('shakedown', 6)
     """
 
     name = "cone"
+    #: A patch of elements (the 3D solver).
+    dim = 2
+    #: No semi-axis ratio (a point body's summary field).
+    ratio = None
 
-    def __init__(self, inner=0.5, load_point="centre"):
+    def __init__(self, inner=0.5, load_point="centre", length=DEFAULT_LENGTH):
         self.inner = check_scalar("inner", inner, 0.0, 1.0, hi_closed=False)
         if not (load_point is None or (isinstance(load_point, str) and load_point == "centre")):
             load_point = check_scalar("load_point", load_point, self.inner, 1.0)
         self.load_point = load_point
+        self.length = check_scalar("length", length, *LENGTH_RANGE)
 
     @property
     def parameters(self) -> dict:
-        return {"inner": self.inner, "load_point": self.load_point}
+        return {"inner": self.inner, "load_point": self.load_point, "length": self.length}
 
     def __repr__(self):
-        return f"Cone(inner={self.inner!r}, load_point={self.load_point!r})"
+        return f"Cone(inner={self.inner!r}, load_point={self.load_point!r}, length={self.length!r})"
+
+    def __eq__(self, other):
+        return isinstance(other, Cone) and self.parameters == other.parameters
+
+    def __hash__(self):
+        return hash(("cone", self.inner, self.load_point, self.length))
 
     def ft_limit(self, w, restrained=False):
         """:func:`cone_ft_limit` (``restrained``: no moment condition)."""
@@ -182,3 +238,166 @@ class Cone:
     def w_limit(self, ft, restrained=False):
         """:func:`cone_w_limit`."""
         return cone_w_limit(ft, self.inner, None if restrained else self.load_point)
+
+    # ---- the run's geometry, in a_m -------------------------------------------
+    @property
+    def r2(self) -> float:
+        """Distance from the apex to the outer end [a_m]."""
+        return self.length / (1.0 - self.inner)
+
+    @property
+    def r1(self) -> float:
+        """Distance from the apex to the inner end [a_m] (0 for a full cone)."""
+        return self.inner * self.r2
+
+    @property
+    def r_m(self) -> float:
+        """Distance from the apex to the mid-length [a_m]: ``(r1 + r2)/2``."""
+        return 0.5 * (self.r1 + self.r2)
+
+    @property
+    def total_load(self) -> float:
+        """``Fn`` in ``p0m a_m^2``: ``(pi/2) L / a_m`` (each slice carries ``P = (pi/2) p0m a_m`` per length)."""
+        return 0.5 * math.pi * self.length
+
+    load = total_load
+
+    @property
+    def kernel_scale(self) -> float:
+        """``p0m a_m^2 / (pi Fn) = 2 / (pi^2 L/a_m)``: the half-space kernel's factor for displacements in
+        ``mu Fn/(E* a_m)``."""
+        return 2.0 / (math.pi**2 * self.length)
+
+    @property
+    def default_dx(self) -> float:
+        """A run's element side [a_m]: :data:`DEFAULT_DX` (``a_m/10``; see there)."""
+        return DEFAULT_DX
+
+    @property
+    def twist_centre(self):
+        """The point ``(0, r_F - r_m)`` [a_m] on the line of action of ``Ft``, about which the body is free to turn
+        (the run's ``displacement`` is that point's); None when the rotation is restrained (``load_point=None``)."""
+        if self.load_point is None:
+            return None
+        rF = self.r_m if isinstance(self.load_point, str) else self.load_point * self.r2
+        return (0.0, rF - self.r_m)
+
+    def profile(self, x, y=0.0):
+        """The gap [P/E*] at ``(x, y)`` [a_m] with the contact line on ``x = 0`` (``y`` along it, 0 at the
+        mid-length): ``(2/pi) x^2 r_m / (y + r_m)``, each slice's Hertz gap ``x^2 / (2 R(r))`` with ``R(r) = r
+        tan(alpha)``, the cylinder's ``(2/pi) x^2`` at the mid-length (``inf`` beyond the ends)."""
+        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        r = y + self.r_m
+        inside = (r >= self.r1) & (r <= self.r2) & (r > 0)
+        return np.where(inside, (2.0 / math.pi) * x * x * self.r_m / np.where(inside, r, 1.0), np.inf)
+
+    def run_grid(self, reach_x, scale, h):
+        """The edges ``(x_edges, y_edges)`` [a_m] of a run whose mid-length arc reaches ``|xc| <= reach_x``.
+
+        An odd number of square elements each way, centred on the mid-length
+        (``y = 0``) and on the unrotated contact line (``x = 0``), covering the
+        contact at every angle ``|theta| <= reach_x / r_m``.
+        """
+        from .solver3d import MAX_GRID_ELEMENTS
+        theta = reach_x / self.r_m
+        wide = self.r2 * math.sin(theta) + scale**1.5 * math.sqrt(self.r2 / self.r_m) * 1.01 + h
+        long = 0.5 * self.length + h
+        xe = h * (np.arange(2 * math.ceil(wide / h - 0.5) + 2) - math.ceil(wide / h - 0.5) - 0.5)
+        ye = h * (np.arange(2 * math.ceil(long / h - 0.5) + 2) - math.ceil(long / h - 0.5) - 0.5)
+        n = (xe.size - 1) * (ye.size - 1)
+        if n > MAX_GRID_ELEMENTS:
+            raise ValueError(f"dx = {h:g} needs {n} elements for a cone of length {self.length:g} "
+                             f"(> {MAX_GRID_ELEMENTS}): use a larger dx or a shorter cone")
+        return xe, ye
+
+    def grid_pressure(self, x_edges, y_edges, xc, scale=1.0):
+        """Element means of the slice pressure [p0m] on a run's grid, the contact line at ``theta = xc / r_m``.
+
+        Each slice at the distance ``u`` from the apex (along the rotated line,
+        ``r1 <= u <= r2``) is a Hertz line contact of half-width ``a(u) =
+        sqrt(P u / r_m)`` and peak ``sqrt(P r_m / u)`` (``P = scale^3``, the
+        normal load over the nominal one; uniform along the line). Across an
+        element the distance ``v`` from the rotated line is linear in ``x``,
+        so each of :data:`_SUB_ROWS` sub-rows of an element row is integrated
+        exactly across; the means are scaled to the load ``P Fn`` (a fraction of
+        a per cent at the ends, which the sub-rows resolve to ``dx/8``).
+        """
+        P = float(scale) ** 3
+        theta = float(xc) / self.r_m
+        h = float(x_edges[1] - x_edges[0])
+        x = 0.5 * (np.asarray(x_edges[1:]) + np.asarray(x_edges[:-1]))
+        ys = (np.asarray(y_edges[:-1])[:, None] + h * (np.arange(_SUB_ROWS) + 0.5)[None, :] / _SUB_ROWS).ravel()
+        c, s = math.cos(theta), math.sin(theta)
+        Y = (ys + self.r_m)[:, None]  # from the apex
+        u = Y * c + x[None, :] * s
+        inside = (u >= self.r1) & (u <= self.r2) & (u > 0)
+        us = np.where(inside, u, 1.0)
+        a = np.sqrt(P * us / self.r_m)
+        v0 = (x[None, :] - 0.5 * h) * c - Y * s
+        v1 = (x[None, :] + 0.5 * h) * c - Y * s
+        # p0(u) a(u) = P: the integral across is P [F(v1/a) - F(v0/a)] / cos(theta)
+        band = np.where(inside, P * (_half_integral(v1 / a) - _half_integral(v0 / a)) / (c * h), 0.0)
+        p = band.reshape(y_edges.size - 1, _SUB_ROWS, x.size).mean(axis=1)
+        total = float(p.sum()) * h * h
+        if total > 0:
+            p *= P * self.total_load / total
+        return p
+
+    def grid_limit(self, w, dx=None, dW=None, polygon=32):
+        """Melan's limit on a run's grid: the largest ``ft`` a traction ``|q| <= mu p_min`` carries with no force
+        across and no moment about the normal through the load point, a linear programme.
+
+        ``p_min`` is the lowest element pressure over the positions of one
+        rocking period (:func:`core.schedule.rocking_schedule` with step ``dW``,
+        default ``dx``), exactly those a run at ``dx``, ``dW`` sees. The Coulomb
+        disk ``|q| <= mu p_min`` is replaced by the regular ``polygon``-gon
+        around it (an upper bound ``hi``) and inside it (``hi cos(pi/polygon)``,
+        a lower bound); ``along`` is the programme with ``q_y = 0`` (the slice
+        model's, a lower bound).
+
+        Returns
+        -------
+        dict
+            ``lo``, ``hi``, ``along`` (ft = Ft/(mu Fn)), ``elements`` (in contact at every position).
+        """
+        from scipy.optimize import linprog
+        from scipy.sparse import coo_matrix, hstack, vstack, csr_matrix
+        from .schedule import rocking_schedule
+        from .solver3d import twist_field
+
+        w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
+        dx = check_scalar("dx", self.default_dx if dx is None else dx, 0.005, 1.0)
+        dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
+        polygon = int(check_scalar("polygon", polygon, 4, 4096))
+        xe, ye = self.run_grid(w, 1.0, dx)
+        xcs = np.unique(rocking_schedule(0.0, w, periods=1, dW=dW).xc)
+        p_min = None
+        for xc in xcs:
+            p = self.grid_pressure(xe, ye, xc)
+            p_min = p if p_min is None else np.minimum(p_min, p)
+        on = p_min.ravel() > 0
+        g = p_min.ravel()[on]
+        n = g.size
+        dA = dx * dx
+        cost = -np.concatenate([np.full(n, dA), np.zeros(n)]) / self.total_load
+        if self.twist_centre is None:
+            A_eq = csr_matrix(np.concatenate([np.zeros(n), np.ones(n)])[None, :])
+        else:
+            t = twist_field(xe, ye, self.twist_centre).reshape(2, -1)[:, on]
+            A_eq = csr_matrix(np.vstack([np.concatenate([np.zeros(n), np.ones(n)]), np.concatenate([t[0], t[1]])]))
+        b_eq = np.zeros(A_eq.shape[0])
+        ang = 2.0 * math.pi * (np.arange(polygon) + 0.5) / polygon
+        eye = coo_matrix((np.ones(n), (np.arange(n), np.arange(n))), shape=(n, n))
+        A_ub = vstack([hstack([math.cos(al) * eye, math.sin(al) * eye]) for al in ang]).tocsr()
+        b_ub = np.tile(g, polygon)
+        res = linprog(cost, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=(None, None), method="highs")
+        if not res.success:
+            raise RuntimeError(f"the Melan programme did not solve: {res.message}")
+        hi = -float(res.fun)
+        # q_y = 0: |q_x| <= g with the moment of q_x alone
+        A1 = A_eq[:, :n] if self.twist_centre is not None else None
+        res1 = linprog(cost[:n], A_eq=A1[1:] if A1 is not None else None, b_eq=np.zeros(1) if A1 is not None else None,
+                       bounds=np.column_stack([-g, g]), method="highs")
+        if not res1.success:
+            raise RuntimeError(f"the Melan programme (q_y = 0) did not solve: {res1.message}")
+        return {"lo": hi * math.cos(math.pi / polygon), "hi": hi, "along": -float(res1.fun), "elements": int(n)}

@@ -305,6 +305,9 @@ def _repeat_last_period(period, done, p, out):
     for arr in out.copied():
         arr[rest] = arr[src]
     disp[rest] = disp[src] + repeats.reshape((-1,) + (1,) * (disp.ndim - 1)) * increment
+    rot = getattr(out, "rotation", None)
+    if rot is not None:  # a patch free to turn about the normal (a cone): the rotation advances like the displacement
+        rot[rest] = rot[src] + repeats * (rot[block[-1]] - (rot[start - 1] if start > 0 else 0.0))
     out.iterations[rest] = 0
     out.cg_iterations[rest] = 0
     if hasattr(out, "repeat_snapshots"):

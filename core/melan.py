@@ -126,8 +126,12 @@ def _resolve(body):
         return "cylinder"
     if isinstance(body, Ellipsoid) or (isinstance(body, str) and body in POINT_BODIES):
         return "point"
-    if isinstance(body, Body) or hasattr(body, "grid_pressure"):  # a line body or a height map
+    if isinstance(body, Body) or hasattr(body, "grid_pressure"):  # a line body, a height map or a cone
         return body
+    if isinstance(body, str):  # another registered point body by name (its default parameters), e.g. "cone"
+        from .registry import REGISTRY, make_body
+        if body in REGISTRY and REGISTRY[body].kind == "point":
+            return make_body(body)
     return resolve_body(body)
 
 

@@ -3,8 +3,8 @@
 Each entry names a body, how to build it from its parameters, its
 parameters (default, range, meaning) and its kind: ``"line"`` (a line
 contact on the 1D engine, :class:`core.bodies.Body`) or ``"point"`` (a point
-contact on the 3D solver, :class:`core.point_contact.Ellipsoid` or
-:class:`core.heightmap.HeightMap`).
+contact on the 3D solver, :class:`core.point_contact.Ellipsoid`,
+:class:`core.heightmap.HeightMap` or :class:`core.cone.Cone`).
 :func:`make_body` builds a body from a name and parameters;
 :func:`describe` lists them (``shakedown`` prints it in its help).
 
@@ -18,7 +18,7 @@ Examples
 >>> make_body("punch", flat=0.8), make_body("ellipsoid", ratio=2.0)
 (Punch(flat=0.8), Ellipsoid(ratio=2.0))
 >>> sorted(REGISTRY)
-['cylinder', 'ellipsoid', 'heightmap', 'punch', 'sphere']
+['cone', 'cylinder', 'ellipsoid', 'heightmap', 'punch', 'sphere']
 """
 
 from __future__ import annotations
@@ -86,6 +86,12 @@ def _heightmap(file=None, length_unit=1.0, height_unit=1.0):
     return HeightMap.from_topography(file, length_unit=length_unit, height_unit=height_unit)
 
 
+def _cone(inner=0.5, length=None, load_at=0.5):
+    from .cone import DEFAULT_LENGTH, Cone
+    load_point = "centre" if load_at == 0.5 else inner + load_at * (1.0 - inner)
+    return Cone(inner=inner, load_point=load_point, length=DEFAULT_LENGTH if length is None else length)
+
+
 def _sphere():
     from .point_contact import Ellipsoid
     return Ellipsoid(1.0)
@@ -118,6 +124,15 @@ register(BodyEntry("heightmap", _heightmap, "point", "a measured or designed sur
                    (Parameter("file", None, 0.0, 0.0, "the map's file (any format SurfaceTopography reads)", path=True),
                     Parameter("length_unit", 1.0, 1e-12, 1e12, "a in the file's length unit"),
                     Parameter("height_unit", 1.0, 1e-12, 1e12, "P/(E* a) in the file's height unit"))))
+register(BodyEntry("cone", _cone, "point", "the rocking cone or frustum (a tapered roller) on its side, turning about "
+                   "the vertical axis through its apex, free to translate and turn about the normal (core/cone.py); "
+                   "a and w at the mid-length",
+                   (Parameter("inner", 0.5, 0.0, 1.0, "r1/r2, the inner end's distance from the apex over the outer "
+                              "end's (0: a full cone)", hi_closed=False),
+                    Parameter("length", 10.0, 4.0, 200.0, "L/a_m, the contact length over the half-width at the "
+                              "mid-length (the slice model needs it large; the run's grid grows with it)"),
+                    Parameter("load_at", 0.5, 0.0, 1.0, "where Ft acts along the contact, (r_F - r1)/(r2 - r1) "
+                              "(0.5: the mid-length)"))))
 
 
 def make_body(name, **parameters):

@@ -521,6 +521,11 @@ class CycleResult(PeriodVerdict):
         A patch's stored full fields: the steps, ``(k, 2, ny, nx)`` and ``(k, ny, nx)``.
     step_residuals : dict or None
         A patch's named residuals of every step.
+    rotation : ndarray or None
+        A patch body free to turn about the normal (its ``twist_centre``, the
+        cone): its rotation about the normal after each step [mu Fn/(E* a^2)
+        rad], ``displacement`` then that of the twist centre; None otherwise
+        (per period: :attr:`twist_per_period`).
 
     Every array, the cached ones included, is read-only: a result may be
     shared between sessions of the app.
@@ -556,6 +561,7 @@ class CycleResult(PeriodVerdict):
     traction_snapshots: np.ndarray | None = None
     state_snapshots: np.ndarray | None = None
     step_residuals: dict | None = None
+    rotation: np.ndarray | None = None
 
     def __post_init__(self):
         if self.body is None or isinstance(self.body, str):  # a name: the registered body with its defaults
@@ -698,6 +704,15 @@ class CycleResult(PeriodVerdict):
             return read_only(np.diff(disp))
         return read_only(np.diff(np.concatenate([[0.0], disp])))
 
+    @cached_property
+    def twist_per_period(self) -> np.ndarray | None:
+        """Rotation about the normal of each period [mu Fn/(E* a^2) rad] of a patch free to turn (a cone's
+        :attr:`rotation`; its displacement is then that of the twist centre); None otherwise."""
+        if self.rotation is None:
+            return None
+        rot = self.rotation[self._period_ends()]
+        return read_only(np.diff(rot) if self.period[0] < 0 else np.diff(np.concatenate([[0.0], rot])))
+
     # ---- the final state ---------------------------------------------------
     @cached_property
     def final_zones(self) -> np.ndarray:
@@ -750,10 +765,12 @@ class CycleResult(PeriodVerdict):
                     "max_kkt_residual": self.max_kkt_residual, "elements": self.elements,
                     "steps": int(self.xc.size), "periodic_from": self.periodic_from,
                     "max_iterations": int(self.iterations.max()), "max_cg_iterations": int(self.cg_iterations.max()),
-                    "max_residual": self.max_residual, "runtime_s": self.runtime}
+                    "max_residual": self.max_residual, "runtime_s": self.runtime,
+                    **({} if self.rotation is None else {"twist_last_period": float(self.twist_per_period[-1])})}
         return {
             "dx": self.dx,
             **self.params,
+            "body": self.body_name,
             "regime": self.regime,
             "regime_reason": self.regime_reason,
             "stick_halfwidth": self.stick_halfwidth,

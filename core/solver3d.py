@@ -84,8 +84,8 @@ from .result import PointContactResult, STICK_MARGIN, central_halfwidth, read_on
 from .schedule import Schedule, rocking_schedule
 from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
-__all__ = ["solve_increment", "simulate_point_contact", "solve_point_schedule", "solve_static_3d", "solve_static_patch",
-           "PatchGrid", "PatchSolver", "PatchTrajectory", "mindlin_state",
+__all__ = ["solve_increment", "twist_field", "simulate_point_contact", "solve_point_schedule", "solve_static_3d",
+           "solve_static_patch", "PatchGrid", "PatchSolver", "PatchTrajectory", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
            "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
@@ -161,17 +161,21 @@ def _symmetrize(v):
 
 
 @jit
-def _project(pxx, pyy, pxy, minv, v, out, mirror):
-    """``out = P v``: the orthogonal projection on {x in V, sum x = 0}, compiled.
+def _project(pxx, pyy, pxy, minv, v, out, mirror, tv=None):
+    """``out = P v``: the orthogonal projection on {x in V, C x = 0}, compiled.
 
     V holds both components on stick elements and ``d_perp`` on slipping ones:
     ``P_i = [[pxx, pxy], [pxy, pyy]]`` per element (the identity, ``d_perp
-    d_perp^T`` or 0), ``minv`` the inverse of their sum ``M``; the constant
-    ``M^-1 sum P_i v_i`` is removed so that ``sum P v = 0``.
+    d_perp^T`` or 0). ``C`` holds the constraints: the two force sums, and with
+    the twist (``tv``, the rigid slip ``(-(y - y_c), x - x_c)`` of a unit
+    rotation about the normal at each element) the moment ``sum tv . x``;
+    ``minv`` is the inverse of ``M = C P C^T`` (2 x 2, or 3 x 3 with the
+    twist) and ``P C^T M^-1 C P v`` is removed from ``P v``.
     """
     ny, nx = pxx.shape
     s0 = 0.0
     s1 = 0.0
+    s2 = 0.0
     for i in range(ny):
         for j in range(nx):
             a, b = v[0, i, j], v[1, i, j]
@@ -181,12 +185,25 @@ def _project(pxx, pyy, pxy, minv, v, out, mirror):
             out[1, i, j] = y1
             s0 += y0
             s1 += y1
-    m0 = minv[0, 0] * s0 + minv[0, 1] * s1
-    m1 = minv[1, 0] * s0 + minv[1, 1] * s1
-    for i in range(ny):
-        for j in range(nx):
-            out[0, i, j] -= pxx[i, j] * m0 + pxy[i, j] * m1
-            out[1, i, j] -= pxy[i, j] * m0 + pyy[i, j] * m1
+            if tv is not None:
+                s2 += tv[0, i, j] * y0 + tv[1, i, j] * y1
+    if tv is None:
+        m0 = minv[0, 0] * s0 + minv[0, 1] * s1
+        m1 = minv[1, 0] * s0 + minv[1, 1] * s1
+        for i in range(ny):
+            for j in range(nx):
+                out[0, i, j] -= pxx[i, j] * m0 + pxy[i, j] * m1
+                out[1, i, j] -= pxy[i, j] * m0 + pyy[i, j] * m1
+    else:
+        m0 = minv[0, 0] * s0 + minv[0, 1] * s1 + minv[0, 2] * s2
+        m1 = minv[1, 0] * s0 + minv[1, 1] * s1 + minv[1, 2] * s2
+        m2 = minv[2, 0] * s0 + minv[2, 1] * s1 + minv[2, 2] * s2
+        for i in range(ny):
+            for j in range(nx):
+                c0 = m0 + m2 * tv[0, i, j]
+                c1 = m1 + m2 * tv[1, i, j]
+                out[0, i, j] -= pxx[i, j] * c0 + pxy[i, j] * c1
+                out[1, i, j] -= pxy[i, j] * c0 + pyy[i, j] * c1
     if mirror:
         _symmetrize(out)
 
@@ -200,7 +217,7 @@ def _convolve(q, hxx, hyy, hxy, py, px, mirror):
 
 
 @jit
-def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror):
+def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror, tv=None):
     """``z = P M r``: the inverse continuous symbol on the stick set, ``r/(curv + K_ii)`` on slip corrections."""
     ny, nx = stick.shape
     w = np.empty((2, ny, nx))
@@ -214,11 +231,11 @@ def _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror):
             for j in range(nx):
                 if not stick[i, j]:
                     zs[c, i, j] = r[c, i, j] * slip_diag[i, j]
-    _project(pxx, pyy, pxy, minv, zs, z, mirror)
+    _project(pxx, pyy, pxy, minv, zs, z, mirror, tv)
 
 
 @jit
-def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, maxiter, mirror):
+def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, maxiter, mirror, tv=None):
     """Projected preconditioned CG for ``P (K dq + curv x) = 0``, ``dq = dq_fixed + x``, ``x`` in V.
 
     ``Kdq`` is ``K dq`` of the starting ``x``; both are updated in place.
@@ -226,7 +243,8 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     (:meth:`core.halfspace.HalfSpaceOperator.spectra`). Preconditioner: the
     inverse continuous symbol on the stick set, the inverse diagonal
     ``1/(curv + K_ii)`` on the tangential corrections of slipping elements.
-    Returns the iterations and the largest residual component.
+    With ``tv`` (the twist's rigid slip field) the projection also holds the
+    moment (:func:`_project`). Returns the iterations and the largest residual component.
     """
     ny, nx = stick.shape
     r = np.empty((2, ny, nx))
@@ -235,8 +253,8 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     tmp = np.empty((2, ny, nx))
     for c in range(2):
         tmp[c] = -Kdq[c] - curv * x[c]
-    _project(pxx, pyy, pxy, minv, tmp, r, mirror)
-    _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror)
+    _project(pxx, pyy, pxy, minv, tmp, r, mirror, tv)
+    _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror, tv)
     p = z.copy()
     rz = np.sum(r * z)
     rmax = np.abs(r).max()
@@ -252,7 +270,7 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
             for i in range(ny):
                 for j in range(nx):
                     tmp[c, i, j] = Kp[c, i, j] + curv[i, j] * p[c, i, j]
-        _project(pxx, pyy, pxy, minv, tmp, Ap, mirror)
+        _project(pxx, pyy, pxy, minv, tmp, Ap, mirror, tv)
         pAp = 0.0
         for c in range(2):
             for i in range(ny):
@@ -269,7 +287,7 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
                     Kdq[c, i, j] += alpha * Kp[c, i, j]
                     r[c, i, j] -= alpha * Ap[c, i, j]
                     rmax = max(rmax, abs(r[c, i, j]))
-        _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror)
+        _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror, tv)
         rz_new = 0.0
         for c in range(2):
             for i in range(ny):
@@ -287,6 +305,21 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
 
 
 @jit
+def _inverse3(m00, m01, m02, m11, m12, m22, out):
+    """``out`` = the inverse of the symmetric 3 x 3 matrix ``[[m00, m01, m02], [m01, m11, m12], [m02, m12, m22]]``."""
+    c00 = m11 * m22 - m12 * m12
+    c01 = m02 * m12 - m01 * m22
+    c02 = m01 * m12 - m02 * m11
+    c11 = m00 * m22 - m02 * m02
+    c12 = m01 * m02 - m00 * m12
+    c22 = m00 * m11 - m01 * m01
+    det = m00 * c00 + m01 * c01 + m02 * c02
+    out[0, 0], out[0, 1], out[0, 2] = c00 / det, c01 / det, c02 / det
+    out[1, 0], out[1, 1], out[1, 2] = c01 / det, c11 / det, c12 / det
+    out[2, 0], out[2, 1], out[2, 2] = c02 / det, c12 / det, c22 / det
+
+
+@jit
 def _signature(kind):
     """A 64-bit FNV-1a hash of the element kinds: equal active sets give equal signatures."""
     h = np.uint64(14695981039346656037)
@@ -299,7 +332,7 @@ def _signature(kind):
 
 @jit
 def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, tol, maxiter, cg_maxiter, measure,
-                      mirror):
+                      mirror, tv=None):
     """The active-set / semismooth Newton loop of :func:`solve_increment`, compiled.
 
     Updates ``kind``, ``d`` and ``wcurv`` in place; returns the final traction
@@ -324,6 +357,16 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
     violator changes its kind per iteration (a least-violation pivoting rule,
     as Murty's for P-matrix LCPs), with the slip directions iterated to
     convergence between changes. A cycle in stage 2 stops with status 2.
+
+    Twist. With ``tv`` (shape ``(2, ny, nx)``: the rigid slip ``(-(y - y_c),
+    x - x_c)`` of a unit rotation about the normal at each element) the
+    increment has a third rigid unknown, the rotation ``phi`` about the
+    normal through ``(x_c, y_c)``: the slip is ``s = lam + phi tv - K dq``,
+    and the moment ``sum tv . q dA`` is held at ``target[2]`` (its
+    multiplier is ``phi``; ``lam`` is then the translation of the point
+    ``(x_c, y_c)``). Returned ``lam`` has three entries, ``phi`` last (0
+    without the twist). Without ``tv`` numba compiles the kernel without the
+    twist's terms (the ``tv is None`` branches are pruned).
     """
     ny, nx = g.shape
     contact = g > 0.0
@@ -352,8 +395,8 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
     Kdq = np.empty((2, ny, nx))
     stick = np.zeros((ny, nx), np.bool_)
     slip = np.zeros((ny, nx), np.bool_)
-    minv = np.empty((2, 2))
-    lam = np.zeros(2)
+    minv = np.zeros((3, 3))  # the 2 x 2 block without the twist
+    lam = np.zeros(3)
     cg_total = 0
     worst = np.inf
     over_max = wrong_max = tangent = cg_res = np.inf
@@ -376,9 +419,19 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
                     if contact[i, j] and g[i, j] > bg:
                         bi, bj, bg = i, j, g[i, j]
             kind[bi, bj] = _STICK
+            nstick = 1
+        if tv is not None:
+            if nstick == 1:  # the moment needs a second free element (two positions make M regular)
+                bi, bj, bg = -1, -1, -1.0
+                for i in range(ny):
+                    for j in range(nx):
+                        if contact[i, j] and kind[i, j] != _STICK and g[i, j] > bg:
+                            bi, bj, bg = i, j, g[i, j]
+                if bi >= 0:
+                    kind[bi, bj] = _STICK
         # ---- the projector of this active set and the fixed part of the traction
-        m00 = m01 = m11 = 0.0
-        b0 = b1 = 0.0
+        m00 = m01 = m11 = m02 = m12 = m22 = 0.0
+        b0 = b1 = b2 = 0.0
         for i in range(ny):
             for j in range(nx):
                 st = kind[i, j] == _STICK
@@ -400,35 +453,55 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
                 m01 += pxy[i, j]
                 b0 += base[0, i, j]
                 b1 += base[1, i, j]
-        det = m00 * m11 - m01 * m01  # > 0: at least one stick element
-        minv[0, 0], minv[0, 1], minv[1, 0], minv[1, 1] = m11 / det, -m01 / det, -m01 / det, m00 / det
-        D0, D1 = target[0] / dA - b0, target[1] / dA - b1
-        c0 = minv[0, 0] * D0 + minv[0, 1] * D1
-        c1 = minv[1, 0] * D0 + minv[1, 1] * D1
+                if tv is not None:
+                    t0, t1 = tv[0, i, j], tv[1, i, j]
+                    m02 += pxx[i, j] * t0 + pxy[i, j] * t1
+                    m12 += pxy[i, j] * t0 + pyy[i, j] * t1
+                    m22 += t0 * (pxx[i, j] * t0 + pxy[i, j] * t1) + t1 * (pxy[i, j] * t0 + pyy[i, j] * t1)
+                    b2 += t0 * base[0, i, j] + t1 * base[1, i, j]
+        D0, D1, D2 = target[0] / dA - b0, target[1] / dA - b1, 0.0
+        if tv is None:
+            det = m00 * m11 - m01 * m01  # > 0: at least one stick element
+            minv[0, 0], minv[0, 1], minv[1, 0], minv[1, 1] = m11 / det, -m01 / det, -m01 / det, m00 / det
+        else:  # M = C P C^T with the moment's row: regular with two stick elements at different places
+            D2 = target[2] / dA - b2
+            _inverse3(m00, m01, m02, m11, m12, m22, minv)
+        c0 = minv[0, 0] * D0 + minv[0, 1] * D1 + minv[0, 2] * D2
+        c1 = minv[1, 0] * D0 + minv[1, 1] * D1 + minv[1, 2] * D2
+        c2 = minv[2, 0] * D0 + minv[2, 1] * D1 + minv[2, 2] * D2
         # ---- the linear problem of this active set (warm start projected on its space, plus the particular part)
-        _project(pxx, pyy, pxy, minv, x, x0, False)
+        _project(pxx, pyy, pxy, minv, x, x0, False, tv)
         for i in range(ny):
             for j in range(nx):
-                x0[0, i, j] += pxx[i, j] * c0 + pxy[i, j] * c1
-                x0[1, i, j] += pxy[i, j] * c0 + pyy[i, j] * c1
+                e0, e1 = c0, c1
+                if tv is not None:
+                    e0 += c2 * tv[0, i, j]
+                    e1 += c2 * tv[1, i, j]
+                x0[0, i, j] += pxx[i, j] * e0 + pxy[i, j] * e1
+                x0[1, i, j] += pxy[i, j] * e0 + pyy[i, j] * e1
         if mirror:
             _symmetrize(x0)
         Kdq = _convolve(base - q_prev + x0, spec[0], spec[1], spec[2], spec[3], spec[4], mirror)
         cg_tol = 0.1 * tol if stage > 0 else max(0.1 * tol, _CG_FORCING * measure)
         its, cg_res = _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x0, Kdq, cg_tol, cg_maxiter,
-                                  mirror)
+                                  mirror, tv)
         x = x0.copy()
         cg_total += its
         # ---- the multipliers, the traction and the slips
-        y0 = y1 = 0.0
+        y0 = y1 = y2 = 0.0
         for i in range(ny):
             for j in range(nx):
                 v0 = Kdq[0, i, j] + curv[i, j] * x[0, i, j]
                 v1 = Kdq[1, i, j] + curv[i, j] * x[1, i, j]
-                y0 += pxx[i, j] * v0 + pxy[i, j] * v1
-                y1 += pxy[i, j] * v0 + pyy[i, j] * v1
-        lam[0] = minv[0, 0] * y0 + minv[0, 1] * y1
-        lam[1] = minv[1, 0] * y0 + minv[1, 1] * y1
+                w0 = pxx[i, j] * v0 + pxy[i, j] * v1
+                w1 = pxy[i, j] * v0 + pyy[i, j] * v1
+                y0 += w0
+                y1 += w1
+                if tv is not None:
+                    y2 += tv[0, i, j] * w0 + tv[1, i, j] * w1
+        lam[0] = minv[0, 0] * y0 + minv[0, 1] * y1 + minv[0, 2] * y2
+        lam[1] = minv[1, 0] * y0 + minv[1, 1] * y1 + minv[1, 2] * y2
+        lam[2] = minv[2, 0] * y0 + minv[2, 1] * y1 + minv[2, 2] * y2
         # ---- check: bounds on the stick set, slip direction on the slip set
         over_max = -np.inf
         wrong_max = -np.inf
@@ -439,7 +512,10 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
             for j in range(nx):
                 for c in range(2):
                     q[c, i, j] = base[c, i, j] + x[c, i, j]
-                    s[c, i, j] = lam[c] - Kdq[c, i, j] if contact[i, j] else 0.0
+                    rigid = lam[c]
+                    if tv is not None:
+                        rigid += lam[2] * tv[c, i, j]
+                    s[c, i, j] = rigid - Kdq[c, i, j] if contact[i, j] else 0.0
                 if stick[i, j]:
                     over[i, j] = math.hypot(q[0, i, j], q[1, i, j]) - g[i, j]
                     over_max = max(over_max, over[i, j])
@@ -585,7 +661,35 @@ def _failure(status, stage, it, maxiter, cg_maxiter, tol, over, wrong, tangent, 
     return f"{why}; unmet: {unmet} (worst violation {max(over, wrong):.3g})"
 
 
-def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500):
+def twist_field(x_edges, y_edges, centre):
+    """The rigid slip ``(-(y - y_c), x - x_c)`` [a] of a unit rotation about the normal through ``centre``.
+
+    At the element centres of the grid ``x_edges``, ``y_edges``: the ``twist``
+    argument of :func:`solve_increment` for a body free to turn about the
+    normal through ``centre = (x_c, y_c)`` [a] (a point on the line of action
+    of the tangential force).
+
+    Returns
+    -------
+    ndarray, shape (2, ny, nx)
+    """
+    xc, yc = (float(v) for v in centre)
+    x = 0.5 * (np.asarray(x_edges[1:], float) + np.asarray(x_edges[:-1], float))
+    y = 0.5 * (np.asarray(y_edges[1:], float) + np.asarray(y_edges[:-1], float))
+    out = np.empty((2, y.size, x.size))
+    out[0] = -(y - yc)[:, None]
+    out[1] = (x - xc)[None, :]
+    return out
+
+
+def _moment_residual(q, twist, target, dA):
+    """``|sum twist . q dA - target[2]|`` over the largest arm: the moment balance as a force [mu p0 a^2]."""
+    arm = max(float(np.abs(twist).max()), 1e-300)
+    moment = float(np.sum(twist * q)) * dA
+    return abs(moment - (float(target[2]) if len(target) > 2 else 0.0)) / arm
+
+
+def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg_maxiter=500, twist=None):
     """Solve one increment of the 3D tangential problem (see the module docstring).
 
     Parameters
@@ -596,8 +700,9 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         Traction bounds ``mu p`` [mu p0]; 0 out of contact.
     q_prev : ndarray, shape (2, ny, nx)
         Tractions after the previous step [mu p0].
-    target : ndarray, shape (2,)
-        Required ``sum q dA`` [mu p0 a^2].
+    target : ndarray, shape (2,) or (3,)
+        Required ``sum q dA`` [mu p0 a^2]; with ``twist``, a third entry: the
+        required moment ``sum twist . q dA`` [mu p0 a^3] (0 if omitted).
     dA : float
         Element area [a^2].
     warm : _WarmStart
@@ -606,6 +711,13 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         KKT tolerance (tractions [mu p0], slips [displacement unit]).
     maxiter, cg_maxiter : int
         Largest numbers of active-set and CG iterations.
+    twist : ndarray, shape (2, ny, nx), optional
+        The body is also free to turn about the normal: the rigid slip of a
+        unit rotation at each element (:func:`twist_field`, ``(-(y - y_c), x -
+        x_c)`` [a]). The increment then has a third rigid unknown, the rotation
+        ``phi`` [displacement unit / a], with the slip ``lam + phi twist - K
+        dq`` and the moment balance above; ``lam`` is the translation of
+        ``(x_c, y_c)``. Default None: no rotation (the two force balances only).
 
     Returns
     -------
@@ -618,9 +730,10 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     info : dict
         ``iterations`` (active set), ``cg_iterations``, ``fallback`` (the
         stage of the cycle fallback reached: 0 none, 1 exact linear solves, 2
-        one change of kind per iteration; see :func:`_increment_kernel`) and
-        the residuals of :data:`RESIDUAL_NAMES` (``load_balance`` in
-        ``sum q dA`` units).
+        one change of kind per iteration; see :func:`_increment_kernel`),
+        ``twist`` (``phi``, 0 without ``twist``) and the residuals of
+        :data:`RESIDUAL_NAMES` (``load_balance`` in ``sum q dA`` units; with
+        the twist, also the moment's residual over the largest arm).
 
     Raises
     ------
@@ -633,13 +746,21 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     g, q_prev = (np.require(a, np.float64, ["C", "W"]) for a in (g, q_prev))
     warm.kind = np.require(warm.kind, np.int8, ["C", "W"])
     warm.d, warm.curv, warm.x = (np.require(a, np.float64, ["C", "W"]) for a in (warm.d, warm.curv, warm.x))
+    target = np.asarray(target, dtype=float)
+    if twist is not None:
+        twist = np.require(twist, np.float64, ["C", "W"])
+        if twist.shape != q_prev.shape:
+            raise ValueError(f"twist must have the shape {q_prev.shape} of q_prev, got {twist.shape}")
+        target = np.concatenate([target[:3], np.zeros(3 - min(target.size, 3))])
     contact = g > 0
     kind, d = warm.kind, warm.d
     kind[~contact] = _OUT
     kind[contact & (kind == _OUT)] = _STICK
     mag_prev = np.hypot(q_prev[0], q_prev[1])
     # ---- the zero increment, if feasible, is the unique solution
-    balance = np.abs(q_prev.sum(axis=(1, 2)) * dA - target).max()
+    balance = np.abs(q_prev.sum(axis=(1, 2)) * dA - target[:2]).max()
+    if twist is not None:
+        balance = max(balance, _moment_residual(q_prev, twist, target, dA))
     if (not np.any(q_prev[:, ~contact])) and np.all(mag_prev <= g + tol) and balance <= tol:
         kind[(kind == _SLIP) & (mag_prev < g - tol)] = _STICK
         warm.x[:] = 0.0
@@ -647,16 +768,29 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
         info = dict(iterations=0, cg_iterations=0, stick_slip=0.0, bound=max(float((mag_prev - g).max()), 0.0),
                     slip_direction=0.0, out_of_contact=0.0, load_balance=float(balance))
         info["fallback"] = 0
+        info["twist"] = 0.0
         return q_prev.copy(), zero, np.zeros(2), info
     measure = max(float((mag_prev - g).max()), balance)
     # at nu = 0 the y problem decouples and the full products keep q_y exactly 0 (the half-cost ones to round-off)
-    gm, qm = _mirror_symmetric(g, q_prev, target, warm) if op.nu > 0 else (None, None)
+    tv = twist
+    mirror_ok = op.nu > 0
+    if twist is not None and mirror_ok:
+        # a mirror-symmetric increment has no moment about a point on the centre row (q_x even, q_y odd against
+        # twist_x odd, twist_y even): the rotation is 0 by symmetry and the half-cost path drops it; a centre off
+        # that row (or a moment required) breaks the symmetry
+        ny = g.shape[0]
+        ts = max(float(np.abs(twist).max()), 1e-300)
+        mirror_ok = (ny % 2 == 1 and target[2] == 0.0
+                     and np.abs(twist[0] + twist[0, ::-1]).max() <= _MIRROR_RTOL * ts
+                     and np.abs(twist[1] - twist[1, ::-1]).max() <= _MIRROR_RTOL * ts)
+    gm, qm = _mirror_symmetric(g, q_prev, target[:2], warm) if mirror_ok else (None, None)
     mirror = gm is not None
     if mirror:
         g, q_prev = gm, qm
+        tv = None
     q, s, lam, Kdq, x, stick, it, cg_total, status, stage, over, wrong, tangent, cg_res = _increment_kernel(
-        op.spectra(), op.self_influence, g, q_prev, np.asarray(target, float), float(dA), kind, d, warm.curv, warm.x,
-        float(tol), int(maxiter), int(cg_maxiter), float(measure), mirror)
+        op.spectra(), op.self_influence, g, q_prev, target, float(dA), kind, d, warm.curv, warm.x,
+        float(tol), int(maxiter), int(cg_maxiter), float(measure), mirror, tv)
     if status != 0:
         raise RuntimeError(_failure(status, stage, it, maxiter, cg_maxiter, tol, over, wrong, tangent, cg_res))
     if mirror:  # exactly symmetric results (the solver's sums leave round-off in the lower half)
@@ -670,15 +804,19 @@ def solve_increment(op, g, q_prev, target, dA, warm, tol=TOL_3D, maxiter=200, cg
     e = q / np.where(qn > 0, qn, 1.0)
     along = e[0] * s[0] + e[1] * s[1]
     direction = np.where(slipping, np.maximum(np.abs(e[0] * s[1] - e[1] * s[0]), -along), 0.0)
+    rigid = lam[:2, None, None] + (lam[2] * tv if tv is not None else 0.0)
+    load = float(np.abs(q.sum(axis=(1, 2)) * dA - target[:2]).max())
+    if twist is not None:
+        load = max(load, _moment_residual(q, twist, target, dA))
     info = dict(
-        iterations=it, cg_iterations=cg_total, fallback=int(stage),
-        stick_slip=float(np.abs(np.where(stick, lam[:, None, None] - Kdq, 0.0)).max()),
+        iterations=it, cg_iterations=cg_total, fallback=int(stage), twist=float(lam[2]),
+        stick_slip=float(np.abs(np.where(stick, rigid - Kdq, 0.0)).max()),
         bound=max(float((np.hypot(q[0], q[1]) - g).max()), 0.0),
         slip_direction=float(direction.max()),
         out_of_contact=float(np.abs(q[:, ~contact]).max()) if (~contact).any() else 0.0,
-        load_balance=float(np.abs(q.sum(axis=(1, 2)) * dA - target).max()),
+        load_balance=load,
     )
-    return q, s, lam, info
+    return q, s, lam[:2].copy(), info
 
 
 class _Window:
@@ -716,9 +854,12 @@ class _Window:
         return slice(lo, lo + width)
 
     def solve(self, g, q_prev, target, dA, warm, tol, **options):
-        """:func:`solve_increment` on the window; ``options`` (``maxiter``, ``cg_maxiter``, a body's own) pass to it."""
+        """:func:`solve_increment` on the window; ``options`` (``maxiter``, ``cg_maxiter``, a body's own) pass to it
+        (a ``twist`` field, given on the whole grid, cut to the window)."""
         used = (g > 0) | (q_prev != 0).any(axis=0)
         win = (self._span(used.any(axis=1), self.shape[0]), self._span(used.any(axis=0), self.shape[1]))
+        if options.get("twist") is not None:
+            options = dict(options, twist=np.ascontiguousarray(options["twist"][(slice(None),) + win]))
         part = _WarmStart(*(np.ascontiguousarray(a[(Ellipsis,) + win]) for a in (warm.kind, warm.d, warm.curv, warm.x)))
         try:
             q, s, lam, info = solve_increment(self.operator(part.kind.shape), np.ascontiguousarray(g[win]),
@@ -778,6 +919,9 @@ class PatchTrajectory:
         self.traction_snapshots = np.zeros((len(snapshot_steps), 2, ny, nx))
         self.state_snapshots = np.zeros((len(snapshot_steps), ny, nx), np.int8)
         self.last_traction = None
+        #: A body free to turn about the normal (a ``twist`` solver option): its rotation after each step.
+        self.rotation = None
+        self._turned = 0.0
 
     def record(self, k, q, codes, total, info):
         """Store step ``k``: traction ``q`` (2, ny, nx), states, displacement so far, the solver's ``info``."""
@@ -787,6 +931,9 @@ class PatchTrajectory:
         for name in RESIDUAL_NAMES:
             self.step_residuals[name][k] = info[name]
         self.kkt_residual[k] = max(info[name] for name in RESIDUAL_NAMES)
+        if self.rotation is not None:
+            self._turned += info["twist"]
+            self.rotation[k] = self._turned
         if k in self.snap_index:
             self.traction_snapshots[self.snap_index[k]], self.state_snapshots[self.snap_index[k]] = q, codes
         self.last_traction = q
@@ -816,7 +963,8 @@ class PatchTrajectory:
                     dissipation=self.dissipation, iterations=self.iterations, cg_iterations=self.cg_iterations,
                     kkt_residual=self.kkt_residual, snapshot_steps=self.snapshot_steps,
                     traction_snapshots=self.traction_snapshots, state_snapshots=self.state_snapshots,
-                    step_residuals=self.step_residuals)
+                    step_residuals=self.step_residuals,
+                    **({} if self.rotation is None else {"rotation": self.rotation}))
 
 
 class PatchSolver:
@@ -955,6 +1103,8 @@ class PatchSolver:
             reason in :attr:`failure`.
         """
         steps = Q.size
+        if self.options.get("twist") is not None and out.rotation is None:  # free to turn: record the rotation
+            out.rotation = np.zeros(steps)
         for k in range(int(k0), int(k1)):
             g = bounds[k - k0]
             per = int(period[k])
@@ -1147,9 +1297,12 @@ class PatchGrid:
     y_edges, xc, scale)`` (its own grid and pressure: a height map, a cone);
     optionally ``load_scale(P)`` (the length scale of its contact under the
     normal load ``P``, the ``scale`` above; default ``P^(1/3)``),
-    ``default_dx`` and ``solver_options`` (a dict of keyword options of
+    ``default_dx``, ``solver_options`` (a dict of keyword options of
     :func:`solve_increment`, passed through :class:`PatchSolver` and
-    :meth:`_Window.solve`).
+    :meth:`_Window.solve`) and ``twist_centre`` (``(x_c, y_c)`` [a]: the body
+    is free to turn about the normal through it, a cone; its
+    :func:`twist_field` on the grid becomes the ``twist`` option of every
+    :func:`solve_increment`, and the run records the rotation).
 
     Parameters
     ----------
@@ -1172,6 +1325,9 @@ class PatchGrid:
         self.shape = (self.y_edges.size - 1, self.x_edges.size - 1)
         self.size = self.shape[0] * self.shape[1]
         self.solver_options = dict(getattr(body, "solver_options", None) or {})
+        centre = getattr(body, "twist_centre", None)  # free to turn about the normal through it (a cone)
+        if centre is not None:
+            self.solver_options["twist"] = twist_field(self.x_edges, self.y_edges, centre)
         self._cache = {}
 
     @classmethod
@@ -1370,7 +1526,11 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
     >>> r.regime
     'shakedown'
     """
-    if hasattr(body, "grid_pressure"):  # a body with its own pressure (a height map); its grid: default_dx
+    if isinstance(body, str) and body not in ("sphere", "ellipsoid"):  # another registered point body, e.g. "cone"
+        from .registry import REGISTRY, make_body
+        if body in REGISTRY and REGISTRY[body].kind == "point":
+            body = make_body(body)
+    if hasattr(body, "grid_pressure"):  # a height map, a cone: its own grid
         if ratio is not None:
             raise ValueError(f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
     else:

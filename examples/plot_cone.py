@@ -18,8 +18,8 @@ it: the slices near the apex rock less than ``w``); the frustum ``inner = 0.5`` 
 0.6050 and 0.6257. The left panel
 draws the exact limit for a full cone and two frusta against eq 35; the right one the local amplitude
 along the contact at ``w = 0.8``: the outer end of the full cone passes 1 (it loses contact once a
-period), the nearly cylindrical frustum is a point at 0.8. The cone's module (``core.cone``) gives limits only: no cycle-by-cycle solver runs
-it yet.
+period), the nearly cylindrical frustum is a point at 0.8. The cycles of the cone on the 3D solver, and runs
+bracketing this limit, are in the next example (``plot_cone_cycles.py``).
 """
 
 import matplotlib.pyplot as plt

@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import io
 import sys
+from urllib.parse import parse_qs
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
@@ -55,8 +56,7 @@ def main(argv=None) -> int:
         page = browser.new_page(viewport={"width": args.width, "height": args.height})
         page.goto(url + args.query, timeout=180_000)
         page.locator(BADGE).first.wait_for(timeout=60_000)
-        _wait_key_figures(page, "sphere" if "body=sphere" in args.query else
-                          "ellipsoid" if "body=ellipsoid" in args.query else "cylinder")
+        _wait_key_figures(page, parse_qs(args.query.lstrip("?")).get("body", ["cylinder"])[0])
         if args.pin:
             w0 = page.evaluate(_SLIDER.replace("SET", ""), None)
             for k, w in enumerate([*args.pin, w0]):

@@ -125,7 +125,7 @@ def test_pin_compare_and_downloads_work_for_every_body(body_explorer):
     core.export: the same text as core's own, periods numbered as the player)."""
     ex = body_explorer
     body = ex.state.body
-    point = body != "cylinder"
+    point = ex.state.point
     ex.pins.clear()
     first = ex.result
     assert ex.pins.pin(), ex.pins.message
@@ -165,5 +165,6 @@ def test_the_svg_chooser_offers_the_bodys_own_figures(body_explorer):
     offered = list(ex.svg_select.options)
     own = [plots.FIGURES[n]["opts"]["title"] for n in ex._figures_of(ex.state.body)]
     assert offered == own
-    assert ("The cylinder at the player's step" in offered) == (ex.state.body == "cylinder")
+    assert "The body at the player's step" in offered  # every body has its sketch
+    assert ("Pressure and μ p_min" in offered) == (ex.state.kind == "line")
     assert set(offered) <= set(slides.figure_titles())

@@ -79,7 +79,7 @@ def test_a_link_to_a_sphere_shows_its_verdict_and_maps(browser, app_url):
         cards = page.locator(".cards").first.inner_text()
         assert "0.5635" in cards and "0.6238" in cards, cards  # the sphere's and the cylinder's limits
         # the maps: pressure and traction over the contact plane, with values inside the contact
-        for title in ("Pressure at the player's step (Hertz, uncoupled)",
+        for title in ("Pressure at the player's step (uncoupled)",
                       "Traction |q| (last turning point up to the step)",
                       "Stick, slip and released zones (last turning point up to the step)"):
             page.wait_for_function(f"() => {{ const i = ({_IMAGES})({title!r}); "

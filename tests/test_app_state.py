@@ -18,7 +18,7 @@ from app.figures import key_figures
 from app.explorer import Explorer
 from app.live import LiveFigure
 from app.runs import Generation, ResultCache, result_nbytes
-from app.state import PRESETS, URL_PARAMETERS, ExplorerState, parse_query
+from app.state import BODIES, PRESETS, URL_PARAMETERS, ExplorerState, parse_query
 
 
 # ---- the state class -------------------------------------------------------
@@ -484,7 +484,7 @@ def test_the_body_is_a_url_parameter_checked_like_the_others():
                         ("?point_resolution=7.5", "point_resolution")):
         updates, errors, _ = parse_query(query)
         assert name not in updates and len(errors) == 1 and errors[0].startswith(name), (query, errors)
-    assert "cylinder, sphere, ellipsoid" in parse_query("?body=cube")[1][0]  # the message lists the bodies
+    assert ", ".join(BODIES) in parse_query("?body=cube")[1][0]  # the message lists the bodies (the registry's)
 
 
 def test_a_point_body_makes_a_point_contact_with_its_own_grid():
