@@ -58,7 +58,7 @@ The per-step solver protocol
 A class of :data:`STEP_SOLVERS` has ``name``, ``form`` (the operator form it
 needs), ``grid`` (``"line"`` or ``"patch"``), ``default_maxiter(n)``,
 ``trajectory(history, shape)`` (the per-step arrays it fills: ``displacement``,
-``iterations``, ``cg_iterations``, ``copied()``; a patch's also its
+``iterations``, ``cg_iterations``, ``copied()``, ``advancing()``; a patch's also its
 snapshots), is built as ``cls(operator, element_size=, tol=, maxiter=,
 **solver_options)``, may have ``start(history)`` (called once before the
 march), and has ``step(bound, target)``, ``residuals`` (the named residuals of
@@ -291,23 +291,21 @@ class _Lowest:
 
 
 def _repeat_last_period(period, done, p, out):
-    """Fill steps ``done:`` by repeating period ``p``: every per-step array of ``out.copied()`` is copied, the
-    displacement (a scalar or a vector per step) advances by the period's increment, iterations are 0."""
+    """Fill steps ``done:`` by repeating period ``p``: every per-step array of ``out.copied()`` is copied, those of
+    ``out.advancing()`` (the displacement, a scalar or a vector per step; a patch's rotation) advance by the
+    period's increment each time, iterations are 0."""
     block = np.flatnonzero(period == p)
     m = block.size
     start = block[0]
-    disp = out.displacement
-    before = disp[start - 1] if start > 0 else 0.0
-    increment = disp[block[-1]] - before
     rest = np.arange(done, period.size)
     src = start + (rest - done) % m
     repeats = 1 + (rest - done) // m
     for arr in out.copied():
         arr[rest] = arr[src]
-    disp[rest] = disp[src] + repeats.reshape((-1,) + (1,) * (disp.ndim - 1)) * increment
-    rot = getattr(out, "rotation", None)
-    if rot is not None:  # a patch free to turn about the normal (a cone): the rotation advances like the displacement
-        rot[rest] = rot[src] + repeats * (rot[block[-1]] - (rot[start - 1] if start > 0 else 0.0))
+    for arr in getattr(out, "advancing", lambda: [out.displacement])():
+        before = arr[start - 1] if start > 0 else 0.0
+        increment = arr[block[-1]] - before
+        arr[rest] = arr[src] + repeats.reshape((-1,) + (1,) * (arr.ndim - 1)) * increment
     out.iterations[rest] = 0
     out.cg_iterations[rest] = 0
     if hasattr(out, "repeat_snapshots"):

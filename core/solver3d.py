@@ -942,6 +942,11 @@ class PatchTrajectory:
         """The per-step arrays a repeated period copies as they are (the displacement advances, iterations are 0)."""
         return [self.traction, self.state, self.dissipation, self.kkt_residual, *self.step_residuals.values()]
 
+    def advancing(self):
+        """The per-step arrays a repeated period advances by its increment: the displacement, and the rotation
+        of a body free to turn."""
+        return [self.displacement] + ([] if self.rotation is None else [self.rotation])
+
     def repeat_snapshots(self, done, rest, src):
         """Fill the snapshots of the repeated steps ``rest`` (copies of steps ``src``)."""
         for kk in self.snapshot_steps.tolist():
