@@ -120,20 +120,21 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
         rows.append(("Δu last period", f"{inc:.3g} μFn/(E*a)"))
     scale, unit = (c.displacement_unit * 1e6, "µm") if physical else (1.0, "μFn/(E*a)")
     rows.append(("grid error of Δu", "estimating…" if grid_error is None
-                 else grid_error_text(grid_error, inc, scale, unit)))
+                 else grid_error_text(grid_error, inc, scale, unit, relative=result.regime != "shakedown")))
     nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
     rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{1 / result.dx:.3g}), "
                           f"{result.xc.size} steps"))
     return rows
 
 
-def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "") -> str:
+def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "", relative: bool = True) -> str:
     """The estimated discretisation error of the last increment ``inc`` (relative, and in ``unit``: the error
-    times ``scale``), as the cards show it."""
+    times ``scale``), as the cards show it. ``relative=False`` (a run that shook down: its last increment is the
+    solver's noise, and the error relative to it means nothing): in ``unit`` only."""
     err = float(estimate.error)
     if not math.isfinite(err):
         return "not estimated"
-    rel = err / abs(inc) if inc else math.inf
+    rel = err / abs(inc) if inc and relative else math.inf
     absolute = f"±{err * scale:.2g} {unit}".rstrip()
     return f"±{100 * rel:.0f} % ({absolute})" if math.isfinite(rel) else absolute
 
