@@ -120,20 +120,21 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
         rows.append(("Δu last period", f"{inc:.3g} μFn/(E*a)"))
     scale, unit = (c.displacement_unit * 1e6, "µm") if physical else (1.0, "μFn/(E*a)")
     rows.append(("grid error of Δu", "estimating…" if grid_error is None
-                 else grid_error_text(grid_error, inc, scale, unit)))
+                 else grid_error_text(grid_error, inc, scale, unit, relative=result.regime != "shakedown")))
     nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
     rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{1 / result.dx:.3g}), "
                           f"{result.xc.size} steps"))
     return rows
 
 
-def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "") -> str:
+def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "", relative: bool = True) -> str:
     """The estimated discretisation error of the last increment ``inc`` (relative, and in ``unit``: the error
-    times ``scale``), as the cards show it."""
+    times ``scale``), as the cards show it. ``relative=False`` (a run that shook down: its last increment is the
+    solver's noise, and the error relative to it means nothing): in ``unit`` only."""
     err = float(estimate.error)
     if not math.isfinite(err):
         return "not estimated"
-    rel = err / abs(inc) if inc else math.inf
+    rel = err / abs(inc) if inc and relative else math.inf
     absolute = f"±{err * scale:.2g} {unit}".rstrip()
     return f"±{100 * rel:.0f} % ({absolute})" if math.isfinite(rel) else absolute
 
@@ -159,22 +160,8 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
     rows += [("c_sd closure (eq 30)", fmt(csd * scale, unit, 3) if math.isfinite(csd) else "none (ft > ft_lim)"),
              ("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
              ("ft_lim(w) (eq 35)", fmt(ft_lim, "", 4)),
-             ("w_lim(ft) (eq 35)", fmt(w_lim, "", 4)),
-             ("margin ft / ft_lim", fmt(ft / ft_lim, "", 3) if ft_lim > 0 else "–"),
-             ("margin w / w_lim", fmt(w / w_lim, "", 3) if w_lim > 0 else "–")]
-    if wait:
-        rows += [("Δu last period", wait), ("solve", wait)]
-        return rows
-    inc = float(result.increment_per_period[-1])
-    if physical and c is not None:
-        um = inc * c.displacement_unit * 1e6
-        rows.append(("creep per period (last)", fmt(um, "µm", 3)))
-        rows.append((f"creep after {count(cycles)} periods", fmt(um * cycles / 1e3, "mm", 3)))
-    else:
-        unit_u = "U0" if result.u0 else "μP/E*"
-        rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
-    rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., {result.xc.size} steps"))
-    return rows
+             ("w_lim(ft) (eq 35)", fmt(w_lim, "", 4))]
+    return rows + _line_tail(ft, w, ft_lim, w_lim, result, wait, c if physical else None, cycles)
 
 
 def _line_rows(ft, w, mu, contact, result, wait, units, cycles, body) -> list:
@@ -191,15 +178,20 @@ def _line_rows(ft, w, mu, contact, result, wait, units, cycles, body) -> list:
     scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
     rows += [("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
              (f"ft_lim(w), {name} (exact)", fmt(lim)), (f"w_lim(ft), {name} (exact)", fmt(wlim)),
-             ("ft_lim(w), cylinder (eq 35)", fmt(float(core.ft_limit(w)))),
-             ("margin ft / ft_lim", fmt(ft / lim, "", 3) if lim > 0 else "–"),
-             ("margin w / w_lim", fmt(w / wlim, "", 3) if wlim > 0 else "–")]
+             ("ft_lim(w), cylinder (eq 35)", fmt(float(core.ft_limit(w))))]
+    return rows + _line_tail(ft, w, lim, wlim, result, wait, c if physical else None, cycles)
+
+
+def _line_tail(ft, w, ft_lim, w_lim, result, wait, physical_contact, cycles) -> list:
+    """The rows every line body's cards end with: the margins to its limits, the creep of the last period (in
+    physical units when ``physical_contact`` is the contact, else in U0 or mu P/E*) and the solve."""
+    rows = [("margin ft / ft_lim", fmt(ft / ft_lim, "", 3) if ft_lim > 0 else "–"),
+            ("margin w / w_lim", fmt(w / w_lim, "", 3) if w_lim > 0 else "–")]
     if wait:
-        rows += [("Δu last period", wait), ("solve", wait)]
-        return rows
+        return rows + [("Δu last period", wait), ("solve", wait)]
     inc = float(result.increment_per_period[-1])
-    if physical:
-        um = inc * c.displacement_unit * 1e6
+    if physical_contact is not None:
+        um = inc * physical_contact.displacement_unit * 1e6
         rows += [("creep per period (last)", fmt(um, "µm", 3)),
                  (f"creep after {count(cycles)} periods", fmt(um * cycles / 1e3, "mm", 3))]
     else:

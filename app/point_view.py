@@ -450,19 +450,26 @@ def _body_widgets(state, body: str) -> list:
 
 def body_inputs(state) -> list:
     """The body selector (every body of :data:`core.registry.REGISTRY`), the current body's parameters and note,
-    and the point-contact grid (widgets over ``state``; a body's inputs are put in the page when it is first
-    chosen)."""
+    and the point-contact grid (widgets over ``state``). A body's inputs are built when it is first chosen and
+    kept (one holder shows the current body's; plain watchers, no reactive expressions: a page of the default
+    cylinder builds only the selector and two empty holders)."""
     select = pn.widgets.RadioButtonGroup.from_param(state.param.body, color="primary", variant="outline",
                                                     sizing_mode="stretch_width", css_classes=["body-select"],
                                                     stylesheets=[_SELECT_CSS])
-    out = [pn.pane.Markdown("### Body"), select]
-    for body in bodies.BODIES:
-        chosen = state.param.body.rx() == body  # built when first chosen: most pages are a cylinder's
-        out.append(filled_when(
-            pn.Column(sizing_mode="stretch_width", margin=0, visible=chosen, css_classes=[f"body-inputs-{body}"]),
-            chosen, functools.partial(_body_widgets, state, body)))
-    point = state.param.body.rx().rx.pipe(lambda b: bodies.kind(b) == "point")
-    refinable = state.param.body.rx().rx.pipe(lambda b: state.refinable)
-    out.append(filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=refinable), point, lambda: [
-        IntSlider.from_param(state.param.point_resolution, sizing_mode="stretch_width", throttled=True)]))
-    return out
+    holder = pn.Column(sizing_mode="stretch_width", margin=0, css_classes=["body-inputs"])
+    grid = pn.Column(sizing_mode="stretch_width", margin=0, visible=False)
+    built: dict = {}
+
+    def show(body):
+        if body not in built:  # the paper's cylinder: no parameters, and the page says what it is already
+            built[body] = [] if body == "cylinder" else _body_widgets(state, body)
+        holder.objects = built[body]
+        refinable = state.refinable
+        if refinable and not grid.objects:
+            grid.objects = [IntSlider.from_param(state.param.point_resolution, sizing_mode="stretch_width",
+                                                 throttled=True)]
+        grid.visible = refinable
+
+    show(state.body)
+    state.param.watch(lambda e: show(e.new), "body")
+    return [pn.pane.Markdown("### Body"), select, holder, grid]

@@ -38,8 +38,9 @@ MAX_POINT_RESOLUTION = 40
 
 
 class ExplorerState(param.Parameterized):
-    """Inputs of the rocking-contact model as shown in the explorer: the cylinder (the paper's line contact), or a
-    sphere or an ellipsoid (point contacts, ``body``), with loads, geometry, materials, solver and view settings.
+    """Inputs of the rocking-contact model as shown in the explorer: the body (``body``, one of
+    :data:`core.registry.REGISTRY`; each body's parameters are inputs of their own, added below from the
+    registry by :mod:`app.bodies`), with loads, geometry, materials, solver and view settings.
 
     ``bounds`` are the physical validity of each input (or an operator cap on
     the work a served app accepts); ``softbounds`` are the slider ranges.
@@ -264,10 +265,12 @@ PRESET_NOTES: dict[str, str] = {
         "ft_lim(0.26) = 0.673 > 0.58, and the solver agrees: it shakes down. The badge's SHAKEDOWN is not a bug."),
 }
 
-for _name, _p in bodies.state_parameters().items():  # every body's parameters, from core.registry
+#: Every body's parameters as inputs (from core.registry, :func:`app.bodies.state_parameters`).
+_BODY_INPUTS = bodies.state_parameters()
+for _name, _p in _BODY_INPUTS.items():
     ExplorerState.param.add_parameter(_name, _p)
 #: The inputs whose slider values are rounded (see :meth:`ExplorerState._round`).
-_ROUNDED = ("ft", "w", "mu", *(n for n, p in bodies.state_parameters().items() if isinstance(p, param.Number)))
+_ROUNDED = ("ft", "w", "mu", *(n for n, p in _BODY_INPUTS.items() if isinstance(p, param.Number)))
 
 #: Parameters synced with the URL, each under its own name.
 URL_PARAMETERS = tuple(p for p in ExplorerState.param if p != "name")

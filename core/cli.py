@@ -750,7 +750,7 @@ def _cmd_limit(args) -> int:
         _say(f"wrote {args.out}", stream=sys.stderr)
     bad = table[~table["converged"]]
     for row in bad.itertuples():
-        _say(f"shakedown: no limit found at ft = {row.ft:g}: {row.message}", stream=sys.stderr)
+        _say(f"shakedown: the limit at ft = {row.ft:g} did not converge: {row.message}", stream=sys.stderr)
     return _EXIT_FAILED if len(bad) else _EXIT_OK
 
 

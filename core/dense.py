@@ -132,6 +132,10 @@ class Trajectory:
         """The per-step arrays a repeated period copies as they are (the displacement advances, iterations are 0)."""
         return [self.traction, self.state, self.dissipation, self.kkt_residual]
 
+    def advancing(self):
+        """The per-step arrays a repeated period advances by its increment: the displacement."""
+        return [self.displacement]
+
 
 class DenseSolver:
     """The primal-dual active-set solver on the dense influence matrix (see the module docstring).

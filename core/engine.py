@@ -19,8 +19,8 @@ The per-step solvers are chosen by name in :data:`STEP_SOLVERS`, the one place
 where a solver is registered: ``"dense"`` and ``"fft"`` for a line,
 ``"pcg3d"`` for a patch (:data:`SOLVER_CHOICES_BY_GRID`).
 
-The body protocol (what a discretised body gives :func:`run`)
----------------------------------------------------------------
+**The body protocol** (what a discretised body gives :func:`run`):
+
 ``shape``
     ``(n,)`` for a line, ``(ny, nx)`` for a patch (:func:`grid_shape`); equal to the operator's.
 ``dx``, ``edges``
@@ -50,25 +50,21 @@ the grid or in closed form), ``kernel_scale``, ``total_load`` and, optionally,
 load ``P``; default ``P^(1/3)``), ``default_dx`` and ``solver_options`` (a
 dict of keyword options of :func:`core.solver3d.solve_increment`, e.g. a
 cone's twist centre, passed on every step). ``tests/test_engine.py`` defines
-such a body in the test file alone and runs it. A line body object (:class:`core.bodies.Body`) becomes a
-line grid through ``body.grid(history, dx, ...)``.
+such a body in the test file alone and runs it. A line body object
+(:class:`core.bodies.Body`) becomes a line grid through ``body.grid(history, dx, ...)``.
 
-The per-step solver protocol
-----------------------------
-A class of :data:`STEP_SOLVERS` has ``name``, ``form`` (the operator form it
+**The per-step solver protocol.** A class of :data:`STEP_SOLVERS` has ``name``, ``form`` (the operator form it
 needs), ``grid`` (``"line"`` or ``"patch"``), ``default_maxiter(n)``,
 ``trajectory(history, shape)`` (the per-step arrays it fills: ``displacement``,
-``iterations``, ``cg_iterations``, ``copied()``; a patch's also its
-snapshots), is built as ``cls(operator, element_size=, tol=, maxiter=,
+``iterations``, ``cg_iterations``, ``copied()``, ``advancing()``; a patch's
+also its snapshots), is built as ``cls(operator, element_size=, tol=, maxiter=,
 **solver_options)``, may have ``start(history)`` (called once before the
 march), and has ``step(bound, target)``, ``residuals`` (the named residuals of
 :data:`core.states.RESIDUAL_NAMES` of the last step), ``periodic_tol`` and
 ``march(bounds, Q, period, load_scale, k0, k1, periodic, out) -> (reached,
 periodic_from, failed)``.
 
-The periodic detection (one rule)
----------------------------------
-At the end of every block of steps (the loading, then each period) the
+**The periodic detection (one rule).** At the end of every block of steps (the loading, then each period) the
 solver compares the tractions with those at the end of the previous block;
 if no element differs by more than its ``periodic_tol`` [mu p0] and the
 block is a period of a history whose periods all have the same steps
@@ -291,23 +287,21 @@ class _Lowest:
 
 
 def _repeat_last_period(period, done, p, out):
-    """Fill steps ``done:`` by repeating period ``p``: every per-step array of ``out.copied()`` is copied, the
-    displacement (a scalar or a vector per step) advances by the period's increment, iterations are 0."""
+    """Fill steps ``done:`` by repeating period ``p``: every per-step array of ``out.copied()`` is copied, those of
+    ``out.advancing()`` (the displacement, a scalar or a vector per step; a patch's rotation) advance by the
+    period's increment each time, iterations are 0."""
     block = np.flatnonzero(period == p)
     m = block.size
     start = block[0]
-    disp = out.displacement
-    before = disp[start - 1] if start > 0 else 0.0
-    increment = disp[block[-1]] - before
     rest = np.arange(done, period.size)
     src = start + (rest - done) % m
     repeats = 1 + (rest - done) // m
     for arr in out.copied():
         arr[rest] = arr[src]
-    disp[rest] = disp[src] + repeats.reshape((-1,) + (1,) * (disp.ndim - 1)) * increment
-    rot = getattr(out, "rotation", None)
-    if rot is not None:  # a patch free to turn about the normal (a cone): the rotation advances like the displacement
-        rot[rest] = rot[src] + repeats * (rot[block[-1]] - (rot[start - 1] if start > 0 else 0.0))
+    for arr in getattr(out, "advancing", lambda: [out.displacement])():
+        before = arr[start - 1] if start > 0 else 0.0
+        increment = arr[block[-1]] - before
+        arr[rest] = arr[src] + repeats.reshape((-1,) + (1,) * (arr.ndim - 1)) * increment
     out.iterations[rest] = 0
     out.cg_iterations[rest] = 0
     if hasattr(out, "repeat_snapshots"):

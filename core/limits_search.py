@@ -183,7 +183,13 @@ def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
                 except _Undetermined as inner:
                     raise RuntimeError(str(inner)) from None
                 lo, hi = near
-    except RuntimeError as e:
+    except RuntimeError as e:  # not to tol: the bracket of the runs that decided, around the undetermined one
+        decided_sd = [w for w, sd in verdicts.items() if sd]
+        decided_r = [w for w, sd in verdicts.items() if not sd]
+        w_sd, w_r = max(decided_sd, default=nan), min(decided_r, default=nan)
+        if w_sd < w_r:  # (False with a NaN)
+            return result(w_sd, w_r, False, f"not to the tolerance: the limit is in [{w_sd:.6g}, {w_r:.6g}] (the "
+                                            f"highest run that shook down, the lowest that ratcheted), but {e}")
         return result(nan, nan, False, str(e))
     return result(lo, hi, True, f"from [{lo_start:g}, {hi_start:g}] to [{lo:.6g}, {hi:.6g}] in {len(runs)} runs")
 

@@ -40,6 +40,8 @@ MIN_FIT_PERIODS = 4
 #: A run counts as settled (ratcheting needs no steady trend) when the part of its last increment still
 #: changing is at most this fraction of ``D_inf``.
 SETTLED_FRACTION = 0.25
+#: Largest relative difference of the limits fitted to tails twice and half as long for a steady trend.
+STEADY_FRACTION = 0.05
 #: Lengths of the tails tried (the shortest error of ``D_inf`` wins; at most ``periods - 1`` after the first).
 FIT_WINDOWS = (4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192)
 #: Range of the ratio ``r`` searched by the fit.
@@ -185,15 +187,16 @@ def fit_trend(increments, floor=0.0) -> Trend | None:
     D, err, r, transient, sigma = fits[k]
     aitken = _aitken(y, max(1, (k - 1) // 2))
     err = math.hypot(err, D - aitken)
-    # the same limit from a tail twice (or half) as long: a decay that is still slowing down drifts
-    other = 2 * k if 2 * k in fits else (k // 2 if k // 2 in fits else None)
+    # the same limit from tails twice and half as long (those fitted): a decay that is still slowing down drifts.
+    # Within the errors *and* within STEADY_FRACTION of D_inf: a loose fit can agree within its errors while the
+    # limit drifts tail after tail (the free cone 5 % below its limit after 40 periods: 1.2e-4, 6.4e-5, 4.0e-5,
+    # 2.7e-5 from tails of 32, 24, 16, 12 periods; after 20 periods 4.3e-4, 3.3e-4, 2.9e-4 from 16, 12, 6; it
+    # shakes down after 101 and 130 periods); one geometric approach gives one limit on every tail
+    others = [w for w in (2 * k, k // 2) if w in fits]
     steady = None
-    if other is not None:
-        D2, err2 = fits[other][0], fits[other][1]
-        # the same within the errors and within SETTLED_FRACTION of D_inf: a loose fit can agree within its
-        # errors while the limit drifts down tail after tail (a cone 5 % below its limit, 40 periods: 1.2e-4,
-        # 6.4e-5, 4.0e-5, 2.7e-5 from tails of 32, 24, 16, 12 periods; it shakes down after 101)
-        steady = bool(abs(D - D2) <= min(VERDICT_SIGMAS * math.hypot(err, err2), SETTLED_FRACTION * abs(D)))
+    if others:
+        steady = all(abs(D - fits[w][0]) <= min(VERDICT_SIGMAS * math.hypot(err, fits[w][1]), STEADY_FRACTION * abs(D))
+                     for w in others)
     if abs(transient) <= sigma:  # nothing left that decays: r is not measured
         r = math.nan
     return Trend(D_inf=sign * D, D_inf_error=err, ratio=r, transient=sign * transient, periods_fitted=k,
@@ -232,8 +235,8 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
       :data:`VERDICT_SIGMAS` standard errors: the body keeps walking. The
       increments must also have settled (the part still changing at most
       :data:`SETTLED_FRACTION` of ``D_inf``) or the trend be steady (a tail
-      twice or half as long gives the same ``D_inf``, within the errors and
-      within :data:`SETTLED_FRACTION` of it): close to the limit the decay
+      twice and half as long give the same ``D_inf``, within the errors and
+      within :data:`STEADY_FRACTION` of it): close to the limit the decay
       of a run that shakes down slows period after period, and a short tail
       would extrapolate it to a constant.
     * ``"undetermined"``: fewer than :data:`MIN_FIT_PERIODS` periods, or the
@@ -313,7 +316,7 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
         else:
             more = None
         advice = (f"roughly {more} more periods would likely decide" if more is not None else "run more periods")
-        why = ("a fit of a tail half or twice as long disagrees" if trend.steady is False else
+        why = ("fits of tails half or twice as long disagree" if trend.steady is False else
                "the run is too short to check that the trend is steady")
         return Verdict(None, "undetermined", (
             f"after {inc.size} periods the increment per period ({last:.3g} {unit}) extrapolates to {fitted}, "

@@ -942,6 +942,11 @@ class PatchTrajectory:
         """The per-step arrays a repeated period copies as they are (the displacement advances, iterations are 0)."""
         return [self.traction, self.state, self.dissipation, self.kkt_residual, *self.step_residuals.values()]
 
+    def advancing(self):
+        """The per-step arrays a repeated period advances by its increment: the displacement, and the rotation
+        of a body free to turn."""
+        return [self.displacement] + ([] if self.rotation is None else [self.rotation])
+
     def repeat_snapshots(self, done, rest, src):
         """Fill the snapshots of the repeated steps ``rest`` (copies of steps ``src``)."""
         for kk in self.snapshot_steps.tolist():
@@ -1457,7 +1462,8 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     if not isinstance(schedule, Schedule):
         raise ValueError(f"schedule must be a core.Schedule, got {type(schedule).__name__}")
     if not (isinstance(body, Ellipsoid) or hasattr(body, "grid_pressure")):
-        raise ValueError(f"body must be a core.Ellipsoid or a core.heightmap.HeightMap, got {type(body).__name__}")
+        raise ValueError(f"body must be a point body: a core.Ellipsoid, a core.heightmap.HeightMap or an object with "
+                         f"run_grid and grid_pressure (the patch protocol of core.engine), got {type(body).__name__}")
     dx = check_scalar("dx", dx, 0.005, 0.5)
     nu = check_scalar("nu", nu, 0.0, 0.5)
     angle = check_scalar("angle", angle, -math.pi, math.pi)

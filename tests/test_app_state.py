@@ -661,3 +661,15 @@ def test_the_oscillating_normal_force_is_a_loading_option():
     assert any("normal force oscillates" in m for m in ex._warnings(0.3, 0.5, ex.contact, r))
     assert not any("normal force oscillates" in m for m in ex._warnings(0.3, 0.5, ex.contact, rocking))
     assert ExplorerState(body="sphere", loading="normal").solver_options().get("history") is None  # points rock
+
+
+def test_the_grid_error_of_a_shaken_down_run_is_not_relative_to_its_noise():
+    """A run that shook down ends with an increment of the solver's noise (e.g. 6e-9): its grid error relative to
+    it (the cone showed "±113 %") means nothing, so it is shown in the increment's unit only."""
+    from types import SimpleNamespace
+
+    from app.cards import grid_error_text
+
+    est = SimpleNamespace(error=6.9e-9)
+    assert grid_error_text(est, 6.1e-9, 1.0, "μFn/(E*a)") == "±113 % (±6.9e-09 μFn/(E*a))"
+    assert grid_error_text(est, 6.1e-9, 1.0, "μFn/(E*a)", relative=False) == "±6.9e-09 μFn/(E*a)"

@@ -288,3 +288,18 @@ def test_a_point_body_plugs_into_the_engine_through_its_hooks():
     assert r.is_patch and r.body is body and r.body_name == "tabulated sphere" and r.solver == "pcg3d"
     assert_allclose(r.increment_per_period, ref.increment_per_period, rtol=1e-12)
     assert_allclose(r.pressure_at(5), ref.pressure_at(5), rtol=0, atol=0)
+
+
+def test_building_a_point_contact_result_builds_the_one_result_with_a_warning():
+    r = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.25, body="sphere")
+    with pytest.warns(DeprecationWarning, match="PointContactResult is CycleResult"):
+        old = core.PointContactResult(
+            body=r.body, nu=r.nu, angle=r.angle, x_edges=r.edges, y_edges=r.y_edges, xc=r.xc, P=r.P, Q=r.Q,
+            period=r.period, displacement=r.displacement, traction_cut=r.traction, state_cut=r.state,
+            snapshot_steps=r.snapshot_steps, traction_snapshots=r.traction_snapshots,
+            state_snapshots=r.state_snapshots, lowest_pressure=r.lowest_pressure, dissipation=r.dissipation,
+            iterations=r.iterations, cg_iterations=r.cg_iterations, residuals=r.step_residuals,
+            periodic_from=r.periodic_from, params=r.params, tol=r.tol)
+    assert type(old) is core.CycleResult and isinstance(old, core.PointContactResult)
+    assert_allclose(old.increment_per_period, r.increment_per_period, rtol=0, atol=0)
+    assert old.max_kkt_residual == r.max_kkt_residual and old.regime == r.regime

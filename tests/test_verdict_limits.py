@@ -6,6 +6,7 @@ table at the default grid a/20 is in docs/guide/verdicts.md.
 """
 
 import io
+import math
 import os
 import pathlib
 import subprocess
@@ -69,6 +70,26 @@ def test_an_undetermined_midpoint_is_decided_on_either_side(monkeypatch):
                                                                "regime_reason": "test", "runtime": 0.0})
     res = limits_search._limit_search(0.5, 0.01, {"periods": 4, "dx": 0.1})
     assert not res.converged and "undetermined" in res.message
+
+
+def test_a_search_that_cannot_decide_keeps_the_bracket_of_the_runs_that_did(monkeypatch):
+    """Runs within 0.02 of the limit stay undetermined (the free cone near its limit decays by 0.96-0.98 a period):
+    the search does not converge to tol, but it reports the highest w that shook down and the lowest that ratcheted,
+    with the limit between them, instead of no bracket at all."""
+    from core import limits_search
+
+    limit = 0.384
+
+    def fake_run(point):
+        w = point["w"]
+        regime = "undetermined" if abs(w - limit) < 0.02 else ("shakedown" if w < limit else "ratcheting")
+        return {"regime": regime, "regime_reason": "test", "runtime": 0.0}
+
+    monkeypatch.setattr(limits_search, "run_point", fake_run)
+    res = limits_search._limit_search(0.5, 0.001, {"periods": 4, "dx": 0.1})
+    assert not res.converged and "not to the tolerance" in res.message and "undetermined" in res.message
+    assert res.w_shakedown <= limit - 0.02 < limit + 0.02 <= res.w_ratcheting < 0.5, res
+    assert math.isnan(res.w_limit)
 
 
 @pytest.mark.slow
