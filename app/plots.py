@@ -56,11 +56,14 @@ KEY_HEIGHT = 270
 
 
 def key_opts(legend: str = "top_right") -> dict:
-    """Options of a first-screen figure: lower, its legend inside the frame (at ``legend``), one column, smaller."""
+    """Options of a first-screen figure: lower, its legend inside the frame (at ``legend``), one column, small
+    (short swatches, tight rows, half-transparent: at 1024x768 a figure is 300 px wide and its legend covers as
+    little of the curves as it can, and lets them show through)."""
     return dict(height=KEY_HEIGHT, legend_position=legend, legend_cols=1, fontsize={**FONT, "title": 14, "labels": 15},
                 backend_opts={**_BASE["backend_opts"], "plot.toolbar.autohide": True},  # no toolbar over the title
-                legend_opts={"label_text_font_size": "12px", "spacing": 0, "padding": 4, "margin": 4,
-                             "label_height": 14, "glyph_height": 14, "background_fill_alpha": 0.75})
+                legend_opts={"label_text_font_size": "11px", "spacing": 0, "padding": 3, "margin": 3,
+                             "label_height": 12, "glyph_height": 12, "glyph_width": 14, "label_standoff": 3,
+                             "background_fill_alpha": 0.5})
 #: Okabe and Ito's colour-blind-safe palette (distinct under deuteranopia, protanopia and tritanopia).
 OKABE_ITO = {"orange": "#E69F00", "sky": "#56B4E9", "green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
              "vermillion": "#D55E00", "purple": "#CC79A7", "black": "#000000", "grey": "#999999"}
@@ -146,11 +149,12 @@ class Inputs(NamedTuple):
 def _pressure_specs(units: Units) -> list:
     kd, vd = _dim("x", units.x_label), _dim("p", units.p_label)
     return [
-        _line("centre, xc = 0", "#7f7f7f", kd, vd, dash="dashed", width=2),
-        _line("reversal xc = +W", _C["blue"], kd, vd),
-        _line("reversal xc = −W", _C["orange"], kd, vd),
-        _line("μ p_min (over the cycle)", "black", kd, vd, width=LINE + 1),
-        _line("current step", _C["vermillion"], kd, vd, dash="dotdash"),
+        # short labels: the legend is inside a first-screen figure (the caption says what they are)
+        _line("xc = 0", "#7f7f7f", kd, vd, dash="dashed", width=2),
+        _line("xc = +W", _C["blue"], kd, vd),
+        _line("xc = −W", _C["orange"], kd, vd),
+        _line("μ p_min (cycle)", "black", kd, vd, width=LINE + 1),
+        _line("this step", _C["vermillion"], kd, vd, dash="dotdash"),
     ]
 
 
@@ -248,7 +252,7 @@ def _traction_specs(units: Units) -> list:
         _line("", "#555555", kd, vd, dash="dashed", width=2),
         _line("±μ p_min", "black", kd, vd, dash="dotted", width=2),
         _line("", "black", kd, vd, dash="dotted", width=2),
-        _line("closure (paper, eqs 22–30)", _C["blue"], kd, vd, dash="dashed", width=LINE + 1),
+        _line("closure (eqs 22–30)", _C["blue"], kd, vd, dash="dashed", width=LINE + 1),
         _line("numerical", _C["vermillion"], kd, vd),
         *pinned.specs("traction", kd, vd),
     ]
@@ -623,7 +627,7 @@ FIGURES = {
                    specs=sketch.specs, layers=sketch.layers, inputs=("result", "frame"),
                    result=(core.CycleResult, core.PointContactResult)),
     "pressure": dict(opts=dict(title="Pressure and μ p_min", **key_opts("top_right")),
-                caption="What you see: the body's pressure (the cylinder's: Hertz's) moves with the rocking centre; its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
+                caption="What you see: the body's pressure (the cylinder's: Hertz's) moves with the rocking centre xc (at the centre, at the reversals xc = ±W and at the player's step); its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
     "traction": dict(opts=dict(title="Traction vs closure", **key_opts("top_right")),
                 caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: stick, slip (hatched), no contact.", specs=_traction_specs,

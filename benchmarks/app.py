@@ -15,7 +15,13 @@ app/main.py --liveness`` on loopback, both on this machine):
   traction figure's data sources are replaced by the server's update (the
   closure curve follows ft); ``performance.now()`` before and after. This is
   the full round trip: browser -> server callback -> layer data -> Bokeh patch
-  -> browser. Drawing happens on the next animation frame (<= 16 ms more).
+  -> browser. Beside this "polled" figure (the one kept since issue 4), two
+  exact ones: when the browser wrote the data into the figure's source (its
+  change signal: "data set") and when the figure was next painted ("figure
+  painted"). The polling loop's timer runs after any animation frame that is
+  due, so "polled" is either the data set plus a few ms, or that plus the
+  paint of every figure that changed: bimodal, its median over 7 moves flips
+  between the two.
 * numerical re-solve: set ``value`` and ``value_throttled`` (a release) to an
   ft never solved before (no cache hit), and wait the same way for the
   displacement figure's data: solve + render + round trip. The solver's own
@@ -56,14 +62,24 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import core  # noqa: E402
 from app.serving import chromium, scroll_through, served_app  # noqa: E402
+from app.plots import FIGURES  # noqa: E402
 from app.state import ExplorerState  # noqa: E402
 
 BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
 FT_TITLE = "ft = Ft/(μ Fn)"
 
 PLAYER = "player"  # in place of a slider title: the cycle player
+# the figures the round trips wait for, by their titles in the tree measured (this script also runs in an older
+# checkout, for a back-to-back pair with the same measurement)
+TRACTION, DISPLACEMENT = (FIGURES[name]["opts"]["title"] for name in ("traction", "displacement"))
 
-# set the ft slider (or the player), then wait until a figure's data sources are replaced; returns elapsed ms
+# set the ft slider (or the player), then wait until a figure's data sources are replaced; returns elapsed ms:
+# [polled, data set, painted]. "polled" is the benchmark's historical figure: a loop that looks every millisecond
+# (a timer) and sees the new data when it next runs. When the browser paints the figure before that timer runs
+# (a paint is an animation frame, and the frame may come first), "polled" includes the paint: it is bimodal (the
+# data set plus 1-4 ms, or plus the paint of every figure that changed). "data set" is when the browser wrote the
+# server's data into the figure's source (its change signal, exact); "painted" is when the figure's canvas was
+# next painted after that (what the reader sees).
 _ROUND_TRIP = """
 async ([title, figTitle, value, release]) => {
   const models = () => { const out = []; for (const d of Bokeh.documents) for (const m of d.all_models) out.push(m); return out; };
@@ -71,17 +87,34 @@ async ([title, figTitle, value, release]) => {
   const slider = title === 'player' ? all.find((m) => m.title === 'Step in the period' && 'value_throttled' in m)
     : all.find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
   const fig = all.find((m) => m.title != null && m.title.text === figTitle);
+  const views = [];
+  const walk = (v) => { views.push(v); try { for (const c of v.children()) walk(c); } catch (e) {} };
+  for (const k in Bokeh.index) walk(Bokeh.index[k]);
+  const view = views.find((v) => v.model === fig);
+  if (view != null && !view._timed) {
+    const paint = view.paint.bind(view);
+    view.paint = (...a) => { const r = paint(...a); window._painted = performance.now(); return r; };
+    view._timed = true;
+  }
   const sources = () => fig.renderers.map((r) => r.data_source).filter((s) => s != null);
+  let set = NaN;
+  const watched = sources().map((s) => { const cb = () => { if (isNaN(set)) set = performance.now(); };
+                                         s.properties.data.change.connect(cb); return [s, cb]; });
   const before = sources().map((s) => s.data);
+  window._painted = NaN;
   const t0 = performance.now();
   slider.value = value;
   if (release) slider.value_throttled = value;
+  let polled = NaN;
   while (performance.now() - t0 < 10000) {
     const now = sources().map((s) => s.data);
-    if (now.length !== before.length || now.some((d, i) => d !== before[i])) return performance.now() - t0;
+    if (now.length !== before.length || now.some((d, i) => d !== before[i])) { polled = performance.now() - t0; break; }
     await new Promise((r) => setTimeout(r, 1));
   }
-  return NaN;
+  const t1 = performance.now();
+  while (!(window._painted > set) && performance.now() - t1 < 2000) await new Promise((r) => setTimeout(r, 5));
+  for (const [s, cb] of watched) s.properties.data.change.disconnect(cb);
+  return [polled, set - t0, window._painted > set ? window._painted - t0 : NaN];
 }
 """
 
@@ -115,8 +148,11 @@ def _cpu_per_load(browser, url, pid, n, scroll=False) -> tuple[float, list]:
     return (_cpu_s(pid) - c0) / n, loads
 
 
-def _stats(values) -> str:
-    v = sorted(values)
+def _stats(values, k: int = 0) -> str:
+    """Median, p90 and min of ``values`` (of the ``k``-th of each round trip's times: polled, data set, painted)."""
+    v = sorted(t for t in (x[k] if isinstance(x, (list, tuple)) else x for x in values) if t == t)  # (NaN: none)
+    if not v:
+        return "none measured"
     p90 = v[min(len(v) - 1, int(round(0.9 * (len(v) - 1))))]
     return f"median {statistics.median(v):7.1f} ms, p90 {p90:7.1f} ms, min {v[0]:6.1f} ms  (n = {len(v)})"
 
@@ -140,18 +176,18 @@ def measure(n: int, figures: str = "live") -> dict:
         page.locator(BADGE).first.wait_for(timeout=60_000)
         scroll_through(page)
         page.locator(".bk-Canvas, canvas").nth(5).wait_for(timeout=60_000)
-        out["analytical"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction vs closure",
-                                                         0.2 + 0.01 * (i % 20), False]) for i in range(n)]
+        out["analytical"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, TRACTION, 0.2 + 0.01 * (i % 20), False])
+                             for i in range(n)]
         out["fts"] = [0.2013 + 0.0107 * i for i in range(n)]  # never solved before (a fresh server): no cache hits
-        out["resolve"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, "Cylinder displacement", ft, True])
+        out["resolve"] = [page.evaluate(_ROUND_TRIP, [FT_TITLE, DISPLACEMENT, ft, True])
                           for ft in out["fts"]]
         out["released"] = []  # a drag to a new ft (its analytical update drawn), then the release alone
         for i in range(n):
             ft = 0.6013 + 0.0107 * i  # never solved before either
-            page.evaluate(_ROUND_TRIP, [FT_TITLE, "Traction vs closure", ft, False])
+            page.evaluate(_ROUND_TRIP, [FT_TITLE, TRACTION, ft, False])
             page.wait_for_timeout(300)  # the drag's update is drawn, as a hand pauses before letting go
-            out["released"].append(page.evaluate(_ROUND_TRIP, [FT_TITLE, "Cylinder displacement", ft, True]))
-        out["steps"] = [page.evaluate(_ROUND_TRIP, [PLAYER, "Traction vs closure", i % 40, False])
+            out["released"].append(page.evaluate(_ROUND_TRIP, [FT_TITLE, DISPLACEMENT, ft, True]))
+        out["steps"] = [page.evaluate(_ROUND_TRIP, [PLAYER, TRACTION, i % 40, False])
                         for i in range(1, n + 1)]
         out["models"] = page.evaluate("() => Bokeh.documents[0].all_models.size")
         page.close()
@@ -173,11 +209,16 @@ def report(r: dict) -> str:
         f"{'met' if r['cpu_per_session'] <= 2 * r['cpu_yardstick'] else 'NOT met'})",
         f"  scrolled through, every figure drawn    : {r['cpu_scrolled']:6.2f} s",
         f"analytical slider -> plot data            : {_stats(r['analytical'])}   target < 100 ms",
+        f"  data set in the browser (exact)         : {_stats(r['analytical'], 1)}",
+        f"  figure painted after it                 : {_stats(r['analytical'], 2)}",
         f"numerical re-solve -> plot data (default) : {_stats(r['resolve'])}   target < 300 ms",
+        f"  data set in the browser (exact)         : {_stats(r['resolve'], 1)}",
+        f"  figure painted after it                 : {_stats(r['resolve'], 2)}",
         f"  released after a drag (release alone)   : {_stats(r['released'])}",
         f"  of which the solver alone (same runs)   : {_stats(solver)}",
         f"  default run: {state.resolution} elements per a, {state.periods} periods, kernel {state.kernel}",
         f"player step -> traction data              : {_stats(r['steps'])}   (the player steps every 150 ms)",
+        f"  data set / figure painted               : {_stats(r['steps'], 1)} / {_stats(r['steps'], 2)}",
         f"Bokeh models in one session's document    : {r['models']}",
     ])
 

@@ -1,0 +1,57 @@
+"""What :mod:`app.live` changes in Bokeh to send a page for less CPU leaves what is sent as it was."""
+
+from __future__ import annotations
+
+import re
+
+from bokeh.core.json_encoder import serialize_json
+from bokeh.document import Document
+from bokeh.models import ColumnDataSource, Selection
+from panel.io.state import set_curdoc
+
+from app import plots
+from app.explorer import Explorer
+from app.live import LiveFigure, faster_bokeh
+
+
+def _page_json(doc) -> str:
+    """The document as the server sends it, without the buffers' ids (new at each encoding)."""
+    return re.sub(r'"data":\{"id":"p\d+"\}', '"data":"buffer"', serialize_json(doc.to_json()))
+
+
+def test_a_page_encodes_to_the_same_json_with_bokehs_own_methods():
+    """The served page (every figure drawn, the cards opened) encodes to the same JSON with app.live's
+    HasProps.query_properties_with_values and themed_values as with Bokeh's own."""
+    doc = Document()
+    with set_curdoc(doc):
+        ex = Explorer()
+        with doc.models.freeze():
+            ex.template().server_doc(doc)
+        for sentinel in list(ex.sentinels.values()):
+            sentinel.shown = True
+        for card in (m for m in doc.models if type(m).__name__ == "Card"):
+            card.collapsed = False
+        ours = _page_json(doc)
+        try:
+            faster_bokeh(False)
+            bokehs = _page_json(doc)
+        finally:
+            faster_bokeh(True)
+    assert len(ex._live) >= 7 and '"name":"Slider"' in ours
+    assert ours == bokehs
+
+
+def test_a_figures_sources_share_one_empty_selection():
+    """No figure has a selection tool: one Selection for all the layers of a figure, its own (not another
+    figure's, nor the template's), empty."""
+    inputs = Explorer()._inputs()
+    figures = [LiveFigure(plots.specs(n, inputs.units), plots.layers(n, inputs), plots.group(n))
+               for n in ("traction", "traction", "pressure")]
+    selections = []
+    for fig in figures:
+        models = fig.figure.references()
+        assert sum(isinstance(m, ColumnDataSource) for m in models) == len(fig.sources()) > 4
+        (selection,) = [m for m in models if isinstance(m, Selection)]
+        assert all(s.selected is selection for s in fig.sources()) and selection.indices == []
+        selections.append(selection)
+    assert len({id(s) for s in selections}) == 3
