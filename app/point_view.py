@@ -39,7 +39,7 @@ from .live import Layer
 from .plots import LINE, OKABE_ITO as _C, ZONE_COLORS, ZONE_HATCH, Units
 from .state import POINT_RESOLUTION
 from .units import along_ft
-from .widgets import FloatSlider, IntSlider, filled_when
+from .widgets import FloatSlider, IntSlider
 
 __all__ = ["FIGURES", "shown", "body_inputs", "stored_step", "zone_codes", "pressure_map", "traction_map",
            "zone_map", "cut_layers", "displacement_layers", "increment_layers", "ZONE_NAMES"]

@@ -21,7 +21,7 @@ from app import bodies, plots, sketch
 from app.cards import body_limits
 from app.explorer import Explorer
 from app.state import BODIES, URL_PARAMETERS, ExplorerState, parse_query
-from core.registry import REGISTRY, make_body
+from core.registry import REGISTRY
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 QUICK = "ft=0.3&w=0.5&periods=2&point_resolution=4&kernel=plane"
