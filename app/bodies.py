@@ -24,11 +24,13 @@ its pressure and every number come from :mod:`core`.
 
 from __future__ import annotations
 
+import atexit
 import functools
 import hashlib
 import math
 import os
 import re
+import shutil
 import tempfile
 import threading
 
@@ -89,8 +91,11 @@ _DIR_LOCK = threading.Lock()
 
 @functools.lru_cache(maxsize=1)
 def _files_dir() -> str:
-    """A directory of this process for the demo and uploaded files (removed with the machine's temp files)."""
-    return tempfile.mkdtemp(prefix="shakedown-bodies-")
+    """A directory of this process for the demo and uploaded files, removed when the process exits (a shared
+    link to an upload opens it while the server that received it runs)."""
+    path = tempfile.mkdtemp(prefix="shakedown-bodies-")
+    atexit.register(shutil.rmtree, path, ignore_errors=True)
+    return path
 
 
 @functools.lru_cache(maxsize=1)
