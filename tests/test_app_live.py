@@ -31,12 +31,13 @@ def test_a_page_encodes_to_the_same_json_with_bokehs_own_methods():
             sentinel.shown = True
         for card in (m for m in doc.models if type(m).__name__ == "Card"):
             card.collapsed = False
-        ours = _page_json(doc)
+        before = faster_bokeh(True)
         try:
+            ours = _page_json(doc)
             faster_bokeh(False)
             bokehs = _page_json(doc)
         finally:
-            faster_bokeh(True)
+            faster_bokeh(before)
     assert len(ex._live) >= 7 and '"name":"Slider"' in ours
     assert ours == bokehs
 
@@ -55,3 +56,20 @@ def test_a_figures_sources_share_one_empty_selection():
         assert all(s.selected is selection for s in fig.sources()) and selection.indices == []
         selections.append(selection)
     assert len({id(s) for s in selections}) == 3
+
+
+def test_importing_the_app_leaves_bokeh_as_it_is_and_the_served_app_installs_the_faster_methods():
+    """A notebook that imports app (the Explorer) keeps Bokeh's own methods for its other plots; the served
+    entry point (app/main.py) installs app.live's."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    check = ("import app, app.explorer, app.notebook, app.live as live; from bokeh.core.has_props import HasProps; "
+             "print(HasProps.themed_values is live._themed_values); import runpy; "
+             "runpy.run_path('app/main.py', run_name='shakedown_main'); print(HasProps.themed_values is live._themed_values)")
+    out = subprocess.run([sys.executable, "-c", check], capture_output=True, text=True, cwd=root, timeout=300,
+                         env={**__import__("os").environ, "PYTHONPATH": str(root)})
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split()[-2:] == ["False", "True"], out.stdout
