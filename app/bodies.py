@@ -24,21 +24,19 @@ its pressure and every number come from :mod:`core`.
 
 from __future__ import annotations
 
-import atexit
 import functools
 import hashlib
+import io
 import math
-import os
 import re
-import shutil
-import tempfile
 import threading
+from collections import OrderedDict
 
 import numpy as np
 import param
 
 __all__ = ["BODIES", "kind", "entry", "parameters", "state_name", "make", "runs_cycles", "own_grid", "is_ellipsoid",
-           "DEMO_FILES", "demo_heights", "wide", "demo_file", "store_upload", "upload_path", "SOURCE_PATTERN", "limit_curve",
+           "DEMO_FILES", "demo_heights", "wide", "demo_file", "store_upload", "uploaded", "SOURCE_PATTERN", "limit_curve",
            "note"]
 
 
@@ -86,42 +84,34 @@ def demo_heights() -> np.ndarray:
     return -gap
 
 
-_DIR_LOCK = threading.Lock()
+_LOCK = threading.Lock()
 
 
 @functools.lru_cache(maxsize=1)
-def _files_dir() -> str:
-    """A directory of this process for the demo and uploaded files, removed when the process exits (a shared
-    link to an upload opens it while the server that received it runs)."""
-    path = tempfile.mkdtemp(prefix="shakedown-bodies-")
-    atexit.register(shutil.rmtree, path, ignore_errors=True)
-    return path
-
-
-@functools.lru_cache(maxsize=1)
-def _demo_heightmap_file() -> str:
-    """The demo map (:func:`demo_heights`) as a NetCDF file that SurfaceTopography reads (written once)."""
+def _demo_heightmap():
+    """The demo map (:func:`demo_heights`) as a SurfaceTopography topography (built once, in memory)."""
     from SurfaceTopography import Topography
 
-    path = os.path.join(_files_dir(), "demo_heightmap.nc")
-    with _DIR_LOCK:
-        if not os.path.exists(path):
-            side = DEMO_GRID * DEMO_SPACING
-            Topography(demo_heights(), (side, side)).to_netcdf(path)
-    return path
+    side = DEMO_GRID * DEMO_SPACING
+    return Topography(demo_heights(), (side, side))
 
 
-#: The built-in file of each file parameter that has one, by (body, parameter): what ``demo`` stands for.
-DEMO_FILES = {("heightmap", "file"): _demo_heightmap_file}
+#: The built-in topography of each file parameter that has one, by (body, parameter): what ``demo`` stands for.
+DEMO_FILES = {("heightmap", "file"): _demo_heightmap}
 #: The values a file parameter takes in the URL: the demo, or an uploaded file by its digest.
 SOURCE_PATTERN = re.compile(r"^(demo|upload-[0-9a-f]{16})$")
 #: Largest upload accepted [bytes].
 MAX_UPLOAD_BYTES = 20 * 2**20
+#: Uploads kept in this process's memory (the oldest dropped first): nothing a browser sends touches the disk.
+MAX_UPLOADS = 16
+_UPLOADS: OrderedDict = OrderedDict()  # source name -> the file's bytes
+_READ: dict = {}  # source name -> its topography, read once
 
 
-def store_upload(data: bytes, filename: str) -> str:
-    """Keep an uploaded file on the server (by its digest, with its extension) and return its source name
-    ``upload-<digest>`` (what the URL carries; any session of this server can open it).
+def store_upload(data: bytes, filename: str = "") -> str:
+    """Keep an uploaded file in this server's memory (by its digest) and return its source name
+    ``upload-<digest>`` (what the URL carries; any session of this server can open it). The file is read
+    (by SurfaceTopography, which tells its format from its contents) when a body is built from it.
 
     Raises
     ------
@@ -132,29 +122,32 @@ def store_upload(data: bytes, filename: str) -> str:
         raise ValueError("the uploaded file is empty")
     if len(data) > MAX_UPLOAD_BYTES:
         raise ValueError(f"the uploaded file must be at most {MAX_UPLOAD_BYTES // 2**20} MB, got {len(data) / 2**20:.1f} MB")
-    digest = hashlib.sha1(data).hexdigest()[:16]
-    ext = re.sub(r"[^a-z0-9]", "", os.path.splitext(str(filename))[1].lower())[:8]
-    path = os.path.join(_files_dir(), f"upload-{digest}.{ext or 'dat'}")
-    with _DIR_LOCK:
-        if not os.path.exists(path):
-            with open(path, "wb") as f:
-                f.write(data)
-    return f"upload-{digest}"
+    source = f"upload-{hashlib.sha1(bytes(data)).hexdigest()[:16]}"
+    with _LOCK:
+        _UPLOADS[source] = bytes(data)
+        _UPLOADS.move_to_end(source)
+        while len(_UPLOADS) > MAX_UPLOADS:
+            _READ.pop(_UPLOADS.popitem(last=False)[0], None)
+    return source
 
 
-def upload_path(source: str) -> str | None:
-    """The file of an uploaded ``source`` (``upload-<digest>``) on this server, or None if there is none."""
-    if not source.startswith("upload-"):
-        return None
-    directory = _files_dir()
-    for name in sorted(os.listdir(directory)):
-        if name.startswith(source + "."):
-            return os.path.join(directory, name)
-    return None
+def uploaded(source: str):
+    """The topography of an uploaded ``source`` (``upload-<digest>``) on this server (read once from memory),
+    or None if there is none; a file SurfaceTopography cannot read raises its own error."""
+    with _LOCK:
+        data = _UPLOADS.get(source)
+        done = _READ.get(source)
+    if data is None or done is not None:
+        return done
+    from SurfaceTopography import read_topography
+
+    topography = read_topography(io.BytesIO(data))
+    with _LOCK:
+        return _READ.setdefault(source, topography)
 
 
-def demo_file(body: str, name: str) -> str | None:
-    """The built-in file of file parameter ``name`` of ``body``, or None if it has none."""
+def demo_file(body: str, name: str):
+    """The built-in topography of file parameter ``name`` of ``body``, or None if it has none."""
     build = DEMO_FILES.get((body, name))
     return None if build is None else build()
 
@@ -252,7 +245,12 @@ def make(name: str, values: dict):
             continue
         if p.path:
             source = str(value)
-            path = demo_file(name, p.name) if source == "demo" else upload_path(source)
+            try:
+                path = demo_file(name, p.name) if source == "demo" else uploaded(source)
+            except Exception as e:  # noqa: BLE001 - the reader's own errors name what it could not read
+                why = " ".join(str(e).split())[:300]
+                raise ValueError(f"body {name!r} cannot be built: its {p.name} {source!r} cannot be read: "
+                                 f"{type(e).__name__}: {why}") from e
             if path is None:
                 raise ValueError(f"{p.name} of body {name!r}: no file {source!r} on this server (upload one)"
                                  if source != "demo" else f"{p.name} of body {name!r}: no built-in file; upload one")

@@ -41,14 +41,15 @@ class Parameter:
     hi: float
     doc: str
     hi_closed: bool = True
-    #: A path to a file (``--file``), not a number: ``default`` None, no range.
+    #: A path to a file (``--file``) or what was read from one, not a number: ``default`` None, no range.
     path: bool = False
 
     def check(self, value):
         """The value as a float (a path: a str), or ValueError naming the parameter and its range."""
-        if self.path:
-            if not isinstance(value, (str, bytes)) and not hasattr(value, "__fspath__"):
-                raise ValueError(f"{self.name} must be a path, got {type(value).__name__}")
+        if self.path:  # a file's path, or what was read from one (a SurfaceTopography topography: has heights())
+            if not isinstance(value, (str, bytes)) and not hasattr(value, "__fspath__") and not (
+                    hasattr(value, "heights") and hasattr(value, "dim")):
+                raise ValueError(f"{self.name} must be a path or a topography, got {type(value).__name__}")
             return value
         return check_scalar(self.name, value, self.lo, self.hi, hi_closed=self.hi_closed)
 

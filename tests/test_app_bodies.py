@@ -166,7 +166,7 @@ def test_an_uploaded_map_is_a_source_any_session_opens(tmp_path):
     path = tmp_path / "sphere.nc"
     Topography(-0.375 * (X**2 + Y**2), (n * h, n * h)).to_netcdf(str(path))
     source = bodies.store_upload(path.read_bytes(), "sphere.nc")
-    assert bodies.SOURCE_PATTERN.match(source) and bodies.upload_path(source).endswith(".nc")
+    assert bodies.SOURCE_PATTERN.match(source) and bodies.uploaded(source).nb_grid_pts == (n, n)
     ex = Explorer(query=f"body=heightmap&file={source}&{QUICK}")
     assert ex.error == "" and isinstance(ex.result, core.PointContactResult)
     hm = ex.state.body_object()
