@@ -116,7 +116,9 @@ def test_solves_and_maps_run_on_the_cluster(cluster):
         result = backend.submit(contact.replace(w=0.39), options, None, cache).result(timeout=120)
         assert len(cache) == 1 and not result.traction.flags.writeable
         local = core.simulate_contact(contact.replace(w=0.39), **options)
-        np.testing.assert_array_equal(result.traction, local.traction)
+        # the same run; in the full suite the worker's numbers matched this process's to 1e-15 but not to the
+        # last bit once (fresh clone, cold numba cache: a summation order), so equal to rounding
+        np.testing.assert_allclose(result.traction, local.traction, rtol=1e-12, atol=1e-13)
         assert tasks_done(cluster, "simulate_contact") == before + 1
         # a map sweep on the cluster's executor: split in one chunk per worker thread, same table as here
         grid = np.linspace(0.1, 0.8, 3)
