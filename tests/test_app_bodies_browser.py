@@ -69,6 +69,21 @@ def _pick(page, body):
     page.locator(VERDICT).first.wait_for(timeout=180_000)
 
 
+def _reopen(browser, url, body, label, value) -> dict:
+    """Open the shared ``url`` in a second session: it shows ``body`` with the input ``label`` at ``value`` and no
+    browser error; its verdict note and badge."""
+    page = _open(browser, url)
+    try:
+        assert page.evaluate(_ACTIVE_BODY) == body
+        assert page.evaluate(_VALUE, label) == value
+        out = {"note": page.locator(".regime-note").first.inner_text(),
+               "badge": page.locator("[data-regime]").first.get_attribute("data-regime")}
+        assert page.problems == [], page.problems
+        return out
+    finally:
+        page.close()
+
+
 def test_the_punch_its_flat_and_the_shared_link(browser, app_url):
     lo, hi = (float(core.ft_limit(0.5, body=core.Punch(flat=f))) for f in (0.8, 0.5))
     assert lo < 0.36 < hi
@@ -95,15 +110,9 @@ def test_the_punch_its_flat_and_the_shared_link(browser, app_url):
     finally:
         page.close()
     # a second session from the shared link: the same body, parameter and verdict
-    second = _open(browser, url)
-    try:
-        assert second.evaluate(_ACTIVE_BODY) == "punch"
-        assert second.evaluate(_VALUE, "flat (punch)") == 0.8
-        assert "punch's exact limit predicts ratcheting" in second.locator(".regime-note").first.inner_text()
-        assert second.locator("[data-regime]").first.get_attribute("data-regime") == badge
-        assert second.problems == [], second.problems
-    finally:
-        second.close()
+    second = _reopen(browser, url, "punch", "flat (punch)", 0.8)
+    assert "punch's exact limit predicts ratcheting" in second["note"]
+    assert second["badge"] == badge
 
 
 def test_the_height_map_its_maps_a_parameter_and_the_shared_link(browser, app_url):
@@ -130,11 +139,4 @@ def test_the_height_map_its_maps_a_parameter_and_the_shared_link(browser, app_ur
         assert page.problems == [], page.problems
     finally:
         page.close()
-    second = _open(browser, url)
-    try:
-        assert second.evaluate(_ACTIVE_BODY) == "heightmap"
-        assert second.evaluate(_VALUE, "height_unit (heightmap)") == 1.5
-        assert second.locator(".regime-note").first.inner_text() == note
-        assert second.problems == [], second.problems
-    finally:
-        second.close()
+    assert _reopen(browser, url, "heightmap", "height_unit (heightmap)", 1.5)["note"] == note
