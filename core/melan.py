@@ -167,10 +167,7 @@ def ft_limit(w, body="cylinder", *, normal="auto", dx=None):
     kind = _resolve(body)
     if kind in ("cylinder", "point"):
         return _closed_form(kind, "ft")(w)
-    w = np.asarray(w, dtype=float)
-    if w.ndim == 0:
-        return np.float64(ft_limit_numerical(float(w), kind, dx, normal))
-    return np.vectorize(lambda v: ft_limit_numerical(float(v), kind, dx, normal), otypes=[float])(w)
+    return _each(lambda v: ft_limit_numerical(v, kind, dx, normal), w)
 
 
 def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
@@ -197,7 +194,12 @@ def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
             return top
         return brentq(lambda v: ft_limit_numerical(v, kind, dx, normal) - f, 0.0, top, xtol=1e-7)
 
-    ft = np.asarray(ft, dtype=float)
-    if ft.ndim == 0:
-        return np.float64(one(float(ft)))
-    return np.vectorize(one, otypes=[float])(ft)
+    return _each(one, ft)
+
+
+def _each(fn, x):
+    """``fn`` of every value of ``x`` (a float each): a NumPy scalar for a scalar, else an array of its shape."""
+    x = np.asarray(x, dtype=float)
+    if x.ndim == 0:
+        return np.float64(fn(float(x)))
+    return np.vectorize(lambda v: fn(float(v)), otypes=[float])(x)
