@@ -48,6 +48,7 @@ grid convergence.
 Run: python benchmarks/solver3d.py [--quick] [--no-fine] [--cone (the cone's row alone)]
 """
 
+import math
 import sys
 import time
 
@@ -171,16 +172,31 @@ def contact_comparison(elements=(20, 40, 60, 80), ft=0.6, w=0.3, periods=10):
 
     print(f"\nagainst CONTACT: sphere ft={ft}, w={w}, {periods} periods, nu = 0.5, dW = dx; increment per period "
           "[1e-2 mu Fn/(E* a)]")
-    print(f"{'elements':>8} {'CONTACT':>8} {'discrete p':>11} {'vs CONTACT':>11} {'means of p':>11} {'vs CONTACT':>11}")
+    print(f"{'elements':>8} {'CONTACT':>8} {'discrete p':>11} {'vs CONTACT':>11} {'means of p':>11} {'vs CONTACT':>11}"
+          f" {'apart':>7}")
+    found = {}
     for n in elements:
         row = []
         for discrete in (True, False):
             inc = float(core.simulate_cycles(ft, w, periods, dx=2 / n, body="sphere",
                                              normal="numerical" if discrete else "exact").increment_per_period[-1])
+            found[n, discrete] = inc
             ref = CONTACT_INCREMENT.get(n)
             row.append(f"{100 * inc:11.4f} {'' if ref is None else f'{(inc - ref) / ref:+.2%}':>11}")
         ref = CONTACT_INCREMENT.get(n)
-        print(f"{n:8d} {'' if ref is None else f'{100 * ref:.3f}':>8} {row[0]} {row[1]}")
+        apart = (found[n, True] - found[n, False]) / found[n, False]
+        print(f"{n:8d} {'' if ref is None else f'{100 * ref:.3f}':>8} {row[0]} {row[1]} {apart:+7.2%}")
+    # Richardson's extrapolation from three grids halving the element: both bounds tend to one limit, and the
+    # distance of each grid's increment from it is that bound's discretization error
+    triple = [n for n in elements if 2 * n in elements and 4 * n in elements][:1]
+    for n in triple:
+        for discrete, name in ((True, "discrete p"), (False, "means of p")):
+            f1, f2, f4 = (found[m, discrete] for m in (n, 2 * n, 4 * n))
+            ratio = (f2 - f1) / (f4 - f2)
+            limit = f4 + (f4 - f2) / (ratio - 1.0)
+            errors = ", ".join(f"{m}: {(found[m, discrete] - limit) / limit:+.2%}" for m in (n, 2 * n, 4 * n))
+            print(f"  {name}: extrapolated from {n}, {2 * n}, {4 * n} elements (order {math.log2(ratio):.2f}) "
+                  f"{100 * limit:.4f}; each grid from it: {errors}")
 
 
 def normal_solve(dxs=(1 / 20, 1 / 40, 1 / 80)):
