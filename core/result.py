@@ -203,6 +203,55 @@ def fit_trend(increments, floor=0.0) -> Trend | None:
                  aitken=sign * aitken, sigma=sigma, steady=steady)
 
 
+class _MelanSide:
+    """Where ``load`` is against Melan's limit ``(lo, hi)`` (or a callable giving it): ``below``, ``above``, words.
+
+    The limit is asked for (a callable called) at most once, when a verdict needs it.
+    """
+
+    #: Relative margin beyond which a load counts as off the limit (the limit's own rounding).
+    MARGIN = 1e-9
+
+    def __init__(self, load, limit):
+        self._load, self._limit = load, limit
+
+    @cached_property
+    def bounds(self):
+        limit = self._limit() if callable(self._limit) else self._limit
+        if self._load is None or limit is None:
+            return None
+        lo, hi = (float(v) for v in limit)
+        return (lo, hi) if math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi else None
+
+    @property
+    def below(self) -> bool:
+        return self.bounds is not None and abs(self._load) < self.bounds[0] * (1 - self.MARGIN)
+
+    @property
+    def above(self) -> bool:
+        return self.bounds is not None and abs(self._load) > self.bounds[1] * (1 + self.MARGIN)
+
+    @property
+    def words(self) -> str:
+        lo, hi = self.bounds
+        where = f"{lo:.5g}" if hi - lo <= 1e-12 * hi else f"between {lo:.5g} and {hi:.5g}"
+        load = abs(self._load)
+        if load < lo:
+            return f"the load {load:.5g} is {(lo - load) / lo:.2%} below Melan's limit on this grid ({where})"
+        if load > hi:
+            return f"the load {load:.5g} is {(load - hi) / hi:.2%} above Melan's limit on this grid ({where})"
+        return f"the load {load:.5g} is within Melan's limit on this grid ({where})"
+
+    @property
+    def aside(self) -> str:
+        """For an undetermined reason: the side of the limit, and what it implies ('' without a limit)."""
+        if self.below:
+            return f"; {self.words}: it will shake down"
+        if self.above:
+            return f"; {self.words}: it will ratchet"
+        return ""
+
+
 def _periods_to_decide(trend: Trend, tolerance: float) -> int | None:
     """Roughly how many more periods until the decaying part is below the tolerance (None if it does not decay)."""
     r, transient = trend.ratio, abs(trend.transient)
@@ -214,7 +263,8 @@ def _periods_to_decide(trend: Trend, tolerance: float) -> int | None:
     return int(math.ceil(math.log(target / transient) / math.log(r)))
 
 
-def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor=0.0, unit="mu P/E*") -> Verdict:
+def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor=0.0, unit="mu P/E*", load=None,
+                        limit=None) -> Verdict:
     """The verdict of a run from its increments per period: one rule for every body.
 
     The increments of a run that shakes down decay to zero; those of a run
@@ -244,6 +294,18 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
       reason says roughly how many more periods would decay the changing part
       of the increment below ``tol`` (``periods_to_decide``).
 
+    Given Melan's limit of the run's own discrete problem (``limit``, with the
+    ``load`` it is compared with), a verdict read from the trend that
+    contradicts it is undetermined instead: a load below the limit shakes down
+    (Klarbring, Ciavarella and Barber 2007), however slowly, and one above it
+    ratchets. Close to the limit of a slow body (the free cone) the increments
+    fall by 0.99 or more a period with a ratio that creeps up each time the
+    slip zones change, for hundreds of periods, and tails of any length look
+    like convergence to a constant on one side of the limit as on the other.
+    The increments themselves still decide (every increment below ``tol``; a
+    repeating state), and an undetermined reason says on which side of the
+    limit the load is.
+
     Parameters
     ----------
     increments : array_like
@@ -257,6 +319,12 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
         smallest scatter the fit assumes (the solver noise; >= 0).
     unit : str
         Unit of the increments, for the reason.
+    load : float, optional
+        The tangential load of the last period, in the unit of ``limit``.
+    limit : tuple of float, or callable returning one or None, optional
+        ``(lo, hi)``: Melan's limit of the load on the run's grid, between
+        ``lo`` and ``hi`` (equal when it is exact); a callable is called only
+        when a verdict from the trend is to be checked.
 
     Returns
     -------
@@ -301,13 +369,23 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
     fitted = (f"D_inf = {trend.D_inf:.3g} +- {err:.2g} {unit} (fit of the last {trend.periods_fitted} periods")
     fitted += f", the rest shrinking by r = {r:.4g} per period)" if math.isfinite(r) else ", nothing left changing)"
     settled = abs(trend.transient) <= SETTLED_FRACTION * D
+    melan = _MelanSide(load, limit)
     if D - band > tolerance and (settled or trend.steady):
-        return Verdict(None, "ratcheting", (f"the increment per period tends to a constant: {fitted}; the body "
-                                            f"keeps walking about {trend.D_inf:.3g} {unit} per period"), trend, None)
+        reason = (f"the increment per period tends to a constant: {fitted}; the body keeps walking about "
+                  f"{trend.D_inf:.3g} {unit} per period")
+        if not melan.below:
+            return Verdict(None, "ratcheting", reason, trend, None)
+        return Verdict(None, "undetermined", (f"after {inc.size} periods {reason}; but {melan.words}, so the "
+                                              f"increments must decay to zero however slowly (Melan's theorem): "
+                                              f"run more periods"), trend, None)
     if D + band <= tolerance and math.isfinite(r) and r < 1.0:
-        return Verdict(None, "shakedown", (f"the increment per period decays geometrically towards zero: {fitted}; "
-                                           f"within its uncertainty D_inf is below the shakedown tolerance "
-                                           f"{tolerance:.2g} {unit} ({shakedown_rtol:g} of the largest)"), trend, None)
+        reason = (f"the increment per period decays geometrically towards zero: {fitted}; within its uncertainty "
+                  f"D_inf is below the shakedown tolerance {tolerance:.2g} {unit} ({shakedown_rtol:g} of the largest)")
+        if not melan.above:
+            return Verdict(None, "shakedown", reason, trend, None)
+        return Verdict(None, "undetermined", (f"after {inc.size} periods {reason}; but {melan.words}, so the "
+                                              f"body must keep walking (Melan's theorem): run more periods"),
+                       trend, None)
     more = _periods_to_decide(trend, tolerance)
     if D - band > tolerance:  # above the tolerance, but the decay may still be slowing down
         if 0.0 < r < 1.0:
@@ -322,7 +400,7 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
             f"after {inc.size} periods the increment per period ({last:.3g} {unit}) extrapolates to {fitted}, "
             f"above the shakedown tolerance {tolerance:.2g} {unit}; but the increment is still "
             f"{abs(last) / D:.3g} times D_inf and {why}: close to the limit the decay slows down period after "
-            f"period, and the run may yet shake down; {advice}"), trend, more)
+            f"period, and the run may yet shake down; {advice}{melan.aside}"), trend, more)
     if more is None:
         advice = ("the increment does not decay yet" if math.isfinite(r) and r >= 1.0 else
                   "its changing part cannot be told from the noise") + ": run more periods"
@@ -332,7 +410,7 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
                                           f"{abs(last) / scale:.3g} of its largest) extrapolates to {fitted}: "
                                           f"D_inf +- {VERDICT_SIGMAS:g} errors straddles the shakedown tolerance "
                                           f"{tolerance:.2g} {unit}, so it may still shake down or ratchet; "
-                                          f"{advice}"), trend, more)
+                                          f"{advice}{melan.aside}"), trend, more)
 
 
 def below_bound(q, bound):
@@ -393,8 +471,10 @@ class PeriodVerdict:
 
     @cached_property
     def _classified(self) -> Verdict:
+        limit = getattr(self, "_melan_for_verdict", None)
         return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
-                                   floor=10.0 * self.tol, unit=self.increment_unit)
+                                   floor=10.0 * self.tol, unit=self.increment_unit,
+                                   load=None if limit is None else self._verdict_load, limit=limit)
 
     @property
     def shakedown_period(self) -> int | None:
@@ -587,6 +667,51 @@ class CycleResult(PeriodVerdict):
         if self.lowest_pressure is None:
             last = self.period == self.period[-1]
             object.__setattr__(self, "lowest_pressure", read_only(self.pressure[last].min(axis=0)))
+
+    # ---- Melan's limit of the run's own discrete problem -------------------------------------------------
+    @cached_property
+    def melan_limit(self) -> tuple[float, float] | None:
+        """Melan's limit of this run's discrete problem: ``(lo, hi)`` of the tangential load [``mu P``] below which
+        it shakes down and above which it ratchets, or None.
+
+        Uncoupled contact satisfies Melan's theorem (Klarbring, Ciavarella and
+        Barber 2007): the run shakes down if and only if a fixed traction
+        within ``mu`` times the lowest pressure of the last period
+        (:attr:`lowest_pressure`) carries the load. With no moment to balance,
+        that is ``sum mu p_min dA`` (``lo = hi``), reached by tractions along
+        the load; a body free to turn about the normal (the cone) solves its
+        linear programme (:meth:`core.Cone.grid_limit`, the Coulomb disk between
+        two polygons). None when the last period's loads are not constant, or
+        for a body free to turn that has no programme.
+        """
+        if self.periods == 0:
+            return None
+        last = self.period == self.period[-1]
+        Q, P = self.Q[last], self.P[last]
+        if np.ptp(Q) > 1e-12 * max(1.0, float(np.abs(Q).max())) or np.ptp(P) > 1e-12 * float(P.max()):
+            return None
+        if getattr(self.body, "twist_centre", None) is not None:
+            if not hasattr(self.body, "grid_limit") or self.params.get("history", "rocking") != "rocking":
+                return None
+            lim = self.body.grid_limit(self.params["w"], dx=self.dx, dW=self.params.get("dW"))
+            return float(lim["lo"] * P[-1]), float(lim["hi"] * P[-1])
+        step = int(np.flatnonzero(last)[-1])
+        now = self.pressure_at(step) if self.is_patch else self.pressure[step]
+        total = float(np.sum(now))
+        if total <= 0:
+            return None
+        limit = float(np.sum(self.lowest_pressure)) / total * float(P[-1])
+        return limit, limit
+
+    @property
+    def _melan_for_verdict(self):
+        """:attr:`melan_limit`, asked for only when a verdict read from the trend needs checking."""
+        return lambda: self.melan_limit
+
+    @property
+    def _verdict_load(self) -> float:
+        """The tangential load of the last period [``mu P``]."""
+        return float(self.Q[-1]) if self.Q.size else 0.0
 
     # ---- grid ------------------------------------------------------------
     @property

@@ -7,6 +7,7 @@ beyond its uncertainty, undetermined otherwise (with the periods likely to decid
 
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -206,3 +207,86 @@ def test_the_cli_prints_the_trend_and_the_grid(capsys):
     assert "mu Fn/(E* a)" in out and "element width dx" in out and "0.25 a\n" in out
     assert main(["run", "--ft", "0.3", "--w", "0.3", "--periods", "2"]) == 0
     assert "too few periods to fit the trend" in capsys.readouterr().out
+
+
+# ---- Melan's limit of the run's own grid checks the verdicts read from the trend -----------------------------
+
+def _cone_near_limit():
+    """The measured full cone at w 0.5 (``tests/data/cone_near_limit_increments.csv``): increments 3 % below and
+    above Melan's limit on the run's grid, the two loads, and the limit ``(lo, hi)``."""
+    path = Path(__file__).parent / "data" / "cone_near_limit_increments.csv"
+    head = path.read_text().splitlines()[:4]
+    values = dict(re.findall(r"(\w+) = ([0-9.e+-]+)", " ".join(head)))
+    data = np.loadtxt(path, delimiter=",", skiprows=5)
+    return (data[:, 1], data[:, 2], float(values["ft_below"]), float(values["ft_above"]),
+            (float(values["lo"]), float(values["hi"])))
+
+
+def test_the_slow_cone_below_its_limit_is_never_called_ratcheting():
+    """Below the limit the ratio of successive increments creeps up (0.9946 after 156 periods, 0.9964 after 330)
+    each time the slip zones change: on tails of some lengths the trend alone reads ratcheting (after 185, 236,
+    291 and 334 periods it did). With Melan's limit of the grid the verdict is undetermined there, and says the
+    run will shake down; above the limit the same checks leave the ratcheting verdict."""
+    below, above, ft_below, ft_above, limit = _cone_near_limit()
+    alone = [classify_increments(below[:n], 1e-3, floor=1e-8).regime for n in range(4, below.size + 1)]
+    assert alone.count("ratcheting") > 10  # what the guard is for
+    for n in range(4, below.size + 1):
+        v = classify_increments(below[:n], 1e-3, floor=1e-8, load=ft_below, limit=limit)
+        assert v.regime != "ratcheting", n
+    assert v.regime == "undetermined" and "3.00% below Melan's limit on this grid" in v.reason
+    assert v.reason.endswith("it will shake down")
+    checked = [classify_increments(above[:n], 1e-3, floor=1e-8, load=ft_above, limit=limit).regime
+               for n in range(4, above.size + 1)]
+    assert "shakedown" not in checked and checked[-1] == "ratcheting"
+    assert checked == [classify_increments(above[:n], 1e-3, floor=1e-8).regime for n in range(4, above.size + 1)]
+
+
+def test_a_decay_to_zero_above_the_limit_is_not_called_shakedown():
+    """The mirror case: a clean geometric decay that the trend reads as shakedown, at a load above the limit."""
+    inc = _sequence(0.0, 0.95, 40)
+    assert classify_increments(inc, 1e-3, floor=1e-9).regime == "shakedown"
+    v = classify_increments(inc, 1e-3, floor=1e-9, load=0.51, limit=(0.5, 0.5))
+    assert v.regime == "undetermined" and "2.00% above Melan's limit" in v.reason and "keep walking" in v.reason
+    # the increments themselves still decide: every one below the tolerance from some period on
+    assert classify_increments(_sequence(0.0, 0.5, 40), 1e-3, floor=1e-9, load=0.51, limit=(0.5, 0.5)).regime \
+        == "shakedown"
+
+
+def test_the_limit_is_asked_for_only_when_a_trend_verdict_needs_it():
+    calls = []
+
+    def limit():
+        calls.append(1)
+        return (0.5, 0.5)
+    classify_increments([1.0, 1e-4, 1e-5], 1e-3, load=0.4, limit=limit)  # decided by the increments
+    classify_increments([1.0, 0.5, 0.2], 1e-3, periodic_from=2, load=0.4, limit=limit)  # a repeating state
+    assert calls == []
+    classify_increments(_sequence(0.02, 0.95, 40), 1e-3, floor=1e-9, load=0.6, limit=limit)
+    assert calls == [1]
+    for bad in (None, (math.nan, 1.0), (0.0, 0.0)):  # no limit, or none usable: the trend's verdict stands
+        assert classify_increments(_sequence(0.02, 0.95, 40), 1e-3, floor=1e-9, load=0.4,
+                                   limit=bad).regime == "ratcheting"
+
+
+@pytest.mark.parametrize("body, dx, exact", [("cylinder", 1 / 40, 1e-12), (core.Punch(flat=0.5), 1 / 40, 5e-4),
+                                             ("sphere", 0.1, 5e-3)])
+def test_a_run_knows_melan_limit_of_its_grid(body, dx, exact):
+    """``sum mu p_min dA`` of the run's own lowest pressure: the closed-form limit to the grid's accuracy (the
+    cylinder's element means are exact for aligned shifts)."""
+    r = core.simulate_cycles(0.3, 0.3, periods=4, dx=dx, body=body)
+    lo, hi = r.melan_limit
+    assert lo == hi and lo == pytest.approx(float(core.ft_limit(0.3, body=body)), rel=exact)
+
+
+def test_a_cone_run_uses_the_grid_programme_and_says_where_the_load_is():
+    body = core.Cone(inner=0.5)
+    lim = body.grid_limit(0.3)
+    r = core.simulate_cycles(0.5, 0.3, periods=6, body=body)
+    assert r.melan_limit == (pytest.approx(lim["lo"], rel=1e-8), pytest.approx(lim["hi"], rel=1e-8))  # HiGHS
+    assert r.regime == "undetermined" and "below Melan's limit on this grid" in r.regime_reason
+
+
+def test_melan_limit_needs_constant_loads_in_the_last_period():
+    assert core.simulate_cycles(0.3, 0.3, periods=4, shape="sine").melan_limit is not None
+    varying = core.simulate_cycles(0.3, 0.3, periods=4, history="tangential")
+    assert np.ptp(varying.Q[varying.period == varying.period[-1]]) > 0 and varying.melan_limit is None
