@@ -51,6 +51,7 @@ _PREFIX = "shakedown: error: "
 _KERNELS = ("plane", "strip")
 _SHAPES = ("triangle", "sine")
 _NORMALS = ("auto", "exact", "numerical")
+_SOLVERS = ("auto", "dense", "fft", "pcg3d")
 # the body flags: which body each belongs to (core/registry.py lists the bodies and their parameters)
 _BODY_FLAGS = {"flat": ("punch",), "ratio": ("ellipsoid",), "angle": ("sphere", "ellipsoid", "heightmap"),
                "file": ("heightmap",), "length_unit": ("heightmap",), "height_unit": ("heightmap",),
@@ -320,6 +321,10 @@ def _add_solver_options(parser, kernel_default="plane"):
         help="the pressure: exact (closed form), numerical (the normal problem solved by constrained conjugate "
              "gradients) or auto (the default: a line contact's closed form where there is one; a point contact's "
              "discrete normal problem on the grid)")
+    add("--solver", type=_choice("solver", _SOLVERS), action=_Once,
+        help="the per-step solver: auto (the default: dense or fft on a line by its size, pcg3d on a patch), "
+             "dense or fft (a line of elements), pcg3d (a patch: the point contacts, height maps and cones); "
+             "one that does not fit the body's grid is refused")
     add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
         help="the loading history, a name core.simulate_cycles accepts: rocking (the default: constant Ft, "
              "the centre rocked between -W and +W), normal (the same under a normal force 1 + 0.2 sin(2 pi t)) "
@@ -350,7 +355,7 @@ def _add_solver_options(parser, kernel_default="plane"):
         help="wall-time budget of each run [s], in (0, 86400]; a run past it stops and counts as failed")
 
 
-_SOLVER_DESTS = ("body", "normal", "history", "periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu",
+_SOLVER_DESTS = ("body", "normal", "solver", "history", "periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu",
                  "shakedown_rtol", "time_budget")
 # every parameter name a library message may use, spelled as a flag by flag_names
 _FLAGGED = (*_SOLVER_DESTS, "ft", "w", "tol", "max_runs", "workers", "max_workers", "scheduler", "R1", "L", "Fn",

@@ -123,7 +123,8 @@ def check_solver(solver, shape="line", body=None):
     """``solver`` if it is valid for a grid of ``shape``, else ValueError naming the valid choices."""
     choices = SOLVER_CHOICES_BY_GRID[shape]
     if not isinstance(solver, str) or solver not in choices:
-        what = f"body={body!r:.40} (a {shape} of elements)" if body is not None else f"a {shape} of elements"
+        name = body if isinstance(body, str) else getattr(body, "name", None)
+        what = f"the {name} (a {shape} of elements)" if name else f"a {shape} of elements"
         other = [s for s, c in STEP_SOLVERS.items() if c.grid != shape]
         hint = (f" ({', '.join(repr(s) for s in other)} solve{'s' if len(other) == 1 else ''} the other grid "
                 f"shape)" if solver in other else "")

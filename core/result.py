@@ -889,7 +889,8 @@ class CycleResult(PeriodVerdict):
         inc = self.increment_per_period
         last = float(inc[-1]) if inc.size else float("nan")
         if self.is_patch:
-            return {"dx": self.dx, **self.params, "body": self.body_name, "ratio": getattr(self.body, "ratio", None),
+            return {"dx": self.dx, **self.params, "body": self.body_name, "solver": self.solver,
+                    "ratio": getattr(self.body, "ratio", None),
                     "regime": self.regime, "regime_reason": self.regime_reason,
                     "stick_halfwidth": self.stick_halfwidth, "increment_last_period": last,
                     "D_inf": self.D_inf, "D_inf_error": self.D_inf_error, "decay_ratio": self.decay_ratio,
@@ -903,6 +904,7 @@ class CycleResult(PeriodVerdict):
             "dx": self.dx,
             **self.params,
             "body": self.body_name,
+            "solver": self.solver,
             "regime": self.regime,
             "regime_reason": self.regime_reason,
             "stick_halfwidth": self.stick_halfwidth,

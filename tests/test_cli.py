@@ -281,10 +281,32 @@ def test_the_cli_copies_of_library_constants_agree():
     from core import resolution
     assert (cli._DEFAULT_DX, cli._DEFAULT_DX_POINT) == (resolution.default_dx("cylinder"), resolution.default_dx("sphere"))
     assert (cli._MAX_RUNS, cli._MAX_CELLS) == (grid.MAX_RUNS, grid.MAX_CELLS)
+    from core import engine
+    assert set(cli._SOLVERS) == {"auto", *engine.STEP_SOLVERS}
     fft = solver.MAX_FFT_ELEMENTS
     solver.make_grid(1.0, cli._DX_MIN, fft)  # the finest dx --dx accepts works at w = 0
     with pytest.raises(ValueError, match="elements"):
         solver.make_grid(1.0, cli._DX_MIN * 0.999, fft)
+
+
+def test_solver_flag_reaches_the_engine_or_is_refused_for_the_grid(capsys, tmp_path):
+    """--solver picks the per-step solver (the same increments from dense and fft); one of the other grid shape is
+    refused with the valid choices and the body's name."""
+    incs = {}
+    for name in ("dense", "fft"):
+        out = tmp_path / f"{name}.json"
+        code, _, err = _run(capsys, "run", "--ft", "0.6", "--w", "0.5", "--periods", "4", "--solver", name,
+                            "--out", str(out))
+        assert code == 0, err
+        incs[name] = json.loads(out.read_text())
+        assert incs[name]["summary"]["solver"] == name
+    assert np.allclose(incs["dense"]["increment_per_period"], incs["fft"]["increment_per_period"], rtol=1e-6)
+    code, _, err = _run(capsys, "run", "--ft", "0.3", "--w", "0.3", "--body", "sphere", "--solver", "dense")
+    assert code == 2 and "--solver must be one of ('auto', 'pcg3d') for the sphere (a patch of elements)" in err
+    code, _, err = _run(capsys, "run", "--ft", "0.3", "--w", "0.3", "--body", "punch", "--solver", "pcg3d")
+    assert code == 2 and "for the punch (a line of elements)" in err and "'pcg3d' solves the other grid" in err
+    code, out, err = _run(capsys, "sweep", "--ft", "0.3", "--w", "0.3", "--solver", "fft", *FAST, "--out", "-")
+    assert code == 0 and ",fft," in out.splitlines()[1]
 
 
 def test_run_finer_than_the_dense_solver_takes(capsys):
