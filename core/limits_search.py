@@ -137,13 +137,13 @@ def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
         if w in verdicts:
             return verdicts[w]
         periods = base_periods
-        for _ in range(MAX_PERIOD_DOUBLINGS + 1):
+        for doubling in range(MAX_PERIOD_DOUBLINGS + 1):
             point = {"ft": ft, "w": w, **options, "periods": periods}
             row = {**point, **run_point(point)}
             runs.append(row)
             if row["regime"] == "error":
                 raise RuntimeError(f"the run at w = {w:.6g} failed: {row['error']}")
-            if row["regime"] != "undetermined" or periods >= 10_000:
+            if row["regime"] != "undetermined" or periods >= 10_000 or doubling == MAX_PERIOD_DOUBLINGS:
                 break
             periods = min(2 * periods, 10_000)
         most_periods = max(most_periods, periods)

@@ -70,6 +70,9 @@ def test_an_undetermined_midpoint_is_decided_on_either_side(monkeypatch):
                                                                "regime_reason": "test", "runtime": 0.0})
     res = limits_search._limit_search(0.5, 0.01, {"periods": 4, "dx": 0.1})
     assert not res.converged and "undetermined" in res.message
+    # 4, 8, 16, 32 periods were run (the message said 64, a doubling that was never run)
+    assert "undetermined after 32 periods" in res.message and res.periods == 32
+    assert max(res.runs["periods"]) == 32
 
 
 def test_a_search_that_cannot_decide_keeps_the_bracket_of_the_runs_that_did(monkeypatch):
