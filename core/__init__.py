@@ -37,7 +37,7 @@ def _load_locked():
         from .melan import ft_limit_numerical  # noqa: F401
         from .cone import Cone  # noqa: F401
         from .heightmap import HeightMap, HeightProfile  # noqa: F401
-        from .result import CycleResult, LineResult, SolverError, SolveCancelled  # noqa: F401
+        from .result import CycleResult, LineResult, StaticResult, SolverError, SolveCancelled  # noqa: F401
         from .engine import run, STEP_SOLVERS  # noqa: F401
         from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
                              solve_static, shakedown_state)
@@ -46,7 +46,7 @@ def _load_locked():
         from .point_contact import Ellipsoid, Sphere, PointContact, POINT_BODIES  # noqa: F401
         from .halfspace import HalfSpaceOperator  # noqa: F401
         from .solver3d import (simulate_point_contact, solve_point_schedule, mindlin_state,  # noqa: F401
-                               shakedown_state_3d, PointContactResult, StaticResult3D)
+                               shakedown_state_3d, PointContactResult)
         from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
         public = {k: v for k, v in locals().items() if k != "analytical"}

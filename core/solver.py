@@ -21,15 +21,13 @@ References
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from .resolution import DEFAULT_DX_LINE, default_dx
 from ._validate import check_int, check_scalar
 from .bodies import BODIES, MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
-from .result import SolverError, below_bound, central_halfwidth, read_only
+from .result import SolverError, StaticResult, read_only
 from .engine import check_solver, make_operator, run, select_solver
 from . import histories
 from .schedule import Schedule
@@ -176,48 +174,8 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
                progress=progress, chunk=chunk, kernel=kernel, u0=u0)
 
 
-@dataclass(frozen=True, eq=False)
-class StaticSolution:
-    """A static partial-slip solution (:func:`solve_static`).
-
-    Attributes
-    ----------
-    traction : ndarray
-        Tractions [mu p0] (read-only).
-    displacement : float
-        Rigid-body displacement [mu P/E*].
-    iterations : int
-        Active-set iterations.
-    residuals : dict
-        The named KKT residuals (:data:`core.dense.RESIDUALS`).
-    """
-
-    traction: np.ndarray
-    displacement: float
-    iterations: int
-    residuals: dict
-
-
-@dataclass(frozen=True, eq=False)
-class ShakedownState:
-    """The shaken-down state computed directly (:func:`shakedown_state`).
-
-    Attributes
-    ----------
-    x : ndarray
-        Element centres [a] (read-only).
-    traction : ndarray
-        Traction [mu p0] (read-only).
-    bound : ndarray
-        ``mu p_min`` per element [mu p0] (read-only).
-    stick_halfwidth : float
-        ``c_sd / a``: half-width of the central zone with ``|q| < bound`` (0 if none).
-    """
-
-    x: np.ndarray
-    traction: np.ndarray
-    bound: np.ndarray
-    stick_halfwidth: float
+#: The former names of :class:`core.result.StaticResult` (a line's static solution, its shaken-down state).
+StaticSolution = ShakedownState = StaticResult
 
 
 def _is_line_body(body) -> bool:
@@ -227,7 +185,7 @@ def _is_line_body(body) -> bool:
 
 
 def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None, solver="auto", body=None, nu=0.5,
-                 angle=0.0):
+                 angle=0.0, edges=None):
     """Static partial slip under an arbitrary traction bound, loaded from zero in one step: a line or a patch.
 
     Solves ``min 1/2 q^T K q`` subject to ``|q_i| <= bound_i`` and
@@ -255,12 +213,15 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None,
         A patch's point body (default the sphere); a line body is not needed.
     nu, angle : float
         A patch's Poisson ratio and the angle of ``Ft`` to x [rad].
+    edges : array_like, optional
+        A line's element edges (``n + 1`` of them, ``dx`` apart), for the result's ``x`` and
+        ``stick_halfwidth``; default centred on the origin.
 
     Returns
     -------
-    StaticSolution or core.solver3d.StaticResult3D
-        A line: ``traction`` [mu p0], ``displacement`` [mu P/E*], ``iterations`` and the named
-        ``residuals``; a patch: the fields on the grid, the states and ``stick_halfwidth``.
+    core.result.StaticResult
+        ``traction`` [mu p0], ``displacement`` [mu P/E*; a patch mu Fn/(E* a)], the named
+        ``residuals``, ``bound``, the element ``state`` and ``stick_halfwidth``, on a line or a patch.
 
     Examples
     --------
@@ -290,13 +251,18 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None,
     if abs(target) >= bound.sum():
         raise ValueError(f"Q = {Q:g} exceeds what the bound can carry ({2 / np.pi * bound.sum() * dx:g})")
     n = bound.size
+    if edges is not None:
+        edges = np.asarray(edges, dtype=float)
+        if edges.shape != (n + 1,) or not np.allclose(np.diff(edges), dx, rtol=1e-9, atol=0.0):
+            raise ValueError(f"edges must be {n + 1} edges dx = {dx:g} apart, got shape {edges.shape}")
     step_solver = select_solver(solver, n)
     operator = make_operator(step_solver, n, dx, kernel, **dict(kernel_options or {}))
     step = step_solver(operator, element_size=dx, tol=tol, maxiter=50 + 2 * n).step(bound, target)
     if not step.converged:
         raise SolverError(0, 0.0, step.kkt_residual, "static partial slip")
-    return StaticSolution(traction=step.traction, displacement=step.displacement, iterations=step.iterations,
-                          residuals=step.residuals)
+    return StaticResult(traction=step.traction, displacement=step.displacement, residuals=step.residuals,
+                        bound=bound, edges=dx * (np.arange(n + 1) - 0.5 * n) if edges is None else edges,
+                        iterations=step.iterations)
 
 
 def shakedown_state(ft, w, dx=None, *, kernel="plane", L_over_a=None, nu=0.5, tol=None, solver="auto",
@@ -323,7 +289,7 @@ def shakedown_state(ft, w, dx=None, *, kernel="plane", L_over_a=None, nu=0.5, to
 
     Returns
     -------
-    ShakedownState or core.solver3d.StaticResult3D
+    core.result.StaticResult
         ``x`` (element centres [a]), ``traction`` [mu p0], ``bound`` (``mu p_min``
         per element [mu p0]) and ``stick_halfwidth`` (``c_sd / a``, 0 if none);
         a point body's fields are on its patch.
@@ -356,10 +322,8 @@ def shakedown_state(ft, w, dx=None, *, kernel="plane", L_over_a=None, nu=0.5, to
     else:
         body = spec.grid(histories.for_run("rocking", 0.0, w, periods=1, dW=dx), dx, normal=normal)
     bound = read_only(body.lowest_bound(w))
-    q = solve_static(bound, ft, dx, kernel, kernel_options=_kernel_options(kernel, L_over_a, nu), tol=tol,
-                     solver=solver).traction
-    return ShakedownState(x=body.x, traction=q, bound=bound,
-                          stick_halfwidth=central_halfwidth(below_bound(q, bound), body.edges))
+    return solve_static(bound, ft, dx, kernel, kernel_options=_kernel_options(kernel, L_over_a, nu), tol=tol,
+                        solver=solver, edges=body.edges)
 
 
 def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shape="triangle",

@@ -80,7 +80,7 @@ from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
 from .normal import PatchOperator, solve_normal
 from .point_contact import Ellipsoid, hertz_element_means, resolve_body
 from .resolution import DEFAULT_DX_POINT, default_dx
-from .result import PointContactResult, STICK_MARGIN, central_halfwidth, read_only  # noqa: F401 (the alias)
+from .result import PointContactResult, STICK_MARGIN, StaticResult, read_only  # noqa: F401 (the aliases)
 from .schedule import Schedule, rocking_schedule
 from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
@@ -1372,38 +1372,6 @@ class PatchGrid:
 # --------------------------------------------------------------------------
 # results
 # --------------------------------------------------------------------------
-def _freeze(obj):
-    for name, value in vars(obj).items():
-        if isinstance(value, np.ndarray):
-            value.setflags(write=False)
-        elif isinstance(value, dict):
-            for v in value.values():
-                if isinstance(v, np.ndarray):
-                    v.setflags(write=False)
-
-
-class _GridFields:
-    """Grid helpers shared by the point-contact results (``x_edges``, ``y_edges``; arrays frozen on creation)."""
-
-    def __post_init__(self):
-        _freeze(self)
-
-    @property
-    def x(self):
-        """Element centres along x [a]."""
-        return 0.5 * (self.x_edges[1:] + self.x_edges[:-1])
-
-    @property
-    def y(self):
-        """Element centres along y [a]."""
-        return 0.5 * (self.y_edges[1:] + self.y_edges[:-1])
-
-    @property
-    def cut_row(self) -> int:
-        """Index of the grid row on ``y = 0``."""
-        return (self.y_edges.size - 1) // 2
-
-
 # --------------------------------------------------------------------------
 # a run over a schedule
 # --------------------------------------------------------------------------
@@ -1555,41 +1523,8 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
 # --------------------------------------------------------------------------
 # static references: Mindlin and the shaken-down state
 # --------------------------------------------------------------------------
-@dataclass(frozen=True, eq=False)
-class StaticResult3D(_GridFields):
-    """A static partial-slip solution on a point-contact grid (read-only arrays).
-
-    Attributes
-    ----------
-    x_edges, y_edges : ndarray
-    bound : ndarray, shape (ny, nx)
-        Traction bound [mu p0].
-    traction : ndarray, shape (2, ny, nx)
-        Traction [mu p0].
-    state : ndarray of int8
-        0 out of contact, 1 stick (below the bound), 2 at the bound.
-    displacement : ndarray, shape (2,)
-        Rigid-body displacement [mu Fn/(E* a)].
-    residuals : dict
-    """
-
-    x_edges: np.ndarray
-    y_edges: np.ndarray
-    bound: np.ndarray
-    traction: np.ndarray
-    state: np.ndarray
-    displacement: np.ndarray
-    residuals: dict
-
-    @property
-    def stick_halfwidth(self) -> float:
-        """Half-extent along x [a] of the central stick zone on ``y = 0``."""
-        return central_halfwidth(self.state[self.cut_row] == 1, self.x_edges)
-
-    @property
-    def stick_halfwidth_y(self) -> float:
-        """Half-extent along y [a] of the central stick zone on ``x = 0``."""
-        return central_halfwidth(self.state[:, (self.x_edges.size - 1) // 2] == 1, self.y_edges)
+#: The former name of :class:`core.result.StaticResult` on a patch.
+StaticResult3D = StaticResult
 
 
 def solve_static_patch(bound, ft, dx, *, body=None, nu=0.5, angle=0.0, tol=TOL_3D, solver="auto"):
@@ -1612,7 +1547,7 @@ def solve_static_patch(bound, ft, dx, *, body=None, nu=0.5, angle=0.0, tol=TOL_3
 
     Returns
     -------
-    StaticResult3D
+    core.result.StaticResult
     """
     from .engine import check_solver
     from ._validate import check_range
@@ -1651,7 +1586,7 @@ def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol
 
     Returns
     -------
-    StaticResult3D
+    core.result.StaticResult
     """
     return _static_patch(bound, ft, x_edges, y_edges, body, nu=nu, angle=angle, tol=tol)
 
@@ -1667,8 +1602,9 @@ def _static_patch(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=T
     q, s, lam, info = solve_increment(op, bound, np.zeros((2,) + bound.shape), target, dA, warm, tol)
     mag = np.hypot(q[0], q[1])
     state = np.where(bound > 0, np.where(mag < bound - STICK_MARGIN, 1, 2), 0).astype(np.int8)
-    return StaticResult3D(x_edges, y_edges, bound, q, state, lam,
-                          {name: info[name] for name in RESIDUAL_NAMES})
+    return StaticResult(traction=q, displacement=lam, residuals={name: info[name] for name in RESIDUAL_NAMES},
+                        bound=bound, edges=x_edges, y_edges=y_edges, state=state,
+                        iterations=int(info["iterations"]))
 
 
 def mindlin_state(ft, dx=0.05, body="sphere", *, ratio=None, nu=0.5, angle=0.0, tol=TOL_3D):
@@ -1680,7 +1616,7 @@ def mindlin_state(ft, dx=0.05, body="sphere", *, ratio=None, nu=0.5, angle=0.0, 
 
     Returns
     -------
-    StaticResult3D
+    core.result.StaticResult
     """
     body = resolve_body(body, ratio)
     dx = check_scalar("dx", dx, 0.005, 0.5)
@@ -1698,7 +1634,7 @@ def shakedown_state_3d(ft, w, dx=0.05, body="sphere", *, ratio=None, nu=0.5, ang
 
     Returns
     -------
-    StaticResult3D
+    core.result.StaticResult
     """
     body = resolve_body(body, ratio)
     dx = check_scalar("dx", dx, 0.005, 0.5)

@@ -262,6 +262,34 @@ def test_one_static_solve_for_a_line_and_a_patch():
         core.solve_static(p, 0.5, 0.1, solver="dense")
 
 
+def test_one_static_result_for_a_line_and_a_patch():
+    """solve_static, shakedown_state and mindlin_state return one type on either grid (the three former names are
+    aliases of it), read-only, with the bound, states, edges and stick half-widths."""
+    from core.solver import ShakedownState, StaticSolution
+    from core.solver3d import StaticResult3D
+    assert core.StaticResult is StaticSolution is ShakedownState is StaticResult3D
+    line = core.shakedown_state(0.3, 0.3, dx=1 / 20)
+    patch = core.shakedown_state(0.3, 0.3, 0.1, body="sphere")
+    mindlin = core.mindlin_state(0.5, 0.1)
+    for res in (line, patch, mindlin):
+        assert type(res) is core.StaticResult
+        for arr in (res.traction, res.bound, res.state, res.edges):
+            with pytest.raises(ValueError):
+                arr[0] = 0
+    assert not line.is_patch and line.y is None and line.cut_row is None and line.stick_halfwidth_y is None
+    assert line.stick_halfwidth == 0.5 and line.x.size == line.traction.size == line.state.size
+    assert set(np.unique(line.state)) <= {0, 1, 2} and np.all((line.state == 0) == (line.bound == 0))
+    assert patch.is_patch and patch.traction.shape == (2, *patch.bound.shape) and patch.displacement.shape == (2,)
+    assert patch.iterations > 0 and mindlin.stick_halfwidth == pytest.approx(0.5 ** (1 / 3), abs=0.1)
+    bound = Cylinder.for_reach(1.0, 0.05).bounds([0.0], [1.0])[0]
+    centred = core.solve_static(bound, 0.5, 0.05)
+    shifted = core.solve_static(bound, 0.5, 0.05, edges=centred.edges + 0.2)
+    assert_allclose(shifted.traction, centred.traction, rtol=0, atol=0)
+    assert shifted.x == pytest.approx(centred.x + 0.2) and centred.x.mean() == pytest.approx(0.0, abs=1e-12)
+    with pytest.raises(ValueError, match="edges must be"):
+        core.solve_static(bound, 0.5, 0.05, edges=centred.edges[:-1])
+
+
 class _TabulatedSphere:
     """A point body written against the patch protocol alone (its own grid and pressure, a solver option)."""
 
