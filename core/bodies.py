@@ -235,14 +235,29 @@ class Body:
                              "use normal='numerical' or 'auto'")
         return normal
 
-    def solve_normal(self, dx, P=1.0, tol=None, refine=1):
+    def solve_normal(self, dx, P=1.0, tol=None, refine=1, method="auto"):
         """The numerical static pressure at ``xc = 0`` (:func:`core.normal.solve_line`) on elements of width ``dx``.
 
         The elements' edges are multiples of ``dx`` (those of every run grid of
         the same ``dx``), over ``[-support, support] * max(1, P)``. With
         ``refine > 1`` that solve locates the contact, and the returned one is
         on elements ``refine`` times finer over the contact (and two coarse
-        elements more each side), started from the coarse pressure.
+        elements more each side), started from the coarse pressure (its
+        contact set for the direct solve, which then usually settles at once).
+
+        Parameters
+        ----------
+        dx : float
+            Element width [a].
+        P : float
+            Normal load [nominal P].
+        tol : float, optional
+            The conjugate gradient's tolerance (default :data:`core.normal.NORMAL_TOL`).
+        refine : int
+            The finer solve's elements per element (1: none).
+        method : {"auto", "cg", "direct"}
+            Of both solves (:func:`core.normal.solve_normal`): on lines up to
+            :data:`core.normal.DIRECT_MAX_ELEMENTS` elements ``"auto"`` is the direct one.
 
         Returns
         -------
@@ -253,6 +268,14 @@ class Body:
         ------
         ValueError
             If the contact reaches the edge of that region (raise :attr:`support`).
+
+        Examples
+        --------
+        >>> import core
+        >>> edges, direct = core.Cylinder().solve_normal(1 / 40, refine=4)
+        >>> _, cg = core.Cylinder().solve_normal(1 / 40, refine=4, method="cg")
+        >>> direct.method, cg.method, bool(abs(direct.pressure - cg.pressure).max() < 1e-8)
+        ('direct', 'cg', True)
         """
         from .normal import NORMAL_TOL, solve_line
         tol = NORMAL_TOL if tol is None else tol
@@ -260,7 +283,7 @@ class Body:
         half = math.ceil(reach / dx - 1e-9)
         edges = dx * (np.arange(2 * half + 1) - half)
         x = 0.5 * (edges[1:] + edges[:-1])
-        sol = solve_line(self.profile(x), dx, load=self.load_factor * float(P), tol=tol)
+        sol = solve_line(self.profile(x), dx, load=self.load_factor * float(P), tol=tol, method=method)
         if sol.contact[0] or sol.contact[-1]:
             raise ValueError(f"the contact of {self!r} reaches the edge of its solve region |x| < {reach:g}: "
                              "raise its support")
@@ -273,7 +296,7 @@ class Body:
         fine_edges = edges[lo] + fine_dx * np.arange((hi - lo) * refine + 1)
         xf = 0.5 * (fine_edges[1:] + fine_edges[:-1])
         fine = solve_line(self.profile(xf), fine_dx, load=self.load_factor * float(P), tol=tol,
-                          initial=np.repeat(sol.pressure[lo:hi], refine))
+                          initial=np.repeat(sol.pressure[lo:hi], refine), method=method)
         if fine.contact[0] or fine.contact[-1]:
             raise ValueError(f"the refined contact of {self!r} reaches the edge of its region: use a smaller dx")
         return fine_edges, fine
