@@ -255,8 +255,8 @@ def test_two_bump_body_has_two_contacts():
 
 
 def test_direct_hands_over_to_cg(monkeypatch):
-    """A direct solve that does not settle (here: allowed one contact set, started from every element) is
-    solved by the CG instead, and says so."""
+    """A direct solve that does not settle (here: allowed one contact set, started from every element), or meets
+    too many holes, is solved by the CG instead, and says so."""
     import core.normal as normal
     dx = 0.02
     _, x = _line(dx, half=2.0)
@@ -267,6 +267,14 @@ def test_direct_hands_over_to_cg(monkeypatch):
     monkeypatch.undo()
     d = solve_line(h, dx)
     assert d.method == "direct" and np.abs(s.pressure - d.pressure).max() < 1e-8
+    # a contact whose dense system is above MAX_HOLES (a rough profile's islands; here two bumps and none allowed)
+    bumps = (x**2 - 0.5) ** 2
+    monkeypatch.setattr(normal, "MAX_HOLES", 0)
+    s = solve_line(bumps, dx, load=0.5)
+    monkeypatch.undo()
+    d = solve_line(bumps, dx, load=0.5)
+    assert s.method == "cg-fallback" and d.method == "direct" and _intervals(d.contact) == 2
+    assert np.abs(s.pressure - d.pressure).max() < 1e-8 * d.pressure.max()
 
 
 def test_methods_of_a_patch_and_of_a_large_line():
