@@ -429,9 +429,12 @@ class LineGrid:
         for value in np.unique(P):
             rows = np.flatnonzero(P == value)
             cum, _ = self.body_spec._table(self.dx, float(value), self.normal)
-            means = getattr(cum, "element_means", None)
-            if means is not None and rows.size == xc.size and out.flags.c_contiguous:
-                means(self.edges, self.dx, xc, out)
+            means = getattr(cum, "element_means", None)  # a numerical table's: one pass, no temporaries
+            if means is not None:
+                if rows.size == xc.size and out.flags.c_contiguous:
+                    means(self.edges, self.dx, xc, out)
+                else:
+                    out[rows] = means(self.edges, self.dx, xc[rows], np.empty((rows.size, self.size)))
                 continue
             F = cum(self.edges[None, :] - xc[rows, None])
             out[rows] = np.maximum(np.diff(F, axis=1) / self.dx, 0.0)
