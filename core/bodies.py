@@ -27,6 +27,7 @@ import numpy as np
 
 from . import analytical
 from ._hertz import element_means
+from ._jit import jit
 
 __all__ = ["Body", "Cylinder", "Punch", "LineGrid", "BODIES", "get_body", "resolve_body", "NORMAL_CHOICES",
            "MAX_ELEMENTS", "MAX_FFT_ELEMENTS"]
@@ -64,6 +65,69 @@ def _check_edges(edges):
         raise ValueError(f"the grid has {edges.size - 1} elements (> {MAX_FFT_ELEMENTS}): use a larger dx")
     edges.setflags(write=False)
     return edges
+
+
+@jit
+def _interp_uniform(s, step, x, y, out):
+    """``np.interp(s, x, y)`` for knots ``x`` about a uniform ``step`` apart: each point's interval from one
+    division, then checked against the knots themselves, so that a point on a knot gets its value exactly (as
+    from ``np.interp``: a run's element outside the contact keeps a zero bound, not one of 1e-17)."""
+    m = y.size - 1
+    for i in range(s.size):
+        si = s[i]
+        if si <= x[0]:
+            out[i] = y[0]
+        elif si >= x[m]:
+            out[i] = y[m]
+        else:
+            k = min(max(int((si - x[0]) / step), 0), m - 1)
+            while k > 0 and si < x[k]:
+                k -= 1
+            while k < m - 1 and si >= x[k + 1]:
+                k += 1
+            out[i] = y[k] + (si - x[k]) * ((y[k + 1] - y[k]) / (x[k + 1] - x[k]))
+    return out
+
+
+@jit
+def _table_means(xc, edges, dx, step, x, y, out):
+    """``max((C(e_{i+1} - xc) - C(e_i - xc)) / dx, 0)`` for every centre ``xc`` (rows of ``out``) and element of
+    the uniform ``edges``, ``C = np.interp(., x, y)`` as in :func:`_interp_uniform`."""
+    n = edges.size - 1
+    F = np.empty(n + 1)
+    s = np.empty(n + 1)
+    for r in range(xc.size):
+        for i in range(n + 1):
+            s[i] = edges[i] - xc[r]
+        _interp_uniform(s, step, x, y, F)
+        for i in range(n):
+            v = (F[i + 1] - F[i]) / dx
+            out[r, i] = v if v > 0.0 else 0.0
+    return out
+
+
+class _UniformTable:
+    """``C(s)``: ``np.interp(s, knots, values)`` for uniform knots (no search), the cumulative pressure of a
+    numerical solve (:meth:`Body.cumulative`)."""
+
+    def __init__(self, knots, values):
+        self.knots = np.ascontiguousarray(knots, dtype=float)
+        self.values = np.ascontiguousarray(values, dtype=float)
+        self.step = float(self.knots[-1] - self.knots[0]) / (self.knots.size - 1)
+        for a in (self.knots, self.values):
+            a.setflags(write=False)
+
+    def __call__(self, s):
+        s = np.ascontiguousarray(s, dtype=float)
+        out = np.empty(s.shape)
+        _interp_uniform(s.reshape(-1), self.step, self.knots, self.values, out.reshape(-1))
+        return out
+
+    def element_means(self, edges, dx, xc, out):
+        """The element means ``max(diff(C(edges - xc)) / dx, 0)`` of the ``edges`` (``dx`` apart) for each centre
+        ``xc``, written to ``out`` (shape ``(xc.size, edges.size - 1)``): :meth:`LineGrid.bounds` in one pass."""
+        return _table_means(np.ascontiguousarray(xc, dtype=float), np.ascontiguousarray(edges, dtype=float),
+                            float(dx), self.step, self.knots, self.values, out)
 
 
 def _edges_for_reach(reach, dx, max_elements):
@@ -171,14 +235,29 @@ class Body:
                              "use normal='numerical' or 'auto'")
         return normal
 
-    def solve_normal(self, dx, P=1.0, tol=None, refine=1):
+    def solve_normal(self, dx, P=1.0, tol=None, refine=1, method="auto"):
         """The numerical static pressure at ``xc = 0`` (:func:`core.normal.solve_line`) on elements of width ``dx``.
 
         The elements' edges are multiples of ``dx`` (those of every run grid of
         the same ``dx``), over ``[-support, support] * max(1, P)``. With
         ``refine > 1`` that solve locates the contact, and the returned one is
         on elements ``refine`` times finer over the contact (and two coarse
-        elements more each side), started from the coarse pressure.
+        elements more each side), started from the coarse pressure (its
+        contact set for the direct solve, which then usually settles at once).
+
+        Parameters
+        ----------
+        dx : float
+            Element width [a].
+        P : float
+            Normal load [nominal P].
+        tol : float, optional
+            The conjugate gradient's tolerance (default :data:`core.normal.NORMAL_TOL`).
+        refine : int
+            The finer solve's elements per element (1: none).
+        method : {"auto", "cg", "direct"}
+            Of both solves (:func:`core.normal.solve_normal`): on lines up to
+            :data:`core.normal.DIRECT_MAX_ELEMENTS` elements ``"auto"`` is the direct one.
 
         Returns
         -------
@@ -189,6 +268,14 @@ class Body:
         ------
         ValueError
             If the contact reaches the edge of that region (raise :attr:`support`).
+
+        Examples
+        --------
+        >>> import core
+        >>> edges, direct = core.Cylinder().solve_normal(1 / 40, refine=4)
+        >>> _, cg = core.Cylinder().solve_normal(1 / 40, refine=4, method="cg")
+        >>> direct.method, cg.method, bool(abs(direct.pressure - cg.pressure).max() < 1e-8)
+        ('direct', 'cg', True)
         """
         from .normal import NORMAL_TOL, solve_line
         tol = NORMAL_TOL if tol is None else tol
@@ -196,7 +283,7 @@ class Body:
         half = math.ceil(reach / dx - 1e-9)
         edges = dx * (np.arange(2 * half + 1) - half)
         x = 0.5 * (edges[1:] + edges[:-1])
-        sol = solve_line(self.profile(x), dx, load=self.load_factor * float(P), tol=tol)
+        sol = solve_line(self.profile(x), dx, load=self.load_factor * float(P), tol=tol, method=method)
         if sol.contact[0] or sol.contact[-1]:
             raise ValueError(f"the contact of {self!r} reaches the edge of its solve region |x| < {reach:g}: "
                              "raise its support")
@@ -209,7 +296,7 @@ class Body:
         fine_edges = edges[lo] + fine_dx * np.arange((hi - lo) * refine + 1)
         xf = 0.5 * (fine_edges[1:] + fine_edges[:-1])
         fine = solve_line(self.profile(xf), fine_dx, load=self.load_factor * float(P), tol=tol,
-                          initial=np.repeat(sol.pressure[lo:hi], refine))
+                          initial=np.repeat(sol.pressure[lo:hi], refine), method=method)
         if fine.contact[0] or fine.contact[-1]:
             raise ValueError(f"the refined contact of {self!r} reaches the edge of its region: use a smaller dx")
         return fine_edges, fine
@@ -222,15 +309,17 @@ class Body:
         piecewise-constant pressure solved on elements :data:`NORMAL_REFINE`
         times finer than ``dx`` (exact means for shifts by whole sub-elements;
         the element means then match the closed form's about 8 times better
-        than a solve at ``dx``); ``"exact"``: the closed form integrated in
-        ``x = a sin(phi)`` (4096 intervals, 4-point Gauss: about 1e-9).
+        than a solve at ``dx``), ``C`` interpolated linearly between the fine
+        edges (uniform: no search), its reach the outer edges of the solved
+        contact; ``"exact"``: the closed form integrated in ``x = a sin(phi)``
+        (4096 intervals, 4-point Gauss: about 1e-9), its reach the half-width.
         """
         if self.normal_mode(normal) == "numerical":
             edges, sol = self.solve_normal(dx, P, refine=NORMAL_REFINE)
             C = np.concatenate(([0.0], np.cumsum(sol.pressure) * (dx / NORMAL_REFINE)))
-            inside = edges[:-1][sol.contact]
-            reach = float(max(-inside.min(), inside.max() + dx))
-            return (lambda s: np.interp(s, edges, C)), reach + dx
+            inside = np.flatnonzero(sol.contact)  # the contact's reach: the outer edges of its end elements
+            reach = float(max(-edges[inside[0]], edges[inside[-1] + 1]))
+            return _UniformTable(edges, C), reach
         a = float(self.half_width(P))
         m = 4096
         g, wts = np.polynomial.legendre.leggauss(4)
@@ -340,6 +429,13 @@ class LineGrid:
         for value in np.unique(P):
             rows = np.flatnonzero(P == value)
             cum, _ = self.body_spec._table(self.dx, float(value), self.normal)
+            means = getattr(cum, "element_means", None)  # a numerical table's: one pass, no temporaries
+            if means is not None:
+                if rows.size == xc.size and out.flags.c_contiguous:
+                    means(self.edges, self.dx, xc, out)
+                else:
+                    out[rows] = means(self.edges, self.dx, xc[rows], np.empty((rows.size, self.size)))
+                continue
             F = cum(self.edges[None, :] - xc[rows, None])
             out[rows] = np.maximum(np.diff(F, axis=1) / self.dx, 0.0)
         return out

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from scipy.special import ellipe, ellipk
 
+import core
 from core._hertz import element_means
 from core.normal import PatchOperator, solve_line, solve_normal, solve_patch, line_operator
 from core.point_contact import Ellipsoid, hertz_element_means
@@ -101,8 +102,8 @@ def test_patch_operator_matches_matrix():
 def test_warm_start_and_a_flat_profile():
     e, x = _line(0.02)
     h = (2 / np.pi) * x**2
-    cold = solve_line(h, 0.02)
-    warm = solve_line(h, 0.02, initial=cold.pressure)
+    cold = solve_line(h, 0.02, method="cg")
+    warm = solve_line(h, 0.02, initial=cold.pressure, method="cg")
     assert warm.iterations < cold.iterations
     assert np.allclose(warm.pressure, cold.pressure, atol=1e-8)
 
@@ -117,9 +118,13 @@ def test_warm_start_and_a_flat_profile():
     (dict(profile=np.zeros(11)), "profile"),
     (dict(initial=-np.ones(10)), "initial"),
     (dict(maxiter=1, tol=1e-14), "converge"),
+    (dict(method="lu"), "method"),
+    (dict(method=None), "method"),
+    (dict(method="direct", operator=PatchOperator(2, 5, 0.2), profile=np.zeros((2, 5))), "method='direct'"),
 ])
 def test_bad_inputs(kwargs, match):
-    args = dict(profile=np.linspace(-1, 1, 10) ** 2, load=1.0, operator=line_operator(10, 0.2), element_area=0.2)
+    args = dict(profile=np.linspace(-1, 1, 10) ** 2, load=1.0, operator=line_operator(10, 0.2), element_area=0.2,
+                method="cg")
     args.update(kwargs)
     with pytest.raises(ValueError, match=match):
         solve_normal(**args)
@@ -142,8 +147,8 @@ def test_preconditioning_changes_the_iterations_not_the_solution():
     dx = 1 / 160
     n = int(round(4 / dx))
     x = (np.arange(n) + 0.5) * dx - 2
-    plain = solve_normal((2 / np.pi) * x**2, np.pi / 2, line_operator(n, dx), dx, precondition=False)
-    pre = solve_normal((2 / np.pi) * x**2, np.pi / 2, line_operator(n, dx), dx)
+    plain = solve_normal((2 / np.pi) * x**2, np.pi / 2, line_operator(n, dx), dx, precondition=False, method="cg")
+    pre = solve_normal((2 / np.pi) * x**2, np.pi / 2, line_operator(n, dx), dx, method="cg")
     assert np.abs(plain.pressure - pre.pressure).max() < 1e-8
     assert 2.5 * pre.iterations < plain.iterations
     e, xp = _line(0.05)
@@ -169,3 +174,138 @@ def test_ellipsoid_profile_gives_its_hertz_pressure(ratio):
     s = solve_patch(body.profile(x[None, :], y[:, None]), h, load=body.total_load, scale=body.kernel_scale)
     d = s.pressure - hertz_element_means(ex, ey, 0.0, kap)
     assert np.abs(d).sum() * h * h / body.total_load < 0.005
+
+
+# ---- the direct solve of a line (active set on the Toeplitz matrix) against the conjugate gradient ----------
+
+def _profiles():
+    from core.punch import punch_profile
+    return {
+        "cylinder": lambda x: (2 / np.pi) * x**2,
+        "punch 0.5": lambda x: punch_profile(x, 0.5),
+        "punch 0.8": lambda x: punch_profile(x, 0.8),
+        "two bumps": lambda x: (x**2 - 0.8) ** 2,  # non-convex: two contact intervals
+    }
+
+
+def _intervals(contact):
+    return int(np.count_nonzero(np.diff(np.concatenate(([0], contact.astype(int), [0]))) == 1))
+
+
+@pytest.mark.parametrize("name", ["cylinder", "punch 0.5", "punch 0.8", "two bumps"])
+@pytest.mark.parametrize("dx", [0.04, 0.02, 0.01, 1 / 160])
+def test_direct_equals_cg(name, dx):
+    """method='direct' (the default on a line) against Polonsky-Keer's CG: the same pressures to 1e-8 of the
+    peak (measured: 1e-9 and below), the same contact set, approach and load; the direct solution's gap
+    residual is round-off (CG's is its tolerance)."""
+    e, x = _line(dx, half=2.0)
+    h = _profiles()[name](x)
+    d = solve_line(h, dx)
+    c = solve_line(h, dx, method="cg", tol=1e-12)
+    assert d.method == "direct" and c.method == "cg"
+    assert np.abs(d.pressure - c.pressure).max() < 1e-8 * d.pressure.max()
+    assert np.array_equal(d.contact, c.contact)
+    assert _intervals(d.contact) == (2 if name == "two bumps" else 1)
+    assert d.approach == pytest.approx(c.approach, rel=1e-9, abs=1e-12)
+    assert d.load == pytest.approx(np.pi / 2, rel=1e-12)
+    assert d.gap_residual < 1e-11 and d.penetration < 1e-11
+    assert np.all(d.pressure >= 0) and np.all(d.pressure[~d.contact] == 0)
+
+
+@pytest.mark.parametrize("load", [0.05, 0.5, 3.0])
+def test_direct_two_intervals_at_any_load(load):
+    """A light load touches the two bumps apart, a heavy one closes the gap between them: the direct solve
+    follows (holes in its window solved by the Schur complement) and equals the CG."""
+    dx = 0.01
+    _, x = _line(dx, half=2.0)
+    h = (x**2 - 0.5) ** 2 + 0.05 * x  # not symmetric
+    d = solve_line(h, dx, load=load)
+    c = solve_line(h, dx, load=load, method="cg", tol=1e-12)
+    assert d.method == "direct"
+    assert np.abs(d.pressure - c.pressure).max() < 1e-8 * d.pressure.max()
+    assert np.array_equal(d.contact, c.contact)
+    assert _intervals(d.contact) == (1 if load == 3.0 else 2)
+
+
+@pytest.mark.parametrize("make", [lambda: core.Cylinder(), lambda: core.Punch(flat=0.5), lambda: core.Punch(flat=0.8),
+                                  lambda: _two_bump_body()], ids=["cylinder", "punch 0.5", "punch 0.8", "profile"])
+@pytest.mark.parametrize("dx", [1 / 40, 1 / 80])
+def test_body_solve_direct_equals_cg(make, dx):
+    """Body.solve_normal (coarse solve, then 4x finer over the contact): both levels direct, the fine one settles
+    on the refined coarse set at once; the same grid and pressures as the CG's to 1e-8."""
+    body = make()
+    e_d, d = body.solve_normal(dx, refine=4)
+    e_c, c = body.solve_normal(dx, refine=4, method="cg", tol=1e-12)
+    assert d.method == "direct" and c.method == "cg"
+    assert np.array_equal(e_d, e_c)
+    assert np.abs(d.pressure - c.pressure).max() < 1e-8 * d.pressure.max()
+    assert np.array_equal(d.contact, c.contact)
+    assert d.iterations <= 3
+
+
+def _two_bump_body():
+    from core.heightmap import HeightProfile
+    x = np.linspace(-2.5, 2.5, 1001)
+    return HeightProfile(4 * (x**2 - 0.8) ** 2, x[1] - x[0], centre=500)
+
+
+def test_two_bump_body_has_two_contacts():
+    _, s = _two_bump_body().solve_normal(1 / 40, refine=4)
+    assert s.method == "direct" and _intervals(s.contact) == 2
+
+
+def test_direct_hands_over_to_cg(monkeypatch):
+    """A direct solve that does not settle (here: allowed one contact set, started from every element), or meets
+    too many holes, is solved by the CG instead, and says so."""
+    import core.normal as normal
+    dx = 0.02
+    _, x = _line(dx, half=2.0)
+    h = (2 / np.pi) * x**2
+    monkeypatch.setattr(normal, "ACTIVE_SET_ITERATIONS", 1)
+    s = solve_line(h, dx, initial=np.ones(x.size))
+    assert s.method == "cg-fallback" and s.iterations > 1
+    monkeypatch.undo()
+    d = solve_line(h, dx)
+    assert d.method == "direct" and np.abs(s.pressure - d.pressure).max() < 1e-8
+    # a contact whose dense system is above MAX_HOLES (a rough profile's islands; here two bumps and none allowed)
+    bumps = (x**2 - 0.5) ** 2
+    monkeypatch.setattr(normal, "MAX_HOLES", 0)
+    s = solve_line(bumps, dx, load=0.5)
+    monkeypatch.undo()
+    d = solve_line(bumps, dx, load=0.5)
+    assert s.method == "cg-fallback" and d.method == "direct" and _intervals(d.contact) == 2
+    assert np.abs(s.pressure - d.pressure).max() < 1e-8 * d.pressure.max()
+
+
+def test_methods_of_a_patch_and_of_a_large_line():
+    """'auto' is the CG on a patch (no Toeplitz column) and on a line above DIRECT_MAX_ELEMENTS."""
+    from core.normal import DIRECT_MAX_ELEMENTS
+    e, x = _line(0.1)
+    X, Y = np.meshgrid(x, x)
+    assert solve_patch(0.375 * (X**2 + Y**2), 0.1).method == "cg"
+    n = DIRECT_MAX_ELEMENTS + 2
+    dx = 4.0 / n
+    xl = (np.arange(n) + 0.5) * dx - 2.0
+    assert solve_line((2 / np.pi) * xl**2, dx).method == "cg"
+    assert solve_line((2 / np.pi) * xl[::2] ** 2, 2 * dx).method == "direct"
+
+
+@pytest.mark.parametrize("mixed", [False, True])
+def test_numerical_bounds_equal_the_interpolated_table(mixed):
+    """LineGrid.bounds of a numerical body (one numba pass over the uniform table) against np.interp of the same
+    cumulative pressure: equal to round-off, and zero on exactly the same elements (a 1e-17 bound out of contact
+    doubled the tangential solver's iterations), for one normal load and for several."""
+    body = core.Punch(flat=0.5)
+    dx = 1 / 40
+    grid = body.on_grid(dx * (np.arange(121) - 60), "numerical")
+    rng = np.random.default_rng(1)
+    xc = np.concatenate((rng.uniform(-0.4, 0.4, 200), dx / 4 * np.arange(-20, 21)))  # and shifts by whole knots
+    P = np.where(np.arange(xc.size) % 3 == 0, 1.2, 0.9) if mixed else np.ones(xc.size)
+    fast = grid.bounds(xc, P)
+    ref = np.empty_like(fast)
+    for i, (x, p) in enumerate(zip(xc, P)):
+        table, _ = body._table(dx, float(p), "numerical")
+        F = np.interp(grid.edges - x, table.knots, table.values)
+        ref[i] = np.maximum(np.diff(F) / dx, 0.0)
+    assert np.abs(fast - ref).max() < 1e-13
+    assert np.array_equal(fast == 0, ref == 0)
