@@ -55,6 +55,7 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -368,15 +369,19 @@ class Cone:
         dict
             ``lo``, ``hi``, ``along`` (ft = Ft/(mu Fn)), ``elements`` (in contact at every position).
         """
+        w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
+        dx = check_scalar("dx", self.default_dx if dx is None else dx, 0.005, 1.0)
+        dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
+        polygon = int(check_scalar("polygon", polygon, 4, 4096))
+        # every run's verdict may ask for it (CycleResult.melan_limit): equal cones share the programme's answer
+        return dict(_grid_limit(self, w, dx, dW, polygon))
+
+    def _grid_limit(self, w, dx, dW, polygon):
         from scipy.optimize import linprog
         from scipy.sparse import coo_matrix, hstack, vstack, csr_matrix
         from .schedule import rocking_schedule
         from .solver3d import twist_field
 
-        w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
-        dx = check_scalar("dx", self.default_dx if dx is None else dx, 0.005, 1.0)
-        dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
-        polygon = int(check_scalar("polygon", polygon, 4, 4096))
         xe, ye = self.run_grid(w, 1.0, dx)
         xcs = np.unique(rocking_schedule(0.0, w, periods=1, dW=dW).xc)
         p_min = None
@@ -409,3 +414,9 @@ class Cone:
         if not res1.success:
             raise RuntimeError(f"the Melan programme (q_y = 0) did not solve: {res1.message}")
         return {"lo": hi * math.cos(math.pi / polygon), "hi": hi, "along": -float(res1.fun), "elements": int(n)}
+
+
+@functools.lru_cache(maxsize=64)
+def _grid_limit(cone, w, dx, dW, polygon):
+    """:meth:`Cone.grid_limit` (validated inputs), cached by the cone's parameters and the grid's."""
+    return tuple(cone._grid_limit(w, dx, dW, polygon).items())
