@@ -121,10 +121,22 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
     scale, unit = (c.displacement_unit * 1e6, "µm") if physical else (1.0, "μFn/(E*a)")
     rows.append(("grid error of Δu", "estimating…" if grid_error is None
                  else grid_error_text(grid_error, inc, scale, unit, relative=result.regime != "shakedown")))
+    rows.append(grid_limit_row(result))
     nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
     rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{1 / result.dx:.3g}), "
                           f"{result.xc.size} steps"))
     return rows
+
+
+def grid_limit_row(result) -> tuple[str, str]:
+    """The card row of Melan's limit on the run's own grid (:attr:`core.CycleResult.melan_limit`, in ft): the
+    limit the run's verdict is checked against, beside the body's exact one."""
+    limit = result.melan_limit
+    if limit is None:
+        return ("ft_lim on this grid (Melan)", "– (the loads vary over a period)")
+    P = float(result.P[-1])
+    lo, hi = limit[0] / P, limit[1] / P
+    return ("ft_lim on this grid (Melan)", fmt(lo, "", 4) if hi - lo <= 1e-12 * hi else f"{lo:.4f} – {hi:.4f}")
 
 
 def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "", relative: bool = True) -> str:
@@ -197,6 +209,7 @@ def _line_tail(ft, w, ft_lim, w_lim, result, wait, physical_contact, cycles) -> 
     else:
         unit_u = "U0" if result.u0 else "μP/E*"
         rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
+    rows.append(grid_limit_row(result))
     rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., {result.xc.size} steps"))
     return rows
 
