@@ -587,6 +587,17 @@ def args_given(args) -> set:
     return {k for k in _SOLVER_DESTS if getattr(args, k, None) is not None}
 
 
+def _grid_limit_text(result) -> str:
+    """Melan's limit of the run's own grid in ft (:attr:`core.CycleResult.melan_limit`), as the run prints it."""
+    limit = result.melan_limit
+    if limit is None:
+        return "- (the loads vary over the last period)"
+    P = float(result.P[-1])
+    lo, hi = limit[0] / P, limit[1] / P
+    text = f"{lo:.6g}" if hi - lo <= 1e-12 * hi else f"between {lo:.6g} and {hi:.6g}"
+    return f"{text} = ft_lim of the elements run (the verdict's check)"
+
+
 def _trend_rows(s: dict, unit: str) -> list[tuple[str, str]]:
     """The rows of the verdict's trend: D_inf with its error, the ratio r, the periods likely to decide."""
     D, err, r = s.get("D_inf"), s.get("D_inf_error"), s.get("decay_ratio")
@@ -639,6 +650,7 @@ def _cmd_run(args) -> int:
         *([("  paper's ansatz (eq 30)", _fmt(c_paper, "a"))] if line else []),
         (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),
         (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=spec)), "= w_lim")),
+        ("Melan's limit on this grid", _grid_limit_text(result)),
         ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in args_given(args) else " (the body's default)")),
         ("elements x steps", f"{s['elements']} x {s['steps']}"),
         ("max active-set iterations", str(s["max_iterations"])),
