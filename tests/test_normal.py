@@ -277,6 +277,21 @@ def test_direct_hands_over_to_cg(monkeypatch):
     assert np.abs(s.pressure - d.pressure).max() < 1e-8 * d.pressure.max()
 
 
+def test_indefinite_matrix_hands_over_to_cg():
+    """A short reference length (0.5 a) makes the log kernel's matrix indefinite over a contact wider than 2 a:
+    Levinson's recursion meets a non-positive leading minor and the CG solves it. The reference length only adds
+    a uniform displacement (absorbed by the approach), so the pressures are those of the default (4 a), direct."""
+    from core.operators import elastic_operator
+    dx = 0.02
+    _, x = _line(dx, half=2.0)
+    h = (2 / np.pi) * x**2
+    short = solve_normal(h, np.pi / 2, elastic_operator(x.size, dx, "plane", form="fft", reference_length=0.5), dx)
+    default = solve_line(h, dx)
+    assert short.method == "cg-fallback" and default.method == "direct"
+    assert np.abs(short.pressure - default.pressure).max() < 1e-8
+    assert np.array_equal(short.contact, default.contact)
+
+
 def test_methods_of_a_patch_and_of_a_large_line():
     """'auto' is the CG on a patch (no Toeplitz column) and on a line above DIRECT_MAX_ELEMENTS."""
     from core.normal import DIRECT_MAX_ELEMENTS
