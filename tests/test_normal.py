@@ -277,19 +277,33 @@ def test_direct_hands_over_to_cg(monkeypatch):
     assert np.abs(s.pressure - d.pressure).max() < 1e-8 * d.pressure.max()
 
 
-def test_indefinite_matrix_hands_over_to_cg():
+def test_indefinite_matrix_is_shifted():
     """A short reference length (0.5 a) makes the log kernel's matrix indefinite over a contact wider than 2 a:
-    Levinson's recursion meets a non-positive leading minor and the CG solves it. The reference length only adds
-    a uniform displacement (absorbed by the approach), so the pressures are those of the default (4 a), direct."""
+    Levinson's recursion meets a non-positive leading minor, and the direct solve repeats with a constant added
+    to every influence (a longer reference length: the same pressures, the approach shifted). The pressures are
+    those of the default operator (4 a) and of the CG; and a contact 36 a wide (beyond 4 times the default
+    reference length) is solved directly too."""
     from core.operators import elastic_operator
     dx = 0.02
     _, x = _line(dx, half=2.0)
     h = (2 / np.pi) * x**2
-    short = solve_normal(h, np.pi / 2, elastic_operator(x.size, dx, "plane", form="fft", reference_length=0.5), dx)
+    op = elastic_operator(x.size, dx, "plane", form="fft", reference_length=0.5)
+    assert np.linalg.eigvalsh(op.matrix())[0] < 0
+    short = solve_normal(h, np.pi / 2, op, dx)
+    cg = solve_normal(h, np.pi / 2, op, dx, method="cg", tol=1e-12)
     default = solve_line(h, dx)
-    assert short.method == "cg-fallback" and default.method == "direct"
+    assert short.method == "direct" and default.method == "direct"
     assert np.abs(short.pressure - default.pressure).max() < 1e-8
+    assert np.abs(short.pressure - cg.pressure).max() < 1e-8
+    assert short.approach == pytest.approx(cg.approach, rel=1e-9)
     assert np.array_equal(short.contact, default.contact)
+    dx, n = 0.05, 800
+    xw = (np.arange(n) + 0.5) * dx - 20
+    wide = solve_line(0.002 * xw**2, dx)
+    ref = solve_line(0.002 * xw**2, dx, method="cg", tol=1e-12)
+    assert wide.method == "direct" and wide.area > 35
+    assert np.abs(wide.pressure - ref.pressure).max() < 1e-8 * wide.pressure.max()
+    assert np.array_equal(wide.contact, ref.contact)
 
 
 def test_methods_of_a_patch_and_of_a_large_line():
