@@ -516,6 +516,11 @@ def _solve_cg(h, load, dA, apply, pre, p, tol, maxiter):
         r = apply(t)
         r -= r[c].mean()
         denom = float(np.dot(r[c], t[c]))
+        if denom <= 0 and delta != 0:  # the kept direction lost conjugacy as the contact changed: restart from z
+            t = np.where(c, z, 0.0)
+            r = apply(t)
+            r -= r[c].mean()
+            denom = float(np.dot(r[c], t[c]))
         tau = float(np.dot(g[c], t[c])) / denom if denom != 0 else 0.0
         p_prev = p
         p = np.where(c, p - tau * t, 0.0)
