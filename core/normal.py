@@ -42,9 +42,12 @@ penetrating ones join it, until neither is left: a few sets from the coarse
 grid's, the solution to round-off; the first set is the contact of the
 same problem on elements 4 times wider (recursively), or the given initial
 pressure's. If the sets do not settle within :data:`ACTIVE_SET_ITERATIONS`
-(or repeat, or a set needs a dense system above :data:`MAX_HOLES`, or the matrix is
-not positive definite), the conjugate gradient solves it instead, and the
-result says so (:attr:`NormalSolution.method`).
+(or repeat, or a set needs a dense system above :data:`MAX_HOLES`), the
+conjugate gradient solves it instead, and the result says so
+(:attr:`NormalSolution.method`). A window whose matrix is not positive
+definite (the log kernel over a contact wider than 4 times its reference
+length) is solved with a constant added to every influence: the load fixes
+``sum p``, so that changes the approach only.
 
 References
 ----------
@@ -288,7 +291,8 @@ def _inverse_columns(g, depth):
 
 @jit
 def _active_set(h, w, t, C, max_sets, max_dense, history):
-    """The active-set loop of :func:`_solve_direct` (numba): ``(p, sets tried)``, sets 0 if it failed.
+    """The active-set loop of :func:`_solve_direct` (numba): ``(p, sets tried)``, sets 0 if it failed, -1 if a
+    window's matrix is not positive definite.
 
     ``h`` the profile, ``w = load / dA``, ``t`` the matrix's first column (at least ``n`` entries), ``C`` the
     first contact set (changed in place), ``history`` a ``(max_sets, n)`` bool scratch array (the sets tried,
@@ -329,7 +333,7 @@ def _active_set(h, w, t, C, max_sets, max_dense, history):
             B[2, 0] = 1.0
             X, ok = _levinson(t[:m].copy(), B)
             if not ok:
-                return p, 0
+                return p, -1
             have_x = True
         gaps = np.zeros(k)  # the gaps of the holes
         lam = np.zeros((k, 2))
@@ -466,17 +470,26 @@ def _coarse_start(h, load, dA, operator, depth=0):
 
 def _solve_direct(h, load, column, dA, start, max_sets):
     """The line problem by an active set on the Toeplitz matrix of first column ``column`` (see the module
-    docstring): ``(p, sets tried)``, or None if the sets do not settle in ``max_sets`` (or repeat), or a matrix
-    is not positive definite. ``start``: the first contact set (bool)."""
+    docstring): ``(p, sets tried)``, or None if the sets do not settle in ``max_sets`` (or repeat), or no matrix
+    tried is positive definite. ``start``: the first contact set (bool).
+
+    The load fixes ``sum p``, so adding a constant ``c`` to every influence (``K + c 1 1^T``) changes only the
+    approach (by ``c sum p``), not the pressures: where a window's matrix is not positive definite (the log
+    kernel over a contact wider than 4 times its reference length) the solve is repeated with ``c`` = 1, 2, 4
+    and 8 times the self-influence, which makes it so (the reference length multiplied)."""
     n = h.size
-    C = np.array(start, dtype=bool)
+    h = np.ascontiguousarray(h, dtype=float)
+    t = np.ascontiguousarray(column[:n], dtype=float)
     history = np.zeros((max_sets, n), dtype=bool)
-    try:
-        p, sets = _active_set(np.ascontiguousarray(h, dtype=float), float(load / dA),
-                              np.ascontiguousarray(column[:n], dtype=float), C, int(max_sets), MAX_HOLES, history)
-    except np.linalg.LinAlgError:  # a singular Schur or contact system
-        return None
-    if sets == 0 or not np.all(np.isfinite(p)) or not p.sum() > 0:
+    for shift in (0.0, 1.0, 2.0, 4.0, 8.0):
+        C = np.array(start, dtype=bool)
+        try:
+            p, sets = _active_set(h, float(load / dA), t + shift * abs(t[0]), C, int(max_sets), MAX_HOLES, history)
+        except np.linalg.LinAlgError:  # a singular Schur or contact system
+            return None
+        if sets != -1:
+            break
+    if sets <= 0 or not np.all(np.isfinite(p)) or not p.sum() > 0:
         return None
     return p, int(sets)
 
@@ -503,6 +516,11 @@ def _solve_cg(h, load, dA, apply, pre, p, tol, maxiter):
         r = apply(t)
         r -= r[c].mean()
         denom = float(np.dot(r[c], t[c]))
+        if denom <= 0 and delta != 0:  # the kept direction lost conjugacy as the contact changed: restart from z
+            t = np.where(c, z, 0.0)
+            r = apply(t)
+            r -= r[c].mean()
+            denom = float(np.dot(r[c], t[c]))
         tau = float(np.dot(g[c], t[c])) / denom if denom != 0 else 0.0
         p_prev = p
         p = np.where(c, p - tau * t, 0.0)

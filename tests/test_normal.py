@@ -277,6 +277,35 @@ def test_direct_hands_over_to_cg(monkeypatch):
     assert np.abs(s.pressure - d.pressure).max() < 1e-8 * d.pressure.max()
 
 
+def test_indefinite_matrix_is_shifted():
+    """A short reference length (0.5 a) makes the log kernel's matrix indefinite over a contact wider than 2 a:
+    Levinson's recursion meets a non-positive leading minor, and the direct solve repeats with a constant added
+    to every influence (a longer reference length: the same pressures, the approach shifted). The pressures are
+    those of the default operator (4 a) and of the CG; and a contact 36 a wide (beyond 4 times the default
+    reference length) is solved directly too."""
+    from core.operators import elastic_operator
+    dx = 0.02
+    _, x = _line(dx, half=2.0)
+    h = (2 / np.pi) * x**2
+    op = elastic_operator(x.size, dx, "plane", form="fft", reference_length=0.5)
+    assert np.linalg.eigvalsh(op.matrix())[0] < 0
+    short = solve_normal(h, np.pi / 2, op, dx)
+    cg = solve_normal(h, np.pi / 2, op, dx, method="cg", tol=1e-12)
+    default = solve_line(h, dx)
+    assert short.method == "direct" and default.method == "direct"
+    assert np.abs(short.pressure - default.pressure).max() < 1e-8
+    assert np.abs(short.pressure - cg.pressure).max() < 1e-8
+    assert short.approach == pytest.approx(cg.approach, rel=1e-9)
+    assert np.array_equal(short.contact, default.contact)
+    dx, n = 0.05, 800
+    xw = (np.arange(n) + 0.5) * dx - 20
+    wide = solve_line(0.002 * xw**2, dx)
+    ref = solve_line(0.002 * xw**2, dx, method="cg", tol=1e-12)
+    assert wide.method == "direct" and wide.area > 35
+    assert np.abs(wide.pressure - ref.pressure).max() < 1e-8 * wide.pressure.max()
+    assert np.array_equal(wide.contact, ref.contact)
+
+
 def test_methods_of_a_patch_and_of_a_large_line():
     """'auto' is the CG on a patch (no Toeplitz column) and on a line above DIRECT_MAX_ELEMENTS."""
     from core.normal import DIRECT_MAX_ELEMENTS
@@ -309,3 +338,20 @@ def test_numerical_bounds_equal_the_interpolated_table(mixed):
         ref[i] = np.maximum(np.diff(F) / dx, 0.0)
     assert np.abs(fast - ref).max() < 1e-13
     assert np.array_equal(fast == 0, ref == 0)
+
+
+def test_cg_restarts_when_its_direction_loses_conjugacy():
+    """Found by comparing the two methods on 600 random profiles: on this wavy one the preconditioned CG's kept
+    direction stopped being a descent direction once the contact set changed (r.t < 0 from iteration 16), and it
+    "converged" to one element in contact with a penetration of 8 times the profile's range. It now restarts
+    from the preconditioned residual there, and equals the direct solve (as on all 600)."""
+    A, B, k, phase = 0.9700504332574895, 0.15511096583329428, 2.775578440186193, 4.2154334463151155
+    n = 268
+    dx = 4.0 / n
+    x = (np.arange(n) + 0.5) * dx - 2
+    h = A * x**2 + B * np.sin(k * x + phase)
+    cg = solve_line(h, dx, load=2.7553374217432536, method="cg")
+    direct = solve_line(h, dx, load=2.7553374217432536)
+    assert cg.penetration < 1e-10 and direct.penetration == 0.0
+    assert np.array_equal(cg.contact, direct.contact) and cg.contact.sum() == 134
+    assert np.abs(cg.pressure - direct.pressure).max() < 1e-8 * direct.pressure.max()
