@@ -133,7 +133,7 @@ def grid_limit_row(result) -> tuple[str, str]:
     limit the run's verdict is checked against, beside the body's exact one."""
     limit = result.melan_limit
     if limit is None:
-        return ("ft_lim on this grid (Melan)", "– (the loads vary over a period)")
+        return ("ft_lim on this grid (Melan)", "– (the tangential load varies over a period)")
     P = float(result.P[-1])
     lo, hi = limit[0] / P, limit[1] / P
     return ("ft_lim on this grid (Melan)", fmt(lo, "", 4) if hi - lo <= 1e-12 * hi else f"{lo:.4f} – {hi:.4f}")

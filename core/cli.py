@@ -591,7 +591,7 @@ def _grid_limit_text(result) -> str:
     """Melan's limit of the run's own grid in ft (:attr:`core.CycleResult.melan_limit`), as the run prints it."""
     limit = result.melan_limit
     if limit is None:
-        return "- (the loads vary over the last period)"
+        return "- (the tangential load varies over the last period)"
     P = float(result.P[-1])
     lo, hi = limit[0] / P, limit[1] / P
     text = f"{lo:.6g}" if hi - lo <= 1e-12 * hi else f"between {lo:.6g} and {hi:.6g}"

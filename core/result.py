@@ -768,17 +768,19 @@ class CycleResult(PeriodVerdict):
         that is ``sum mu p_min dA`` (``lo = hi``), reached by tractions along
         the load; a body free to turn about the normal (the cone) solves its
         linear programme (:meth:`core.Cone.grid_limit`, the Coulomb disk between
-        two polygons). None when the last period's loads are not constant, or
-        for a body free to turn that has no programme.
+        two polygons). The normal load may vary over the period (``p_min`` is
+        then also the lowest over the load); the tangential one may not: None
+        when it does, or for a body free to turn that has no programme.
         """
         if self.periods == 0:
             return None
         last = self.period == self.period[-1]
         Q, P = self.Q[last], self.P[last]
-        if np.ptp(Q) > 1e-12 * max(1.0, float(np.abs(Q).max())) or np.ptp(P) > 1e-12 * float(P.max()):
+        if np.ptp(Q) > 1e-12 * max(1.0, float(np.abs(Q).max())):
             return None
         if getattr(self.body, "twist_centre", None) is not None:
-            if not hasattr(self.body, "grid_limit") or self.params.get("history", "rocking") != "rocking":
+            if (not hasattr(self.body, "grid_limit") or self.params.get("history", "rocking") != "rocking"
+                    or np.ptp(P) > 1e-12 * float(P.max())):
                 return None
             lim = self.body.grid_limit(self.params["w"], dx=self.dx, dW=self.params.get("dW"))
             return float(lim["lo"] * P[-1]), float(lim["hi"] * P[-1])

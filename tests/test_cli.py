@@ -311,7 +311,7 @@ def test_solver_flag_reaches_the_engine_or_is_refused_for_the_grid(capsys, tmp_p
 
 def test_run_prints_melan_limit_of_its_grid(capsys):
     """The limit the verdict is checked against: the cylinder's grid gives eq 35 (aligned element means), the cone
-    its programme's bracket, a history with varying loads none."""
+    its programme's bracket, a history with a varying tangential load none."""
     code, out, err = _run(capsys, "run", "--ft", "0.3", "--w", "0.5", "--periods", "4")
     assert code == 0, err
     assert f"Melan's limit on this grid  {float(core.ft_limit(0.5)):.6g} = ft_lim" in out
@@ -319,7 +319,7 @@ def test_run_prints_melan_limit_of_its_grid(capsys):
     lim = core.Cone().grid_limit(0.5)
     assert code == 0 and f"between {lim['lo']:.6g} and {lim['hi']:.6g} = ft_lim" in out, out
     code, out, err = _run(capsys, "run", "--ft", "0.2", "--w", "0.3", "--periods", "2", "--history", "tangential")
-    assert code == 0 and "Melan's limit on this grid" in out and "the loads vary" in out
+    assert code == 0 and "Melan's limit on this grid" in out and "the tangential load varies" in out
 
 
 def test_run_finer_than_the_dense_solver_takes(capsys):

@@ -286,7 +286,16 @@ def test_a_cone_run_uses_the_grid_programme_and_says_where_the_load_is():
     assert r.regime == "undetermined" and "below Melan's limit on this grid" in r.regime_reason
 
 
-def test_melan_limit_needs_constant_loads_in_the_last_period():
+def test_melan_limit_needs_a_constant_tangential_load_in_the_last_period():
     assert core.simulate_cycles(0.3, 0.3, periods=4, shape="sine").melan_limit is not None
     varying = core.simulate_cycles(0.3, 0.3, periods=4, history="tangential")
     assert np.ptp(varying.Q[varying.period == varying.period[-1]]) > 0 and varying.melan_limit is None
+    # a normal force 1 +- 0.2 under a constant Ft: p_min is also the lowest over the load, so the limit is lower
+    # than at constant load (0.6238, eq 35 at w 0.3) and is the sum of the run's own lowest pressure
+    normal = core.simulate_cycles(0.3, 0.3, periods=4, history="normal")
+    last = normal.period == normal.period[-1]
+    assert np.ptp(normal.P[last]) == pytest.approx(0.4) and np.ptp(normal.Q[last]) == 0
+    lo, hi = normal.melan_limit
+    step = np.flatnonzero(last)[-1]
+    expected = normal.lowest_pressure.sum() / normal.pressure[step].sum() * normal.P[step]
+    assert lo == hi == pytest.approx(expected, rel=1e-12) and 0.55 < lo < float(core.ft_limit(0.3)) - 0.01
