@@ -134,8 +134,7 @@ def grid_limit_row(result) -> tuple[str, str]:
     limit = result.melan_limit
     if limit is None:
         return ("ft_lim on this grid (Melan)", "– (the tangential load varies over a period)")
-    P = float(result.P[-1])
-    lo, hi = limit[0] / P, limit[1] / P
+    lo, hi = limit
     return ("ft_lim on this grid (Melan)", fmt(lo, "", 4) if hi - lo <= 1e-12 * hi else f"{lo:.4f} – {hi:.4f}")
 
 

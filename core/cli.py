@@ -592,8 +592,7 @@ def _grid_limit_text(result) -> str:
     limit = result.melan_limit
     if limit is None:
         return "- (the tangential load varies over the last period)"
-    P = float(result.P[-1])
-    lo, hi = limit[0] / P, limit[1] / P
+    lo, hi = limit
     text = f"{lo:.6g}" if hi - lo <= 1e-12 * hi else f"between {lo:.6g} and {hi:.6g}"
     return f"{text} = ft_lim of the elements run (the verdict's check)"
 

@@ -550,7 +550,8 @@ class PeriodVerdict:
     A result class that has ``increment_per_period``, ``shakedown_rtol``,
     ``periodic_from`` and ``tol`` and names the unit of its increments in
     :attr:`increment_unit` gets its regime, reason, trend fit and shakedown
-    period from :func:`classify_increments`, the one rule of every body.
+    period from :func:`classify_increments`, the one rule of every body; one
+    that also has ``Q`` and ``melan_limit`` gets the verdict's check against it.
     """
 
     #: Unit of the increments, as printed in the reason.
@@ -558,10 +559,11 @@ class PeriodVerdict:
 
     @cached_property
     def _classified(self) -> Verdict:
-        limit = getattr(self, "_melan_for_verdict", None)
+        checked = hasattr(type(self), "melan_limit") and self.Q.size > 0
         return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
                                    floor=10.0 * self.tol, unit=self.increment_unit,
-                                   load=None if limit is None else self._verdict_load, limit=limit)
+                                   load=float(self.Q[-1]) if checked else None,
+                                   limit=(lambda: self.melan_limit) if checked else None)
 
     @property
     def shakedown_period(self) -> int | None:
@@ -758,8 +760,8 @@ class CycleResult(PeriodVerdict):
     # ---- Melan's limit of the run's own discrete problem -------------------------------------------------
     @cached_property
     def melan_limit(self) -> tuple[float, float] | None:
-        """Melan's limit of this run's discrete problem: ``(lo, hi)`` of the tangential load [``mu P``] below which
-        it shakes down and above which it ratchets, or None.
+        """Melan's limit of this run's discrete problem: ``(lo, hi)`` of the tangential load [``mu P``, the unit of
+        :attr:`Q`: ``ft``] below which it shakes down and above which it ratchets, or None.
 
         Uncoupled contact satisfies Melan's theorem (Klarbring, Ciavarella and
         Barber 2007): the run shakes down if and only if a fixed traction
@@ -791,16 +793,6 @@ class CycleResult(PeriodVerdict):
             return None
         limit = float(np.sum(self.lowest_pressure)) / total * float(P[-1])
         return limit, limit
-
-    @property
-    def _melan_for_verdict(self):
-        """:attr:`melan_limit`, asked for only when a verdict read from the trend needs checking."""
-        return lambda: self.melan_limit
-
-    @property
-    def _verdict_load(self) -> float:
-        """The tangential load of the last period [``mu P``]."""
-        return float(self.Q[-1]) if self.Q.size else 0.0
 
     # ---- grid ------------------------------------------------------------
     @property
