@@ -635,7 +635,7 @@ FIGURES = {
     "states": dict(opts=dict(title="Element states over the run"),
                 caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,
                    layers=_states_layers, inputs=("units", "result", "frame")),
-    "displacement": dict(opts=dict(title="Cylinder displacement", **key_opts("bottom_right")),
+    "displacement": dict(opts=dict(title="Rigid-body displacement", **key_opts("bottom_right")),
                 caption="What you see: the body's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),

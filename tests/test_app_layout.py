@@ -340,7 +340,7 @@ def test_pinned_runs_overlay_the_figures_and_the_page_still_fits(browser, app_ur
     page.get_by_text("No run pinned").first.wait_for(timeout=20_000)
     page.wait_for_function(f"() => Object.keys(({pinned_points})()).length === 0", timeout=20_000)
     # for slides: a figure saves as SVG, named after the figure and the run
-    page.locator(".svg-figure select").first.select_option("Cylinder displacement")
+    page.locator(".svg-figure select").first.select_option("Rigid-body displacement")
     with page.expect_download(timeout=20_000) as download:
         page.get_by_text("Save as SVG", exact=True).first.click()
     assert download.value.suggested_filename == "shakedown_displacement_ft0.30_w0.70.svg"
