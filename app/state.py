@@ -100,14 +100,17 @@ class ExplorerState(param.Parameterized):
                                 "or 'plane' (plane strain; displacement defined up to a constant).")
     schedule = param.Selector(default="triangle", objects=["triangle", "sine"], label="Rocking waveform",
                               doc="Waveform of the rocking motion of the contact centre: 'triangle' (the paper's) or 'sine'.")
-    loading = param.Selector(default="rocking", objects=["rocking", "normal"], label="Loading (cylinder)",
-                             doc="Loading history of a cylinder: 'rocking' under constant loads (the paper's) or "
+    loading = param.Selector(default="rocking", objects=["rocking", "normal", "tangential"], label="Loading (cylinder)",
+                             doc="Loading history of a cylinder: 'rocking' under constant loads (the paper's), "
                                  "'normal': the same rocking under an oscillating normal force "
-                                 "Fn (1 + amplitude sin(2 pi t + phase)) (core.histories). Point contacts rock.")
+                                 "Fn (1 + amplitude sin(2 pi t + phase)), or 'tangential': a fixed centre under "
+                                 "Ft = mu Fn (ft + amplitude sin(2 pi t)), the fretting test (core.histories). "
+                                 "Point contacts rock.")
     amplitude = param.Number(0.2, bounds=(0.0, 1.0), inclusive_bounds=(True, False), softbounds=(0.0, 0.9),
-                             step=0.05, label="Normal-force amplitude ΔFn/Fn",
-                             doc="Amplitude of the oscillating normal force over its mean [-], in [0, 1); "
-                                 "used with loading = 'normal'.")
+                             step=0.05, label="Amplitude ΔFn/Fn or ΔFt/(μ Fn)",
+                             doc="Amplitude of the oscillating force over its mean [-], in [0, 1): of the normal "
+                                 "force over Fn with loading = 'normal', of the tangential force over mu Fn with "
+                                 "loading = 'tangential' (then |ft| + amplitude < 1, below gross sliding).")
     phase = param.Number(0.0, bounds=(-180.0, 180.0), softbounds=(-180.0, 180.0), step=15.0, label="Phase of Fn to the rocking [°]",
                          doc="Phase of the normal force's oscillation to the rocking [deg], in [-180, 180]; "
                              "used with loading = 'normal'.")
@@ -217,6 +220,8 @@ class ExplorerState(param.Parameterized):
             options["body"] = self.body_object()
         if self.loading == "normal":
             options.update(history="normal", amplitude=self.amplitude, phase=math.radians(self.phase))
+        elif self.loading == "tangential":
+            options.update(history="tangential", amplitude=self.amplitude)
         return options
 
     def values(self) -> dict:
