@@ -16,6 +16,8 @@ import numpy as np
 
 import core
 
+from . import bodies
+
 __all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
            "fmt", "count", "STRIP_KEYS"]
 
@@ -44,8 +46,13 @@ def body_name(body) -> str:
 
 def limit_name(body) -> str:
     """How the exact limit of ``body`` (a name or a body object) is cited."""
-    name = body_name(body)
-    return "eq 35" if name == "cylinder" else f"the {name}'s exact limit"
+    from core.registry import resolve
+
+    try:
+        citation = getattr(resolve(body), "limit_citation", None)
+    except ValueError:  # a body that needs inputs to be built (a height map's file)
+        citation = None
+    return citation or f"the {body_name(body)}'s exact limit"
 
 
 @functools.lru_cache(maxsize=4096)
@@ -62,7 +69,7 @@ def body_limits(ft: float, w: float, body) -> tuple[float, float]:
 def prediction(ft: float, w: float, body) -> tuple[str, str]:
     """The regime the exact limit of ``body`` (a name or a body object) predicts for ``ft``, ``w``, and how that
     limit is cited."""
-    if body_name(body) == "cylinder":
+    if bodies.has_closure(body):  # the paper's closed forms (eq 35)
         return str(core.classify_regime(ft, w)), limit_name(body)
     lim = body_limits(ft, w, body)[0]
     if not math.isfinite(lim):
@@ -154,7 +161,7 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
     """The rows of a line body's cards: inputs in physical units (the cylinder's Hertz scales), the closure's
     (the cylinder's only) and the solver's numbers, the exact limits and the margins (``wait``: why the solver's
     are not shown, or None). ``body``: the cylinder, or another line body (a name or an object)."""
-    if body_name(body) != "cylinder":
+    if not bodies.has_closure(body):
         return _line_rows(ft, w, mu, contact, result, wait, units, cycles, body)
     rows = []
     physical = units == "physical"
@@ -255,7 +262,7 @@ class CardsMixin:
         if state is None:
             return "cylinder"
         try:
-            return "cylinder" if state.body == "cylinder" else state.body_object()
+            return state.body if state.body == bodies.DEFAULT else state.body_object()
         except ValueError:
             return state.body
 
