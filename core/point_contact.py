@@ -414,6 +414,12 @@ class PointContact:
         """``mu Fn / (E* a)`` [m]."""
         return self.mu * self.Fn / (self.E_star * self.a)
 
+    @property
+    def energy_unit(self) -> float:
+        """``mu^2 Fn^2 / (E* a)`` [J], the unit of the energy dissipated per period
+        (:attr:`core.CycleResult.dissipation_per_period` of a point contact)."""
+        return self.mu * self.Fn * self.displacement_unit
+
     def replace(self, **changes) -> "PointContact":
         """A copy with some inputs changed, as :meth:`core.Contact.replace`: the normalised loads ``ft`` and
         ``w`` stay as they are unless ``ft``/``Ft`` or ``w``/``W`` is given (``ft`` and ``w`` may be given in
