@@ -200,7 +200,7 @@ def _segment_area(s):
     return (2.0 / np.pi) * (np.arccos(s) - s * np.sqrt(1.0 - s * s))
 
 
-def ft_limit(w, body="cylinder"):
+def ft_limit(w, body=None):
     """Exact shakedown limit of the tangential load (eq 35).
 
     As the shaken-down stick zone shrinks to nothing, the whole load is
@@ -212,9 +212,10 @@ def ft_limit(w, body="cylinder"):
     ----------
     w : array_like
         ``W / a`` in [0, 1].
-    body : str or body object
-        ``"cylinder"`` (eq 35); any other name or body object (``"sphere"``,
-        ``core.Punch(flat=0.5)``, ...): :func:`core.melan.ft_limit`.
+    body : str or body object, optional
+        None: the cylinder (eq 35); a registered name or a body object
+        (``"cylinder"``, ``"sphere"``, ``core.Punch(flat=0.5)``, ...): its own
+        limit, :func:`core.melan.ft_limit` (closed form where it has one).
 
     Returns
     -------
@@ -227,14 +228,14 @@ def ft_limit(w, body="cylinder"):
     >>> round(float(core.ft_limit(0.26)), 4)
     0.6727
     """
-    if not (isinstance(body, str) and body == "cylinder"):  # other bodies: Melan's integral, core/melan.py
+    if body is not None:  # a body given: its own limit (the registry's; Melan's integral), core/melan.py
         from .melan import ft_limit as melan_ft_limit
         return melan_ft_limit(w, body=body)
     w = _w(w, upper_closed=True)
     return _segment_area(w)
 
 
-def w_limit(ft, body="cylinder"):
+def w_limit(ft, body=None):
     """Exact inverse of :func:`ft_limit`: the largest amplitude that shakes down.
 
     Solved numerically (elementwise Chandrupatla root finding, to about
@@ -261,7 +262,7 @@ def w_limit(ft, body="cylinder"):
     >>> round(float(ft_limit(w_limit(0.3))), 12)
     0.3
     """
-    if not (isinstance(body, str) and body == "cylinder"):  # other bodies: Melan's integral, core/melan.py
+    if body is not None:  # a body given: its own limit (the registry's; Melan's integral), core/melan.py
         from .melan import w_limit as melan_w_limit
         return melan_w_limit(ft, body=body)
     ft = _ft(ft, upper_closed=True)

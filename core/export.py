@@ -10,8 +10,9 @@ Three tables describe a run:
   ``_mu2P2_Estar`` in mu^2 P^2/E* per unit length, a point contact's
   ``_mu2Fn2_Estar_a`` in mu^2 Fn^2/(E* a); with a contact also in J/m or J);
 * ``"final"``: one row per element (final traction, lowest pressure of the last
-  period, zone, and the paper's closure traction, eqs 22-30, beside the
-  numerical one); for a point contact, one row per element of the line
+  period, zone, and the body's closed-form shaken-down traction beside the
+  numerical one: the cylinder's closure, eqs 22-30, under the paper's rocking;
+  NaN for a body without one, such as the punch, or another history); for a point contact, one row per element of the line
   ``y = 0`` (both traction components and the state).
 
 Periods are numbered from ``first_period`` (0 by default; the loading is
@@ -35,7 +36,6 @@ import math
 import numpy as np
 import pandas as pd
 
-from .analytical import shakedown_traction
 from .contact import Contact
 from .point_contact import PointContact
 from .result import CycleResult
@@ -180,7 +180,11 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
         return df
     zones = result.final_zones
     ft, w = float(result.params.get("ft", math.nan)), float(result.params.get("w", math.nan))
-    closure = (shakedown_traction(result.x, ft, w) if math.isfinite(ft) and math.isfinite(w)
+    # the body's own closed form of the shaken-down traction (the cylinder's eqs 22-30), under the paper's rocking
+    # at constant loads only; NaN for a body without one (the punch) or another history
+    own = getattr(result.body, "shakedown_traction", None)
+    rocking = result.params.get("history", "rocking") == "rocking"
+    closure = (own(result.x, ft, w) if own is not None and rocking and math.isfinite(ft) and math.isfinite(w)
                else np.full(result.x.size, math.nan))
     df = pd.DataFrame({
         "x_a": result.x,
@@ -189,7 +193,7 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
         "zone": zones,
         "zone_name": np.asarray(ZONE_NAMES)[zones],
         "state": np.asarray(STATE_NAMES)[result.state[-1]],
-        "closure_traction_mu_p0": closure,  # the paper's shakedown traction (eqs 22-30); NaN past ft_lim
+        "closure_traction_mu_p0": closure,  # the body's closed-form shakedown traction; NaN past ft_lim or without one
     })
     if contact is not None:
         df["x_m"] = result.x * contact.a

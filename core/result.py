@@ -30,6 +30,10 @@ def read_only(arr: np.ndarray) -> np.ndarray:
 
 #: Margin [mu p0] below the traction bound that counts as sticking in the final state.
 STICK_MARGIN = 1e-7
+#: Traction [mu p0] below which an element whose lowest pressure is zero counts as carrying none
+#: (:attr:`CycleResult.final_zones`): 1 % of mu p0, above the patch solver's inexactness (a shaken-down
+#: sphere at dx = a/10 leaves up to 0.0025 there) and below what a figure of the traction can show.
+ZERO_TRACTION = 1e-2
 
 #: Half-width of the confidence interval of ``D_inf``, in standard errors: the verdict needs the whole
 #: interval ``D_inf +- VERDICT_SIGMAS * D_inf_error`` on one side of the shakedown tolerance.
@@ -1189,10 +1193,14 @@ class CycleResult(PeriodVerdict):
     # ---- the final state ---------------------------------------------------
     @cached_property
     def final_zones(self) -> np.ndarray:
-        """Zones of the final traction on the line (a patch: its cut) (:class:`core.states.Zone`): stick (below mu p_min), slip (at the bound), released (zero traction), none (never in contact).
+        """Zones of the final traction on the line (a patch: its cut) (:class:`core.states.Zone`): stick (below
+        mu p_min), slip (at or above mu p_min), released (zero traction), none (never in contact).
 
-        ``zero traction`` marks the elements that lost contact during the last
-        period (their lowest pressure is 0) and were in contact at some step.
+        The zones are those of the traction at the last step against the lowest pressure of the last period
+        (:attr:`lowest_pressure`), the same test as :attr:`stick_halfwidth`. ``zero traction`` marks the
+        elements that lose contact during the last period (their lowest pressure is 0), were in contact at
+        some step and carry no traction at the last step (below :data:`ZERO_TRACTION`); such an element that
+        still carries traction (a run that ratchets: it slips again every period) is in the slip zone.
         """
         if self.is_patch:
             bound = self.lowest_pressure[self.cut_row]
@@ -1200,10 +1208,11 @@ class CycleResult(PeriodVerdict):
             magnitude = np.hypot(q[0], q[1])
             ever = (self.state != State.RELEASED).any(axis=0)
         else:
-            bound, magnitude = self.lowest_pressure, self.traction[-1]
+            bound, magnitude = self.lowest_pressure, np.abs(self.traction[-1])
             ever = (self.pressure > 0).any(axis=0)
         stick = below_bound(magnitude, bound)
-        zones = np.where(stick, Zone.STICK, np.where(bound > 0, Zone.SLIP, np.where(ever, Zone.RELEASED, Zone.NONE)))
+        loaded = (bound > 0) | (magnitude > ZERO_TRACTION)
+        zones = np.where(stick, Zone.STICK, np.where(loaded, Zone.SLIP, np.where(ever, Zone.RELEASED, Zone.NONE)))
         return read_only(zones.astype(np.int8))
 
     @cached_property
