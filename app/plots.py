@@ -562,7 +562,7 @@ def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
         return np.array(fts), np.array(ws)
     for ft, group in table.sort_values(["ft", "w"]).groupby("ft", sort=True):
         w = group["w"].to_numpy(float)
-        ok = (group["regime"] == "shakedown").to_numpy()
+        ok = group["regime"].isin(("shakedown", "cyclic slip")).to_numpy()  # not ratcheting, as the limit search
         if ok.all() or not ok.any():
             continue
         k = int(np.argmin(ok))  # first grid w that did not shake down
