@@ -510,7 +510,7 @@ def classify_regime(ft, w):
     return str(names) if np.ndim(names) == 0 else names
 
 
-def fretting_energy(amplitude, body="cylinder", nu=0.5):
+def fretting_energy(amplitude, geometry="line", nu=0.5):
     """Energy dissipated per cycle by a contact under a constant normal load and an oscillating tangential one.
 
     Cattaneo-Mindlin partial slip with Masing's rule: the unloading branch from
@@ -519,11 +519,11 @@ def fretting_energy(amplitude, body="cylinder", nu=0.5):
     only, not on its mean. With ``f = Q/(mu P)`` between ``-A`` and ``A``
     (``A`` the amplitude) its area is ``E = 4 A d_m(A) - 8 int_0^A d_m``:
 
-    * cylinder (plane strain, per unit length), from the hysteretic part
+    * ``"line"``, a Hertz line contact (the cylinder; plane strain, per unit length), from the hysteretic part
       ``d_m(f) = (1/pi) (1 - f) ln(1 - f) mu P/E*`` of the monotone
       displacement: ``E = (2/pi) [1 - (1 - A)^2 + 2 (1 - A) ln(1 - A)]``
       ``mu^2 P^2/E*``;
-    * rigid sphere on a half-space of Poisson ratio ``nu`` (Mindlin and
+    * ``"circular"``, a Hertz circular contact (a rigid sphere) on a half-space of Poisson ratio ``nu`` (Mindlin and
       Deresiewicz, neglecting the transverse traction), from
       ``d_m(f) = 3 (2 - nu)/(8 (1 - nu)) [1 - (1 - f)^(2/3)] mu Fn/(E* a)``:
       ``E = 9 (2 - nu)/(5 (1 - nu)) [1 - (1 - A)^(5/3) - (5A/6) (1 + (1 - A)^(2/3))]``
@@ -533,10 +533,10 @@ def fretting_energy(amplitude, body="cylinder", nu=0.5):
     ----------
     amplitude : float or array_like
         ``A``: the amplitude of ``Q/(mu P)`` (a sphere: ``Q/(mu Fn)``), in [0, 1).
-    body : {"cylinder", "sphere"}
-        The contact.
+    geometry : {"line", "circular"}
+        The Hertz contact: a line (the cylinder) or a circle (the sphere).
     nu : float
-        The half-space's Poisson ratio (the sphere only), in [0, 0.5].
+        The half-space's Poisson ratio (the circular contact only), in [0, 0.5].
 
     Returns
     -------
@@ -551,19 +551,19 @@ def fretting_energy(amplitude, body="cylinder", nu=0.5):
     Examples
     --------
     >>> from core.analytical import fretting_energy
-    >>> round(float(fretting_energy(0.5)), 6), round(float(fretting_energy(0.35, "sphere")), 7)
+    >>> round(float(fretting_energy(0.5)), 6), round(float(fretting_energy(0.35, "circular")), 7)
     (0.036194, 0.0093676)
     """
     A = check_range("amplitude", amplitude, 0.0, 1.0, hi_closed=False)
-    if body == "cylinder":
+    if geometry == "line":
         s = 1.0 - A
         with np.errstate(divide="ignore", invalid="ignore"):
             log_term = np.where(s > 0, 2.0 * s * np.log(np.where(s > 0, s, 1.0)), 0.0)
         out = (2.0 / np.pi) * (1.0 - s * s + log_term)
-    elif body == "sphere":
+    elif geometry == "circular":
         nu = check_range("nu", nu, 0.0, 0.5)
         s = 1.0 - A
         out = 9.0 * (2.0 - nu) / (5.0 * (1.0 - nu)) * (1.0 - s ** (5.0 / 3.0) - (5.0 * A / 6.0) * (1.0 + s ** (2.0 / 3.0)))
     else:
-        raise ValueError(f"body must be 'cylinder' or 'sphere', got {body!r}")
+        raise ValueError(f"geometry must be 'line' or 'circular', got {geometry!r}")
     return out[()] if isinstance(out, np.ndarray) else out
