@@ -199,7 +199,7 @@ def _segment_area(s):
     return (2.0 / np.pi) * (np.arccos(s) - s * np.sqrt(1.0 - s * s))
 
 
-def ft_limit(w, body=None):
+def ft_limit(w):
     """Exact shakedown limit of the tangential load (eq 35).
 
     As the shaken-down stick zone shrinks to nothing, the whole load is
@@ -211,10 +211,9 @@ def ft_limit(w, body=None):
     ----------
     w : array_like
         ``W / a`` in [0, 1].
-    body : str or body object, optional
-        None: the cylinder (eq 35); a registered name or a body object
-        (``"cylinder"``, ``"sphere"``, ``core.Punch(flat=0.5)``, ...): its own
-        limit, :func:`core.melan.ft_limit` (closed form where it has one).
+
+    The cylinder's; any body's, by name or object: :func:`core.ft_limit`
+    (:func:`core.limits.ft_limit`).
 
     Returns
     -------
@@ -223,18 +222,14 @@ def ft_limit(w, body=None):
 
     Examples
     --------
-    >>> import core
-    >>> round(float(core.ft_limit(0.26)), 4)
+    >>> round(float(ft_limit(0.26)), 4)
     0.6727
     """
-    if body is not None:  # a body given: its own limit (the registry's; Melan's integral), core/melan.py
-        from .melan import ft_limit as melan_ft_limit
-        return melan_ft_limit(w, body=body)
     w = _w(w, upper_closed=True)
     return _segment_area(w)
 
 
-def w_limit(ft, body=None):
+def w_limit(ft):
     """Exact inverse of :func:`ft_limit`: the largest amplitude that shakes down.
 
     Solved numerically (elementwise Chandrupatla root finding, to about
@@ -244,8 +239,8 @@ def w_limit(ft, body=None):
     ----------
     ft : array_like
         ``Ft / (mu Fn)`` in [0, 1].
-    body : str or body object
-        As in :func:`ft_limit` (:func:`core.melan.w_limit`).
+
+    The cylinder's; any body's: :func:`core.w_limit` (:func:`core.limits.w_limit`).
 
     Returns
     -------
@@ -261,9 +256,6 @@ def w_limit(ft, body=None):
     >>> round(float(ft_limit(w_limit(0.3))), 12)
     0.3
     """
-    if body is not None:  # a body given: its own limit (the registry's; Melan's integral), core/melan.py
-        from .melan import w_limit as melan_w_limit
-        return melan_w_limit(ft, body=body)
     ft = _ft(ft, upper_closed=True)
     shape = ft.shape
     flat = ft.ravel()

@@ -202,7 +202,7 @@ def test_a_patch_runs_through_the_same_loop_with_its_period_repeated():
 def test_a_patch_run_can_be_cancelled_between_chunks():
     from core.result import SolveCancelled
     from core.schedule import rocking_schedule
-    from core.solver3d import solve_point_schedule
+    from core.point_runs import solve_point_schedule
     from core.point_contact import Ellipsoid
     with pytest.raises(SolveCancelled, match="cancelled after 10 of"):
         solve_point_schedule(rocking_schedule(0.3, 0.3, periods=4, dW=0.2), 0.2, Ellipsoid(1.0), chunk=10,
@@ -246,7 +246,8 @@ def test_the_patch_solver_can_be_named():
 
 def test_one_static_solve_for_a_line_and_a_patch():
     """core.solve_static dispatches on the bound's shape; shakedown_state on the body; the old names agree."""
-    from core.solver3d import _grid, _pressure, shakedown_state_3d, solve_static_3d
+    from core.patch import _grid, _pressure
+    from core.point_runs import shakedown_state_3d, solve_static_3d
     body = core.Ellipsoid(1.0)
     xe, ye = _grid(body, 1.0, 1.0, 0.1)
     p = _pressure(xe, ye, 0.0, body)
@@ -266,7 +267,7 @@ def test_one_static_result_for_a_line_and_a_patch():
     """solve_static, shakedown_state and mindlin_state return one type on either grid (the three former names are
     aliases of it), read-only, with the bound, states, edges and stick half-widths."""
     from core.solver import ShakedownState, StaticSolution
-    from core.solver3d import StaticResult3D
+    from core.point_runs import StaticResult3D
     assert core.StaticResult is StaticSolution is ShakedownState is StaticResult3D
     line = core.shakedown_state(0.3, 0.3, dx=1 / 20)
     patch = core.shakedown_state(0.3, 0.3, 0.1, body="sphere")
