@@ -126,7 +126,7 @@ SOURCE_PATTERN = re.compile(r"^(demo|upload-[0-9a-f]{16})$")
 MAX_UPLOAD_BYTES = 20 * 2**20
 #: Uploads kept in this process's memory (the oldest dropped first): nothing a browser sends touches the disk.
 MAX_UPLOADS = 16
-_UPLOADS: OrderedDict = OrderedDict()  # source name -> the file's bytes
+_UPLOADS: OrderedDict = OrderedDict()  # source name -> (the file's bytes, its name as the browser gave it)
 _READ: dict = {}  # source name -> its topography, read once
 
 
@@ -146,7 +146,7 @@ def store_upload(data: bytes, filename: str = "") -> str:
         raise ValueError(f"the uploaded file must be at most {MAX_UPLOAD_BYTES // 2**20} MB, got {len(data) / 2**20:.1f} MB")
     source = f"upload-{hashlib.sha1(bytes(data)).hexdigest()[:16]}"
     with _LOCK:
-        _UPLOADS[source] = bytes(data)
+        _UPLOADS[source] = (bytes(data), " ".join(str(filename).split())[:80])
         _UPLOADS.move_to_end(source)
         while len(_UPLOADS) > MAX_UPLOADS:
             _READ.pop(_UPLOADS.popitem(last=False)[0], None)
@@ -155,15 +155,22 @@ def store_upload(data: bytes, filename: str = "") -> str:
 
 def uploaded(source: str):
     """The topography of an uploaded ``source`` (``upload-<digest>``) on this server (read once from memory),
-    or None if there is none; a file SurfaceTopography cannot read raises its own error."""
+    or None if there is none.
+
+    Raises
+    ------
+    ValueError
+        For a file no reader understands (naming the readable formats) or one its reader cannot read, as
+        :func:`core.heightmap.read_topography` says it (the same words as the command line's).
+    """
+    from core.heightmap import read_topography
+
     with _LOCK:
-        data = _UPLOADS.get(source)
+        data, filename = _UPLOADS.get(source, (None, ""))
         done = _READ.get(source)
     if data is None or done is not None:
         return done
-    from SurfaceTopography import read_topography
-
-    topography = read_topography(io.BytesIO(data))
+    topography = read_topography(io.BytesIO(data), name=f"the uploaded file {filename}".strip())
     with _LOCK:
         return _READ.setdefault(source, topography)
 
@@ -269,6 +276,8 @@ def make(name: str, values: dict):
             source = str(value)
             try:
                 path = demo_file(name, p.name) if source == "demo" else uploaded(source)
+            except ValueError as e:  # a file no reader understands (the formats named) or cannot read
+                raise ValueError(f"body {name!r} cannot be built: {e}") from e
             except Exception as e:  # noqa: BLE001 - the reader's own errors name what it could not read
                 why = " ".join(str(e).split())[:300]
                 raise ValueError(f"body {name!r} cannot be built: its {p.name} {source!r} cannot be read: "

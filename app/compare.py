@@ -18,7 +18,7 @@ import param
 import core
 
 from . import bodies, panes
-from .cards import body_name, prediction
+from .cards import body_name, input_digits, prediction
 from .pinned import MAX_PINS, PIN_STYLES, Pin, label
 
 __all__ = ["MAX_PINS", "PIN_STYLES", "Pin", "Pins", "table_html"]
@@ -75,7 +75,7 @@ def table_html(pins) -> str:
         predicted, rule = prediction(i["ft"], i["w"], _spec(r))
         rows.append(
             f"<tr data-pin='{k + 1}'><td><span class='swatch' style='border-top: 4px {style} {color}'></span>"
-            f"{label(k)} <small>{html.escape(_body(r))}</small></td><td>{i['ft']:.2f}, {i['w']:.2f}</td>"
+            f"{label(k)} <small>{html.escape(_body(r))}</small></td><td>{', '.join(input_digits(i['ft'], i['w'], _spec(r)))}</td>"
             f"<td>{i['mu']:.2f}</td><td>{r.periods}</td><td><b>{html.escape(str(r.regime))}</b></td>"
             f"<td title='{html.escape(rule)}'>{html.escape(predicted)}</td>"
             f"<td>{_fmt(r.stick_halfwidth)}</td><td>{inc_text}</td></tr>")

@@ -16,6 +16,7 @@ import core
 from core.export import to_csv, to_json
 
 from . import bodies
+from .cards import input_digits
 
 __all__ = ["DownloadsMixin", "FIRST_PERIOD"]
 
@@ -58,7 +59,8 @@ class DownloadsMixin:
         r = self.result
         name = None if r is None else str(getattr(r.body, "name", r.body))  # a cylinder-kind run: its body's name
         body = "" if name in (None, bodies.DEFAULT) else f"_{name}"
-        tag = "" if r is None else "{}_ft{:.2f}_w{:.2f}_mu{:.2f}_{}p".format(
-            body, float(r.params.get("ft", 0)), float(r.params.get("w", 0)), self.state.mu, r.periods)
+        if r is not None:  # ft and w to the digits that keep them on their side of the limit (app.cards.on_side)
+            ft, w = input_digits(float(r.params.get("ft", 0)), float(r.params.get("w", 0)), r.body)
+        tag = "" if r is None else f"{body}_ft{ft}_w{w}_mu{self.state.mu:.2f}_{r.periods}p"
         self.csv_download.filename = f"shakedown_{self.csv_table.value}{tag}.csv"
         self.json_download.filename = f"shakedown_run{tag}.json"

@@ -118,18 +118,16 @@ class ExplorerState(param.Parameterized):
                            doc="Plot units: 'normalised' (x/a, p/p0, q/(μ p0), u in μP/E* or U/U0) "
                                "or 'physical' (mm, MPa, µm).")
 
-    # ---- slider values without float noise ----------------------------------
-    def _round(self, *_):
-        """Round the sliders' values to 1e-6 (a browser's slider steps give 0.44000000000000006, which the URL
-        would show); watches ft, w, mu and the bodies' numeric parameters."""
-        noisy = {k: round(v, 6) for k in _ROUNDED if isinstance(v := getattr(self, k), float) and v != round(v, 6)}
-        if noisy:
-            self.param.update(**noisy)
-
-    def __init__(self, **params):
-        super().__init__(**params)
-        self._round()
-        self.param.watch(self._round, list(_ROUNDED))
+    # ---- values without float noise ------------------------------------------
+    def __setattr__(self, name, value):
+        """Round ft, w, mu and the bodies' numeric parameters to 1e-6 as they are set, whoever sets them (a
+        browser's slider steps give 0.44000000000000006, a shared link may carry it): the state, the sliders
+        and the URL never hold the noise. Rounded here, before any watcher sees the value: a watcher that
+        rounded afterwards left the URL, which is written by a later watcher of the same event, with the
+        unrounded value."""
+        if name in _ROUNDED and isinstance(value, float) and math.isfinite(value):
+            value = round(value, 6)
+        super().__setattr__(name, value)
 
     # ---- derived ------------------------------------------------------------
     @property
@@ -280,7 +278,7 @@ PRESET_NOTES: dict[str, str] = {
 _BODY_INPUTS = bodies.state_parameters()
 for _name, _p in _BODY_INPUTS.items():
     ExplorerState.param.add_parameter(_name, _p)
-#: The inputs whose slider values are rounded (see :meth:`ExplorerState._round`).
+#: The inputs whose values are rounded to 1e-6 (see :meth:`ExplorerState.__setattr__`).
 _ROUNDED = ("ft", "w", "mu", *(n for n, p in _BODY_INPUTS.items() if isinstance(p, param.Number)))
 
 #: Parameters synced with the URL, each under its own name.

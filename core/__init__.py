@@ -35,7 +35,7 @@ def _load_locked():
         from .bodies import BODIES, Body, Cylinder, LineGrid, Punch, get_body, NORMAL_CHOICES  # noqa: F401
         from .normal import NormalSolution, solve_normal, solve_line, solve_patch  # noqa: F401
         from .melan import ft_limit_numerical  # noqa: F401
-        from .limits import ft_limit, w_limit  # noqa: F401 (any body's, by name or object: over analytical's eq 35)
+        from .limits import ft_limit, w_limit, fretting_energy  # noqa: F401 (any body's, by name or object: over analytical's eq 35)
         from .cone import Cone  # noqa: F401
         from .heightmap import HeightMap, HeightProfile  # noqa: F401
         from .result import CycleResult, LineResult, StaticResult, SolverError, SolveCancelled  # noqa: F401

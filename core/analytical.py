@@ -42,6 +42,8 @@ __all__ = [
     "shakedown_zones",
     "lowest_pressure",
     "classify_regime",
+    "fretting_energy_line",
+    "fretting_energy_sphere",
     "ZONE_NONE",
     "ZONE_STICK",
     "ZONE_SLIP",
@@ -499,3 +501,41 @@ def classify_regime(ft, w):
     code = np.where(ft >= 1.0, 2, np.where(ft <= _segment_area(w), 0, 1))
     names = np.asarray(REGIMES)[code]
     return str(names) if np.ndim(names) == 0 else names
+
+
+def fretting_energy_line(amplitude):
+    """Energy dissipated per cycle by a cylinder (plane strain, per unit length) under a constant normal load and an
+    oscillating tangential one: ``E = (2/pi) [1 - (1 - A)^2 + 2 (1 - A) ln(1 - A)]`` [mu^2 P^2/E*].
+
+    Any body's by name: :func:`core.fretting_energy` (the derivation there).
+
+    Examples
+    --------
+    >>> round(float(fretting_energy_line(0.5)), 6)
+    0.036194
+    """
+    A = check_range("amplitude", amplitude, 0.0, 1.0, hi_closed=False)
+    s = 1.0 - A
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_term = np.where(s > 0, 2.0 * s * np.log(np.where(s > 0, s, 1.0)), 0.0)
+    out = (2.0 / np.pi) * (1.0 - s * s + log_term)
+    return out[()] if isinstance(out, np.ndarray) else out
+
+
+def fretting_energy_sphere(amplitude, nu=0.5):
+    """Energy dissipated per cycle by a rigid sphere on a half-space of Poisson ratio ``nu`` under a constant normal
+    load and an oscillating tangential one (Mindlin and Deresiewicz, the transverse traction neglected):
+    ``E = 9 (2 - nu)/(5 (1 - nu)) [1 - (1 - A)^(5/3) - (5A/6) (1 + (1 - A)^(2/3))]`` [mu^2 Fn^2/(E* a)].
+
+    Any body's by name: :func:`core.fretting_energy` (the derivation there).
+
+    Examples
+    --------
+    >>> round(float(fretting_energy_sphere(0.35)), 7)
+    0.0093676
+    """
+    A = check_range("amplitude", amplitude, 0.0, 1.0, hi_closed=False)
+    nu = check_range("nu", nu, 0.0, 0.5)
+    s = 1.0 - A
+    out = 9.0 * (2.0 - nu) / (5.0 * (1.0 - nu)) * (1.0 - s ** (5.0 / 3.0) - (5.0 * A / 6.0) * (1.0 + s ** (2.0 / 3.0)))
+    return out[()] if isinstance(out, np.ndarray) else out

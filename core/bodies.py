@@ -611,6 +611,12 @@ class Cylinder(Body):
         """The inverse of eq 35 (:func:`core.analytical.w_limit`)."""
         return analytical.w_limit(ft)
 
+    @staticmethod
+    def fretting_energy(amplitude, nu=0.5):
+        """Energy dissipated per cycle of an oscillating tangential load of amplitude ``amplitude`` [mu P]
+        (:func:`core.analytical.fretting_energy_line`; plane strain: ``nu`` plays no part)."""
+        return analytical.fretting_energy_line(amplitude)
+
     cattaneo_stick_halfwidth = staticmethod(analytical.cattaneo_stick_halfwidth)  # eq 7
     cattaneo_traction = staticmethod(analytical.cattaneo_traction)        # eqs 8-12
     shakedown_stick_halfwidth = staticmethod(analytical.shakedown_stick_halfwidth)  # eq 30

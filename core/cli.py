@@ -611,6 +611,19 @@ def _trend_rows(s: dict, unit: str) -> list[tuple[str, str]]:
     return rows
 
 
+def _energy_rows(s: dict, contact) -> list[tuple[str, str]]:
+    """The rows of the energy dissipated per period: the last period's, its limit E_inf with its error, and with
+    a contact the last period's in J/m (a line) or J (a point contact)."""
+    unit, E, err = s["energy_unit"], s["E_inf"], s["E_inf_error"]
+    rows = [("energy, last period", _fmt(s["energy_last_period"], unit))]
+    if contact is not None:
+        si = "J" if unit.endswith("(E* a)") else "J/m"
+        rows.append(("  in SI units", _fmt(s["energy_last_period"] * contact.energy_unit, si)))
+    rows.append(("  E_inf (limit energy)", "- (too few periods to fit the trend)" if E is None or math.isnan(E)
+                 else f"{E:.4g} +- {err:.2g} {unit}"))
+    return rows
+
+
 def _cmd_run(args) -> int:
     import pandas as pd
 
@@ -645,6 +658,7 @@ def _cmd_run(args) -> int:
         *_trend_rows(s, unit_u),
         ("increment, last period", _fmt(s["increment_last_period"], unit_u)),
         ("increment, first period", _fmt(float(inc[0]) if inc.size else None, unit_u)),
+        *_energy_rows(s, contact),
         *([("twist, last period", _fmt(s["twist_last_period"], "mu Fn/(E* a^2) rad"))]
           if "twist_last_period" in s else []),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),

@@ -209,6 +209,12 @@ class Contact:
         return self.mu * self.P / self.E_star
 
     @property
+    def energy_unit(self) -> float:
+        """``mu^2 P^2 / E*`` [J/m], the unit of the energy dissipated per period per unit length
+        (:attr:`core.CycleResult.dissipation_per_period` of a line contact)."""
+        return self.mu * self.P * self.displacement_unit
+
+    @property
     def traction_unit(self) -> float:
         """``mu p0`` [Pa], the unit of normalised tractions."""
         return self.mu * self.p0
@@ -441,6 +447,12 @@ class PointContact:
     def displacement_unit(self) -> float:
         """``mu Fn / (E* a)`` [m]."""
         return self.mu * self.Fn / (self.E_star * self.a)
+
+    @property
+    def energy_unit(self) -> float:
+        """``mu^2 Fn^2 / (E* a)`` [J], the unit of the energy dissipated per period
+        (:attr:`core.CycleResult.dissipation_per_period` of a point contact)."""
+        return self.mu * self.Fn * self.displacement_unit
 
     def replace(self, **changes) -> "PointContact":
         """A copy with some inputs changed, as :meth:`core.Contact.replace`: the normalised loads ``ft`` and

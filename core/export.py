@@ -5,7 +5,10 @@ Three tables describe a run:
 
 * ``"steps"``: one row per step (period, contact centre, rigid-body
   displacement, ``U/U0`` for the strip kernel, dissipation);
-* ``"periods"``: one row per rocking period (its displacement increment);
+* ``"periods"``: one row per rocking period (its displacement increment and the
+  energy dissipated by friction in it, ``CycleResult.dissipation_per_period``:
+  ``_mu2P2_Estar`` in mu^2 P^2/E* per unit length, a point contact's
+  ``_mu2Fn2_Estar_a`` in mu^2 Fn^2/(E* a); with a contact also in J/m or J);
 * ``"final"``: one row per element (final traction, lowest pressure of the last
   period, zone, and the body's closed-form shaken-down traction beside the
   numerical one: the cylinder's closure, eqs 22-30, under the paper's rocking;
@@ -103,7 +106,9 @@ def parameters(result: CycleResult, contact: Contact | None = None) -> dict:
     if contact is not None:
         out.update({f"contact_{k}": v for k, v in _contact_summary(contact).items()})
         unit = "muFn_Estar_a_m" if result.is_patch else "muP_Estar_m"
-        out.update({"a_m": contact.a, "mu_p0_Pa": contact.traction_unit, unit: contact.displacement_unit})
+        energy = "mu2Fn2_Estar_a_J" if result.is_patch else "mu2P2_Estar_J_per_m"
+        out.update({"a_m": contact.a, "mu_p0_Pa": contact.traction_unit, unit: contact.displacement_unit,
+                    energy: contact.energy_unit})
     return {k: (v.item() if isinstance(v, np.generic) else v) for k, v in out.items()}
 
 
@@ -137,7 +142,7 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
     >>> from core.export import result_table
     >>> r = core.simulate_cycles(0.2, 0.3, periods=2)
     >>> list(result_table(r, "periods").columns)
-    ['period', 'increment_muP_Estar']
+    ['period', 'increment_muP_Estar', 'energy_mu2P2_Estar']
     >>> list(result_table(r, "periods", first_period=1)["period"])
     [1, 2]
     """
@@ -163,11 +168,14 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
         return df
     if table == "periods":
         inc = result.increment_per_period
+        energy = result.dissipation_per_period
         df = pd.DataFrame({"period": np.arange(inc.size) + first_period, "increment_muP_Estar": inc})
         if result.u0 is not None:
             df["increment_U_over_U0"] = inc / result.u0
+        df["energy_mu2P2_Estar"] = energy
         if contact is not None:
             df["increment_m"] = inc * u_unit
+            df["energy_J_per_m"] = energy * contact.energy_unit
         return df
     zones = result.final_zones
     ft, w = float(result.params.get("ft", math.nan)), float(result.params.get("w", math.nan))
@@ -212,9 +220,12 @@ def _point_table(result: CycleResult, table: str, contact, first_period: int) ->
         return df
     if table == "periods":
         inc = result.increment_per_period
-        df = pd.DataFrame({"period": np.arange(inc.size) + first_period, "increment_muFn_Estar_a": inc})
+        energy = result.dissipation_per_period
+        df = pd.DataFrame({"period": np.arange(inc.size) + first_period, "increment_muFn_Estar_a": inc,
+                           "energy_mu2Fn2_Estar_a": energy})
         if contact is not None:
             df["increment_m"] = inc * u_unit
+            df["energy_J"] = energy * contact.energy_unit
         return df
     q, state = result.traction_cut[-1], result.state_cut[-1].astype(int)
     df = pd.DataFrame({

@@ -46,7 +46,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
 from ._validate import check_range, check_scalar
-from .analytical import _ellipse_primitive
+from .analytical import _ellipse_primitive, fretting_energy_sphere
 
 __all__ = ["Ellipsoid", "Sphere", "POINT_BODIES", "axis_ratio", "ft_limit_point",
            "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d", "PointContact"]
@@ -102,6 +102,19 @@ class Ellipsoid:
     def w_limit(ft):
         """Its inverse (:func:`w_limit_point`)."""
         return w_limit_point(ft)
+
+    def fretting_energy(self, amplitude, nu=0.5):
+        """The sphere's energy dissipated per cycle of an oscillating tangential load (Mindlin and Deresiewicz,
+        :func:`core.analytical.fretting_energy_sphere`); an ellipsoid has no closed form here.
+
+        Raises
+        ------
+        ValueError
+            For an ellipsoid (``ratio != 1``).
+        """
+        if self.ratio != 1.0:
+            raise ValueError(f"body {self!r} (an ellipsoid) has no closed-form fretting loop: only the sphere has")
+        return fretting_energy_sphere(amplitude, nu)
 
     def pressure(self, x, y, xc=0.0):
         """Hertz's pressure [p0] at ``(x, y)`` [a] with the centre at ``(xc, 0)`` (:func:`hertz_pressure_3d`)."""
