@@ -98,17 +98,17 @@ def on_side(x: float, ref: float, decimals: int = 2) -> str:
     return f"{x:.{d}f}"
 
 
-def input_digits(ft: float, w: float, body=bodies.DEFAULT) -> tuple[str, str]:
+def input_digits(ft: float, w: float, body="cylinder") -> tuple[str, str]:
     """``ft`` and ``w`` as text, each to enough digits to stay on its side of the exact limit of ``body``: ft
     against ft_lim(w), w against w_lim(ft) (:func:`on_side`)."""
-    if bodies.has_closure(body):
+    if bodies.has_closure(body):  # the paper's closed forms (eq 35)
         _, ft_lim, w_lim = _closure(ft, w)
     else:
         ft_lim, w_lim = body_limits(ft, w, body)
     return on_side(ft, ft_lim), on_side(w, w_lim)
 
 
-def inputs_text(ft: float, w: float, body=bodies.DEFAULT) -> str:
+def inputs_text(ft: float, w: float, body="cylinder") -> str:
     """"ft = …, w = …" for a note (:func:`input_digits`)."""
     ft_text, w_text = input_digits(ft, w, body)
     return f"ft = {ft_text}, w = {w_text}"

@@ -8,7 +8,7 @@ import pytest
 import core
 from core import histories
 from core.result import classify_energy, combine_verdicts, classify_increments
-from core.solver3d import solve_point_schedule
+from core.point_runs import solve_point_schedule
 
 
 @pytest.fixture(scope="module")
@@ -118,7 +118,7 @@ def test_the_sphere_against_mindlin_deresiewicz(A):
     """Mindlin neglects the transverse traction: a few per cent (measured at A = 0.35 and 0.6: +0.73 % and -0.84 %
     at a/10, -1.59 % and -1.80 % at a/20; loop areas within 2.2 %; at A = 0.2, a/10 is 5.3 % off: the slip annulus
     is a tenth of a wide)."""
-    exact = float(core.fretting_energy(A, "circular"))
+    exact = float(core.fretting_energy(A, "sphere"))
     for dx in (0.1, 0.05):
         r = solve_point_schedule(histories.tangential(0.0, A, periods=4), dx, core.Sphere(), nu=0.5)
         assert r.energy_unit == "mu^2 Fn^2/(E* a)"
@@ -143,13 +143,13 @@ def test_energy_rule_on_sequences():
 
 
 def test_fretting_energy_validates_and_is_zero_without_amplitude():
-    assert core.fretting_energy(0.0) == 0.0 and core.fretting_energy(0.0, "circular") == pytest.approx(0.0, abs=1e-15)
+    assert core.fretting_energy(0.0) == 0.0 and core.fretting_energy(0.0, "sphere") == pytest.approx(0.0, abs=1e-15)
     with pytest.raises(ValueError, match="amplitude"):
         core.fretting_energy(1.0)
-    with pytest.raises(ValueError, match="geometry"):
+    with pytest.raises(ValueError, match="body"):
         core.fretting_energy(0.5, "cone")
     with pytest.raises(ValueError, match="nu"):
-        core.fretting_energy(0.5, "circular", nu=0.6)
+        core.fretting_energy(0.5, "sphere", nu=0.6)
 
 
 def test_the_energy_is_in_the_tables_and_in_physical_units(fretting):
