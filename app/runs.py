@@ -45,7 +45,7 @@ from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WO
 
 __all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "run_key", "runner", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
-           "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend"]
+           "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend", "warming_seconds"]
 
 log = logging.getLogger(__name__)
 
@@ -172,9 +172,10 @@ def _compute(contact, options, cancel=None, time_budget=SOLVE_BUDGET_S):
     return result
 
 
-#: The warm-up runs: one small run per kernel loads (or compiles) all the solver's numba code.
+#: The warm-up runs: one small run per kernel loads (or compiles) all the solver's numba code. The explorer's
+#: first page (the strip kernel, app.state) first: a visitor's first run waits for no other body's compiling.
 _WARM_RUNS = (*(functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, kernel=kernel,
-                                  L_over_a=10.0 if kernel == "strip" else None) for kernel in ("plane", "strip")),
+                                  L_over_a=10.0 if kernel == "strip" else None) for kernel in ("strip", "plane")),
               # the point contacts' compiled 3D loop (about a minute to compile cold): warmed before the server
               # says it is ready, so the first sphere visitor does not freeze the server while numba compiles
               functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, body="sphere"))
@@ -441,6 +442,7 @@ def submit(contact: core.Contact, options: dict, cancel=None, owner=None) -> Fut
 # ---------------------------------------------------------------------- warm-up and readiness
 _READY = threading.Event()
 _STATE = {"stage": "not started", "error": None, "seconds": None}
+_STARTED: list = []  # time.monotonic() when the warm-up started
 _READY_CALLBACKS: list = []
 _WARM_LOCK = threading.Lock()
 
@@ -480,6 +482,7 @@ def start_warm_up(also=()) -> None:
         if _STATE["stage"] != "not started":
             return
         _STATE["stage"] = "starting"
+        _STARTED.append(time.monotonic())
     threading.Thread(target=_warm_up, args=(tuple(also),), name="solver-warm-up", daemon=True).start()
 
 
@@ -495,6 +498,11 @@ def on_ready(fn) -> None:
             _READY_CALLBACKS.append(fn)
             return
     fn()
+
+
+def warming_seconds() -> float | None:
+    """Seconds since the warm-up started, while the solver is not ready yet (None once it is, or before)."""
+    return None if _READY.is_set() or not _STARTED else time.monotonic() - _STARTED[0]
 
 
 def readiness() -> dict:

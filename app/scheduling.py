@@ -19,7 +19,7 @@ from panel.io.state import set_curdoc
 import core
 from core.convergence import increment_error
 
-from . import bodies
+from . import bodies, runs
 from .runs import RESULTS, run_key, solve, submit
 
 __all__ = ["SolveMixin", "SPINNER_DELAY_MS"]
@@ -176,6 +176,30 @@ class SolveMixin:
 
     def _show_spinner(self, *_):
         """Show the spinner while this session's solve runs (watches ``solving``)."""
-        self.spinner.param.update(value=self.solving, visible=self.solving)
-        self.status.param.update(object="solving…" if self.solving else "", visible=self.solving)
+        compiling = self._compiling_line()
+        busy = self.solving or compiling is not None
+        self.spinner.param.update(value=busy, visible=busy)
+        self.status.param.update(object=compiling or ("solving…" if self.solving else ""), visible=busy)
+
+    def _compiling_line(self) -> str | None:
+        """``compiling the solver (first start only), N s`` while the server's solver is not ready and this
+        session has no run yet (else None)."""
+        seconds = runs.warming_seconds()
+        if seconds is None or self.result is not None or self.error:
+            return None
+        return f"compiling the solver (first start only), {seconds:.0f} s"
+
+    def _follow_compiling(self) -> None:
+        """Show :meth:`_compiling_line` now and count its seconds up, once a second, until this session's first
+        run arrives (or its inputs turn out invalid)."""
+        self._show_spinner()
+        doc = self._doc
+        holder = {}
+
+        def tick():
+            self._show_spinner()
+            if self._compiling_line() is None and "callback" in holder:
+                doc.remove_periodic_callback(holder.pop("callback"))
+
+        holder["callback"] = doc.add_periodic_callback(tick, 1000)
 
