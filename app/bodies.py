@@ -35,7 +35,7 @@ from collections import OrderedDict
 import numpy as np
 import param
 
-__all__ = ["BODIES", "kind", "entry", "parameters", "state_name", "make", "runs_cycles", "own_grid", "is_ellipsoid",
+__all__ = ["BODIES", "DEFAULT", "has_closure", "shown_parameters", "kind", "entry", "parameters", "state_name", "make", "runs_cycles", "own_grid", "is_ellipsoid",
            "DEMO_FILES", "demo_heights", "wide", "demo_file", "store_upload", "uploaded", "SOURCE_PATTERN", "limit_curve",
            "note"]
 
@@ -47,6 +47,28 @@ def _registry() -> dict:
 
 #: The body selector's options: the registry's bodies, in its order (the cylinder, the paper's, first).
 BODIES: tuple[str, ...] = tuple(_registry())
+#: The default body: the registry's first (the paper's). The page describes it already and a run of it
+#: carries no body option.
+DEFAULT: str = BODIES[0]
+
+
+def has_closure(body) -> bool:
+    """Whether ``body`` (a name or a body object) has the closed-form shaken-down state the cards show beside the
+    solver's (stick half-width eq 30, limit eq 35): the registry's body tells (``shakedown_stick_halfwidth``)."""
+    from core.registry import resolve
+
+    try:
+        spec = resolve(body)
+    except ValueError:  # a body that needs inputs to be built (a height map's file): it has none
+        return False
+    return getattr(spec, "shakedown_stick_halfwidth", None) is not None
+
+
+def shown_parameters(name: str, spec) -> dict:
+    """The parameters of body object ``spec`` that its registry entry ``name`` declares (the sphere's ratio of 1
+    is no parameter of the sphere's)."""
+    own = {p.name for p in parameters(name)} if name in BODIES else set(getattr(spec, "parameters", {}))
+    return {k: v for k, v in dict(getattr(spec, "parameters", {})).items() if k in own}
 
 
 def entry(name: str):
