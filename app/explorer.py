@@ -100,15 +100,15 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self.param.watch(self._redraw, list(FIGURE_INPUTS.values()))
         self._update_contact()
         served = self._doc is not None and self._doc.session_context is not None
-        if served and (self.state.point or not runs.ready()):
-            # a point contact's run takes seconds, and the first run of a fresh install waits for numba to compile
-            # the solver (a minute or more): off the event loop once the page is shown (updates sent before the
-            # browser has built the page could be lost); until then the badge says 'solving' and, while the
-            # solver compiles, the status line says so with the seconds spent (the sliders, the sketch, the exact
-            # limits and the closure curves need no solver: the page is usable at once)
+        if served and (self.state.point or not runs.warmed(self._solver_group())):
+            # a point contact's run takes seconds, and the first run of a fresh install waits for the server's
+            # warm-up to compile the solver (a minute or more): off the event loop once the page is shown
+            # (updates sent before the browser has built the page could be lost); until then the badge says
+            # 'solving' and, while the solver compiles, the status line says so with the seconds spent (the
+            # sliders, the sketch, the exact limits and the closure curves need no solver: the page works at once)
             self.pending = True
             pn.state.onload(self._request_solve)
-            if not runs.ready():
+            if self._compiling_line() is not None:
                 self._follow_compiling()
         else:
             self.solve_now()  # the first run is in the page as it is first sent: no update before the browser connects

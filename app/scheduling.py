@@ -84,6 +84,21 @@ class SolveMixin:
             # cached, or headless (tests, notebooks without a server): solve here
             self._finish(token, contact, options, cached)
             return
+        group = self._solver_group()
+        if not runs.warmed(group):
+            # the server's warm-up still compiles this grid's solver (a fresh install): the solve is asked for
+            # once it is ready, so that it neither compiles a second time beside it nor runs out of its time
+            # budget while compiling; meanwhile the page works without it (the analytical layers)
+            self.pending = True
+            if not getattr(self, "_awaiting_solver", False):
+                self._awaiting_solver = True
+
+                def ask():
+                    self._awaiting_solver = False
+                    self._request_solve()
+
+                runs.on_warm(group, lambda: self._in_session(ask))
+            return
 
         self.pending = True  # every card and the badge say so at once: no old verdict beside new inputs
 
@@ -181,11 +196,15 @@ class SolveMixin:
         self.spinner.param.update(value=busy, visible=busy)
         self.status.param.update(object=compiling or ("solving…" if self.solving else ""), visible=busy)
 
+    def _solver_group(self) -> str:
+        """Which of the server's warm-up groups (:func:`app.runs.on_warm`) solves the current inputs."""
+        return "point" if self.state.point else "line"
+
     def _compiling_line(self) -> str | None:
-        """``compiling the solver (first start only), N s`` while the server's solver is not ready and this
-        session has no run yet (else None)."""
+        """``compiling the solver (first start only), N s`` while the server's warm-up still compiles the solver
+        of the current inputs and this session has no run yet (else None)."""
         seconds = runs.warming_seconds()
-        if seconds is None or self.result is not None or self.error:
+        if seconds is None or self.result is not None or self.error or runs.warmed(self._solver_group()):
             return None
         return f"compiling the solver (first start only), {seconds:.0f} s"
 
