@@ -16,8 +16,10 @@ import numpy as np
 
 import core
 
+from . import bodies
+
 __all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
-           "fmt", "count", "STRIP_KEYS"]
+           "fmt", "count", "STRIP_KEYS", "on_side", "input_digits", "inputs_text"]
 
 #: The rows of the cards shown in the strip, in its order, with their short names there (the first row of each
 #: group that is present).
@@ -44,8 +46,13 @@ def body_name(body) -> str:
 
 def limit_name(body) -> str:
     """How the exact limit of ``body`` (a name or a body object) is cited."""
-    name = body_name(body)
-    return "eq 35" if name == "cylinder" else f"the {name}'s exact limit"
+    from core.registry import resolve
+
+    try:
+        citation = getattr(resolve(body), "limit_citation", None)
+    except ValueError:  # a body that needs inputs to be built (a height map's file)
+        citation = None
+    return citation or f"the {body_name(body)}'s exact limit"
 
 
 @functools.lru_cache(maxsize=4096)
@@ -62,7 +69,7 @@ def body_limits(ft: float, w: float, body) -> tuple[float, float]:
 def prediction(ft: float, w: float, body) -> tuple[str, str]:
     """The regime the exact limit of ``body`` (a name or a body object) predicts for ``ft``, ``w``, and how that
     limit is cited."""
-    if body_name(body) == "cylinder":
+    if bodies.has_closure(body):  # the paper's closed forms (eq 35)
         return str(core.classify_regime(ft, w)), limit_name(body)
     lim = body_limits(ft, w, body)[0]
     if not math.isfinite(lim):
@@ -75,6 +82,36 @@ def fmt(v, unit="", digits=4) -> str:
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return "–"
     return f"{v:.{digits}g}{(' ' + unit) if unit else ''}"
+
+
+def on_side(x: float, ref: float, decimals: int = 2) -> str:
+    """``x`` with at least ``decimals`` decimals, and as many more (up to 6: the inputs are held to 1e-6) as it
+    takes for the printed value to stay on ``x``'s side of ``ref`` (ft = 0.206 against ft_lim = 0.2084 prints
+    0.206, not 0.21: a rounded number must not cross a limit)."""
+    x, ref = float(x), float(ref)
+    if not (math.isfinite(x) and math.isfinite(ref)) or x == ref:
+        return f"{x:.{decimals}f}"
+    for d in range(decimals, 7):
+        printed = round(x, d)
+        if (printed - ref) * (x - ref) > 0:
+            break
+    return f"{x:.{d}f}"
+
+
+def input_digits(ft: float, w: float, body="cylinder") -> tuple[str, str]:
+    """``ft`` and ``w`` as text, each to enough digits to stay on its side of the exact limit of ``body``: ft
+    against ft_lim(w), w against w_lim(ft) (:func:`on_side`)."""
+    if body_name(body) == "cylinder":
+        _, ft_lim, w_lim = _closure(ft, w)
+    else:
+        ft_lim, w_lim = body_limits(ft, w, body)
+    return on_side(ft, ft_lim), on_side(w, w_lim)
+
+
+def inputs_text(ft: float, w: float, body="cylinder") -> str:
+    """"ft = …, w = …" for a note (:func:`input_digits`)."""
+    ft_text, w_text = input_digits(ft, w, body)
+    return f"ft = {ft_text}, w = {w_text}"
 
 
 def count(n: int) -> str:
@@ -101,10 +138,9 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
                  ("p0 (peak pressure)", fmt(c.p0 / 1e6, "MPa")), ("ν of the half-space kernel", fmt(c.nu, "", 3))]
     lim, wlim = body_limits(ft, w, body)
     name = body_name(body)
-    rows += [(f"ft_lim(w), {name} (exact)", fmt(lim)), (f"w_lim(ft), {name} (exact)", fmt(wlim)),
-             ("ft_lim(w), cylinder (eq 35)", fmt(float(core.ft_limit(w)))),
-             ("margin ft / ft_lim", fmt(ft / lim, "", 3) if lim > 0 else "–"),
-             ("margin w / w_lim", fmt(w / wlim, "", 3) if wlim > 0 else "–")]
+    rows += [(f"ft_lim(w), {name} (exact)", _limit(lim, ft)), (f"w_lim(ft), {name} (exact)", _limit(wlim, w)),
+             ("ft_lim(w), cylinder (eq 35)", _limit(float(core.ft_limit(w)), ft)),
+             ("margin ft / ft_lim", _margin(ft, lim)), ("margin w / w_lim", _margin(w, wlim))]
     if wait:
         rows += [("c_sd numerical (y = 0)", wait), ("Δu last period", wait), ("solve", wait)]
         return rows
@@ -126,6 +162,16 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
     rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{1 / result.dx:.3g}), "
                           f"{result.xc.size} steps"))
     return rows
+
+
+def _margin(x: float, limit: float) -> str:
+    """The margin ``x / limit`` of a card, on its side of 1 (:func:`on_side`); '–' without a positive limit."""
+    return on_side(x / limit, 1.0, 3) if limit > 0 and math.isfinite(limit) else "–"
+
+
+def _limit(limit: float, x: float) -> str:
+    """A limit on a card (4 decimals), on its side of the input ``x`` it is the limit of (:func:`on_side`)."""
+    return on_side(limit, x, 4) if math.isfinite(limit) else "–"
 
 
 def grid_limit_row(result) -> tuple[str, str]:
@@ -154,7 +200,7 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
     """The rows of a line body's cards: inputs in physical units (the cylinder's Hertz scales), the closure's
     (the cylinder's only) and the solver's numbers, the exact limits and the margins (``wait``: why the solver's
     are not shown, or None). ``body``: the cylinder, or another line body (a name or an object)."""
-    if body_name(body) != "cylinder":
+    if not bodies.has_closure(body):
         return _line_rows(ft, w, mu, contact, result, wait, units, cycles, body)
     rows = []
     physical = units == "physical"
@@ -170,8 +216,8 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
     scale, unit = (c.a * 1e3, "mm") if (physical and c is not None) else (1.0, "a")
     rows += [("c_sd closure (eq 30)", fmt(csd * scale, unit, 3) if math.isfinite(csd) else "none (ft > ft_lim)"),
              ("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
-             ("ft_lim(w) (eq 35)", fmt(ft_lim, "", 4)),
-             ("w_lim(ft) (eq 35)", fmt(w_lim, "", 4))]
+             ("ft_lim(w) (eq 35)", _limit(ft_lim, ft)),
+             ("w_lim(ft) (eq 35)", _limit(w_lim, w))]
     return rows + _line_tail(ft, w, ft_lim, w_lim, result, wait, c if physical else None, cycles)
 
 
@@ -188,16 +234,15 @@ def _line_rows(ft, w, mu, contact, result, wait, units, cycles, body) -> list:
     physical = units == "physical" and c is not None
     scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
     rows += [("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
-             (f"ft_lim(w), {name} (exact)", fmt(lim)), (f"w_lim(ft), {name} (exact)", fmt(wlim)),
-             ("ft_lim(w), cylinder (eq 35)", fmt(float(core.ft_limit(w))))]
+             (f"ft_lim(w), {name} (exact)", _limit(lim, ft)), (f"w_lim(ft), {name} (exact)", _limit(wlim, w)),
+             ("ft_lim(w), cylinder (eq 35)", _limit(float(core.ft_limit(w)), ft))]
     return rows + _line_tail(ft, w, lim, wlim, result, wait, c if physical else None, cycles)
 
 
 def _line_tail(ft, w, ft_lim, w_lim, result, wait, physical_contact, cycles) -> list:
     """The rows every line body's cards end with: the margins to its limits, the creep of the last period (in
     physical units when ``physical_contact`` is the contact, else in U0 or mu P/E*) and the solve."""
-    rows = [("margin ft / ft_lim", fmt(ft / ft_lim, "", 3) if ft_lim > 0 else "–"),
-            ("margin w / w_lim", fmt(w / w_lim, "", 3) if w_lim > 0 else "–")]
+    rows = [("margin ft / ft_lim", _margin(ft, ft_lim)), ("margin w / w_lim", _margin(w, w_lim))]
     if wait:
         return rows + [("Δu last period", wait), ("solve", wait)]
     inc = float(result.increment_per_period[-1])
@@ -255,16 +300,17 @@ class CardsMixin:
         if state is None:
             return "cylinder"
         try:
-            return "cylinder" if state.body == "cylinder" else state.body_object()
+            return state.body if state.body == bodies.DEFAULT else state.body_object()
         except ValueError:
             return state.body
 
     def _badge(self, ft, w, result, error, pending=False):
-        predicted, rule = prediction(ft, w, CardsMixin._body_spec(self))  # self may be the class (headless tests)
+        spec = CardsMixin._body_spec(self)  # self may be the class (headless tests)
+        predicted, rule = prediction(ft, w, spec)
         if error.startswith("limit only"):  # a body whose cycles the explorer cannot run yet: its limit only
             return ('<span class="regime-badge regime-none" data-regime="limit-only">LIMIT ONLY</span>'
                     f'<div class="regime-note">{html.escape(rule)} predicts {html.escape(predicted)} for '
-                    f'ft = {ft:.2f}, w = {w:.2f}<br>{html.escape(error)}</div>')
+                    f'{inputs_text(ft, w, spec)}<br>{html.escape(error)}</div>')
         if error:
             return ('<span class="regime-badge regime-none" data-regime="invalid">INVALID INPUT</span>'
                     f'<div class="regime-note">{html.escape(error)}</div>')
@@ -272,7 +318,7 @@ class CardsMixin:
         if pending or not self._shows(result, ft, w, point):
             what = "SOLVING…" if pending or result is None else "RELEASE TO SOLVE"
             return (f'<span class="regime-badge regime-none" data-regime="pending">{what}</span>'
-                    f'<div class="regime-note">{rule} predicts {predicted} for ft = {ft:.2f}, w = {w:.2f}</div>')
+                    f'<div class="regime-note">{rule} predicts {predicted} for {inputs_text(ft, w, spec)}</div>')
         regime = str(result.regime)
         note = f"solver, {result.periods} periods"
         if result.shakedown_period is not None:
@@ -281,7 +327,7 @@ class CardsMixin:
             note += f" <details class='why'><summary>why undetermined</summary>{html.escape(str(result.regime_reason))}</details>"
         else:
             note += "<br>"
-        note += f"{html.escape(rule)} predicts {html.escape(str(predicted))} for ft = {ft:.2f}, w = {w:.2f}"
+        note += f"{html.escape(rule)} predicts {html.escape(str(predicted))} for {inputs_text(ft, w, spec)}"
         css = re.sub(r"[^a-z]", "", regime.lower()) or "none"
         return (f'<span class="regime-badge regime-{css}" data-regime="{html.escape(regime)}">'
                 f'{html.escape(regime.upper())}</span><div class="regime-note">{note}</div>')

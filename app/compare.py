@@ -17,8 +17,8 @@ import param
 
 import core
 
-from . import panes
-from .cards import body_name, prediction
+from . import bodies, panes
+from .cards import body_name, input_digits, prediction
 from .pinned import MAX_PINS, PIN_STYLES, Pin, label
 
 __all__ = ["MAX_PINS", "PIN_STYLES", "Pin", "Pins", "table_html"]
@@ -50,7 +50,7 @@ def _body(result) -> str:
     """The body of a run, with its parameters (a line run: its kernel too)."""
     spec = _spec(result)
     text = body_name(spec)
-    params = {} if isinstance(spec, str) or text in ("cylinder", "sphere") else dict(getattr(spec, "parameters", {}))
+    params = {} if isinstance(spec, str) else bodies.shown_parameters(text, spec)
     if params:
         text += " (" + ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in params.items()) + ")"
     return text if isinstance(result, core.PointContactResult) else f"{text}, {result.kernel}"
@@ -75,7 +75,7 @@ def table_html(pins) -> str:
         predicted, rule = prediction(i["ft"], i["w"], _spec(r))
         rows.append(
             f"<tr data-pin='{k + 1}'><td><span class='swatch' style='border-top: 4px {style} {color}'></span>"
-            f"{label(k)} <small>{html.escape(_body(r))}</small></td><td>{i['ft']:.2f}, {i['w']:.2f}</td>"
+            f"{label(k)} <small>{html.escape(_body(r))}</small></td><td>{', '.join(input_digits(i['ft'], i['w'], _spec(r)))}</td>"
             f"<td>{i['mu']:.2f}</td><td>{r.periods}</td><td><b>{html.escape(str(r.regime))}</b></td>"
             f"<td title='{html.escape(rule)}'>{html.escape(predicted)}</td>"
             f"<td>{_fmt(r.stick_halfwidth)}</td><td>{inc_text}</td></tr>")

@@ -15,6 +15,9 @@ import panel as pn
 import core
 from core.export import to_csv, to_json
 
+from . import bodies
+from .cards import input_digits
+
 __all__ = ["DownloadsMixin", "FIRST_PERIOD"]
 
 #: The number of the first rocking period in the downloads (as on the player and the increment figure).
@@ -55,8 +58,9 @@ class DownloadsMixin:
         """Download names that carry the run's parameters (a folder of downloads stays readable)."""
         r = self.result
         name = None if r is None else str(getattr(r.body, "name", r.body))  # a cylinder-kind run: its body's name
-        body = "" if name in (None, "cylinder") else f"_{name}"
-        tag = "" if r is None else "{}_ft{:.2f}_w{:.2f}_mu{:.2f}_{}p".format(
-            body, float(r.params.get("ft", 0)), float(r.params.get("w", 0)), self.state.mu, r.periods)
+        body = "" if name in (None, bodies.DEFAULT) else f"_{name}"
+        if r is not None:  # ft and w to the digits that keep them on their side of the limit (app.cards.on_side)
+            ft, w = input_digits(float(r.params.get("ft", 0)), float(r.params.get("w", 0)), r.body)
+        tag = "" if r is None else f"{body}_ft{ft}_w{w}_mu{self.state.mu:.2f}_{r.periods}p"
         self.csv_download.filename = f"shakedown_{self.csv_table.value}{tag}.csv"
         self.json_download.filename = f"shakedown_run{tag}.json"

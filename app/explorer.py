@@ -41,6 +41,8 @@ from .widgets import FloatSlider, IntSlider
 __all__ = ["Explorer"]
 
 _SOLVER_INPUTS = [p for p in URL_PARAMETERS if p != "units"]
+#: The number format of the ft and w sliders (numbro): at least two decimals, up to six.
+SLIDER_FORMAT = "0.00[0000]"
 
 
 class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, PlayerMixin, SolveMixin,
@@ -111,8 +113,10 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
     def _build_widgets(self):
         s = self.state
         slider = dict(sizing_mode="stretch_width", throttled=True)
-        self.ft_slider = FloatSlider.from_param(s.param.ft, **slider)
-        self.w_slider = FloatSlider.from_param(s.param.w, **slider)
+        # two decimals, and up to six when the value has them (a link's ft = 0.206 must not read 0.21, across the
+        # limit ft_lim = 0.2084 of w = 0.678); the inputs are held to 1e-6 (ExplorerState.__setattr__)
+        self.ft_slider = FloatSlider.from_param(s.param.ft, format=SLIDER_FORMAT, **slider)
+        self.w_slider = FloatSlider.from_param(s.param.w, format=SLIDER_FORMAT, **slider)
         self.mu_slider = FloatSlider.from_param(s.param.mu, **slider)
         # outlined: the selected unit is the filled button (solid buttons all had the same blue background)
         self.units_toggle = pn.widgets.RadioButtonGroup.from_param(s.param.units, color="primary",
@@ -140,7 +144,7 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
             pn.widgets.RadioButtonGroup.from_param(s.param.kernel, sizing_mode="stretch_width"),
             pn.widgets.RadioButtonGroup.from_param(s.param.schedule, sizing_mode="stretch_width"),
             pn.widgets.RadioButtonGroup.from_param(s.param.loading, sizing_mode="stretch_width"),
-            FloatSlider.from_param(s.param.amplitude, visible=s.param.loading.rx() == "normal", **slider),
+            FloatSlider.from_param(s.param.amplitude, visible=s.param.loading.rx() != "rocking", **slider),
             FloatSlider.from_param(s.param.phase, visible=s.param.loading.rx() == "normal", **slider),
         ]
         self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, visible=False,

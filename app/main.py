@@ -11,6 +11,7 @@ solver is ready, instead of the server freezing on the first visitor's solve.
 """
 
 import contextlib
+import json
 import sys
 from pathlib import Path
 
@@ -45,6 +46,13 @@ def _sync_url(explorer: Explorer) -> None:
             explorer.notices = [*explorer.notices, f"not applied from the URL: {names}"][:20]
 
     location.sync(explorer.state, {p: p for p in URL_PARAMETERS}, on_error=rejected)
+    # a link's noisy number (w=0.45000000000000007) is held rounded (ExplorerState.__setattr__); the address bar
+    # shows the value held, so that a link copied from it is clean too
+    state, query = explorer.state, location.query_params
+    clean = {k: json.dumps(getattr(state, k)) for k, v in query.items()
+             if k in URL_PARAMETERS and isinstance(v, float) and v != getattr(state, k) == round(v, 6)}
+    if clean:
+        location.update_query(**clean)
 
 
 def _preparing() -> None:

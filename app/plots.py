@@ -250,11 +250,13 @@ def _zone_rectangles(x_edges, codes, ylim, scale) -> tuple:
 
 
 def traction_zones(result: core.CycleResult, frame: int) -> np.ndarray:
-    """Zone code per element at ``frame`` (:class:`core.Zone`: stick, slip, zero traction (lost contact), none).
+    """Zone code per element at ``frame`` (:class:`core.Zone`: stick, slip, zero traction (lost contact), none);
+    a patch: on its cut ``y = 0``.
 
-    At the last step these are the shaken-down zones of :attr:`core.CycleResult.final_zones`
-    (relative to the lowest pressure of the last period); at other steps, the
-    element states of that step.
+    At the last step these are :attr:`core.CycleResult.final_zones`: the final traction against μ p_min, the
+    zones the cards' ``c_sd`` is measured on (stick below μ p_min, slip at or above it, zero traction where
+    contact is lost once a period and no traction is left); at other steps, what each element does in that
+    step (stick, slip at μ p, out of contact), the states the curve of that step shows.
     """
     if frame >= result.xc.size - 1:
         return result.final_zones
@@ -662,7 +664,7 @@ FIGURES = {
                 caption="What you see: the body's pressure (the cylinder's: Hertz's) moves with the rocking centre xc (at the centre, at the reversals xc = ±W and at the player's step); its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
     "traction": dict(opts=dict(title="Traction vs closure", **key_opts()),
-                caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: stick, slip (hatched), no contact.", specs=_traction_specs,
+                caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: what each element does at the player's step (stick, slip on ±μ p, hatched, zero traction); at the last step, the final zones against ±μ p_min that the c_sd of the numbers is measured on.", specs=_traction_specs,
                      layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame", "pinned")),
     "states": dict(opts=dict(title="Element states over the run"),
                 caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,

@@ -243,15 +243,14 @@ def _cut_specs(units):
 
 @functools.lru_cache(maxsize=8)
 def cut_layers(units: Units, result=None, frame=None) -> tuple:
-    """On ``y = 0`` at the player's step: zones (stick, slip, released), ±μ p (Hertz, closed form), and the
-    numerical ``q_y`` and ``q_x`` as stairs over the elements."""
+    """On ``y = 0`` at the player's step: zones (stick, slip, released: :func:`app.plots.traction_zones`, the
+    final zones at the last step, those the strip's ``c_sd (y = 0)`` is measured on), ±μ p (Hertz, closed form),
+    and the numerical ``q_y`` and ``q_x`` as stairs over the elements."""
     if result is None:
         return ([], [], [], _EMPTY, _EMPTY, _EMPTY, _EMPTY)
     k = _step(result, frame)
     Q, X = units.q, units.x
-    s = result.state_cut[k]
-    ever = (result.state_cut != 0).any(axis=0)
-    codes = np.where(s == 1, 1, np.where(s >= 2, 2, np.where(ever, 3, 0)))
+    codes = plots.traction_zones(result, k)  # the cut's (same codes as a line's)
     zones = plots._zone_rectangles(result.x_edges, codes, 1.15 * Q, X)
     edges = np.repeat(result.x_edges * X, 2)[1:-1]
     if bodies.is_ellipsoid(result.body):  # Hertz's closed form
@@ -287,7 +286,7 @@ def _pmin_run(units: Units, result) -> tuple:
 
 @_figure("point_cut", "Traction on y = 0",
          "What you see: the traction on the line y = 0 at the player's step (stairs: elements) inside ±μ p, and "
-         "±μ p_min, the exact bound a shaken-down traction stays within; shaded: stick, slip (hatched), released.",
+         "±μ p_min, the exact bound a shaken-down traction stays within; shaded: what each element does at the player's step (stick, slip, hatched, released); at the last step, the final zones against ±μ p_min that the c_sd (y = 0) of the numbers is measured on.",
          ("w", "units", "result", "frame", "pinned"), _cut_specs, **plots.key_opts())
 def _cut_layers(i):
     *zones, up, down, qy, qx = cut_layers(i.units, i.result, i.frame)
@@ -465,7 +464,7 @@ def body_inputs(state) -> list:
 
     def show(body):
         if body not in built:  # the paper's cylinder: no parameters, and the page says what it is already
-            built[body] = [] if body == "cylinder" else _body_widgets(state, body)
+            built[body] = [] if body == bodies.DEFAULT else _body_widgets(state, body)
         holder.objects = built[body]
         refinable = state.refinable
         if refinable and not grid.objects:

@@ -100,14 +100,16 @@ class ExplorerState(param.Parameterized):
                                 "or 'plane' (plane strain; displacement defined up to a constant).")
     schedule = param.Selector(default="triangle", objects=["triangle", "sine"], label="Rocking waveform",
                               doc="Waveform of the rocking motion of the contact centre: 'triangle' (the paper's) or 'sine'.")
-    loading = param.Selector(default="rocking", objects=["rocking", "normal"], label="Loading (cylinder)",
-                             doc="Loading history of a cylinder: 'rocking' under constant loads (the paper's) or "
-                                 "'normal': the same rocking under an oscillating normal force "
-                                 "Fn (1 + amplitude sin(2 pi t + phase)) (core.histories). Point contacts rock.")
+    loading = param.Selector(default="rocking", objects=["rocking", "normal", "tangential"], label="Loading",
+                             doc="Loading history of every body (core.histories): 'rocking' under constant loads "
+                                 "(the paper's); 'normal': the same rocking under an oscillating normal force "
+                                 "Fn (1 + amplitude sin(2 pi t + phase)); 'tangential': the centre fixed and Ft "
+                                 "oscillating about its mean (a sphere's is Mindlin-Deresiewicz's fretting loop).")
     amplitude = param.Number(0.2, bounds=(0.0, 1.0), inclusive_bounds=(True, False), softbounds=(0.0, 0.9),
-                             step=0.05, label="Normal-force amplitude ΔFn/Fn",
-                             doc="Amplitude of the oscillating normal force over its mean [-], in [0, 1); "
-                                 "used with loading = 'normal'.")
+                             step=0.05, label="Load amplitude",
+                             doc="Amplitude of the oscillating load [-], in [0, 1): with loading = 'normal' that of "
+                                 "the normal force over its mean, ΔFn/Fn; with 'tangential' that of Ft over what is "
+                                 "left to full sliding, ΔFt/(μFn − |Ft|).")
     phase = param.Number(0.0, bounds=(-180.0, 180.0), softbounds=(-180.0, 180.0), step=15.0, label="Phase of Fn to the rocking [°]",
                          doc="Phase of the normal force's oscillation to the rocking [deg], in [-180, 180]; "
                              "used with loading = 'normal'.")
@@ -116,18 +118,16 @@ class ExplorerState(param.Parameterized):
                            doc="Plot units: 'normalised' (x/a, p/p0, q/(μ p0), u in μP/E* or U/U0) "
                                "or 'physical' (mm, MPa, µm).")
 
-    # ---- slider values without float noise ----------------------------------
-    def _round(self, *_):
-        """Round the sliders' values to 1e-6 (a browser's slider steps give 0.44000000000000006, which the URL
-        would show); watches ft, w, mu and the bodies' numeric parameters."""
-        noisy = {k: round(v, 6) for k in _ROUNDED if isinstance(v := getattr(self, k), float) and v != round(v, 6)}
-        if noisy:
-            self.param.update(**noisy)
-
-    def __init__(self, **params):
-        super().__init__(**params)
-        self._round()
-        self.param.watch(self._round, list(_ROUNDED))
+    # ---- values without float noise ------------------------------------------
+    def __setattr__(self, name, value):
+        """Round ft, w, mu and the bodies' numeric parameters to 1e-6 as they are set, whoever sets them (a
+        browser's slider steps give 0.44000000000000006, a shared link may carry it): the state, the sliders
+        and the URL never hold the noise. Rounded here, before any watcher sees the value: a watcher that
+        rounded afterwards left the URL, which is written by a later watcher of the same event, with the
+        unrounded value."""
+        if name in _ROUNDED and isinstance(value, float) and math.isfinite(value):
+            value = round(value, 6)
+        super().__setattr__(name, value)
 
     # ---- derived ------------------------------------------------------------
     @property
@@ -209,15 +209,24 @@ class ExplorerState(param.Parameterized):
         if self.point:
             body = self.body_object()
             if bodies.is_ellipsoid(body):
-                return dict(periods=self.periods, dx=self.dx, shape=self.schedule)
-            dx = float(body.default_dx) if bodies.own_grid(body) else self.dx
-            return dict(periods=self.periods, dx=dx, shape=self.schedule, body=body)
-        options = dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
-        if self.body != "cylinder":  # another line body: the cylinder's engine with this body's gap
-            options["body"] = self.body_object()
+                options = dict(periods=self.periods, dx=self.dx, shape=self.schedule)
+            else:
+                dx = float(body.default_dx) if bodies.own_grid(body) else self.dx
+                options = dict(periods=self.periods, dx=dx, shape=self.schedule, body=body)
+        else:
+            options = dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
+            if self.body != bodies.DEFAULT:  # another line body: the cylinder's engine with this body's gap
+                options["body"] = self.body_object()
+        return dict(options, **self.history_options())
+
+    def history_options(self) -> dict:
+        """The loading history's options of :func:`core.simulate_cycles` (none for the paper's rocking): every body
+        takes every history."""
         if self.loading == "normal":
-            options.update(history="normal", amplitude=self.amplitude, phase=math.radians(self.phase))
-        return options
+            return dict(history="normal", amplitude=self.amplitude, phase=math.radians(self.phase))
+        if self.loading == "tangential":  # the amplitude over the headroom to full sliding, so any value is valid
+            return dict(history="tangential", amplitude=self.amplitude * (1.0 - abs(self.ft)))
+        return {}
 
     def values(self) -> dict:
         """The URL-synced parameters and their current values."""
@@ -269,7 +278,7 @@ PRESET_NOTES: dict[str, str] = {
 _BODY_INPUTS = bodies.state_parameters()
 for _name, _p in _BODY_INPUTS.items():
     ExplorerState.param.add_parameter(_name, _p)
-#: The inputs whose slider values are rounded (see :meth:`ExplorerState._round`).
+#: The inputs whose values are rounded to 1e-6 (see :meth:`ExplorerState.__setattr__`).
 _ROUNDED = ("ft", "w", "mu", *(n for n, p in _BODY_INPUTS.items() if isinstance(p, param.Number)))
 
 #: Parameters synced with the URL, each under its own name.
