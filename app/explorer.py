@@ -97,6 +97,7 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self.sentinels = {}  # name -> app.live.WhenShown, the served page's: a figure is drawn when shown
         self._when_shown = False
         self._cells: dict[str, pn.Column] = {}  # the served page's figures with their captions, once drawn
+        self._places: dict[str, pn.Column] = {}  # the served page's places of the figures in their grids
         self.param.watch(self._redraw, list(FIGURE_INPUTS.values()))
         self._update_contact()
         served = self._doc is not None and self._doc.session_context is not None
@@ -123,8 +124,11 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self.ft_slider = FloatSlider.from_param(s.param.ft, format=SLIDER_FORMAT, **slider)
         self.w_slider = FloatSlider.from_param(s.param.w, format=SLIDER_FORMAT, **slider)
         self.mu_slider = FloatSlider.from_param(s.param.mu, **slider)
+        # outlined: the selected unit is the filled button (solid buttons all had the same blue background)
         self.units_toggle = pn.widgets.RadioButtonGroup.from_param(s.param.units, color="primary",
-                                                                   sizing_mode="stretch_width")
+                                                                   button_style="outline",
+                                                                   sizing_mode="stretch_width",
+                                                                   css_classes=["units-toggle"])
         self.preset = pn.widgets.Select(label="Preset", options=["(custom)", *PRESETS], value="(custom)",
                                         sizing_mode="stretch_width")
         self.preset.param.watch(self._apply_preset, "value")
