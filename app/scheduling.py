@@ -62,10 +62,15 @@ class SolveMixin:
             self._request_solve()
 
     def _update_contact(self):
+        """The contact of the inputs, or why there is none (``error``; then no run is shown: figures of other
+        inputs under INVALID INPUT would be read as the answer)."""
         try:
+            typed = getattr(self, "typed_errors", {})
+            if typed:
+                raise ValueError("; ".join(typed.values()))
             contact = self.state.contact()
         except ValueError as e:
-            self.param.update(contact=None, error=str(e))
+            self.param.update(contact=None, error=str(e), result=None)
             return
         geometry = contact.replace(ft=0.0, w=0.0)
         self.param.update(contact=contact, error="",
