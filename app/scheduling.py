@@ -125,6 +125,11 @@ class SolveMixin:
         if not self._generation.is_current(token):
             return  # a newer request is pending: never overwrite it with this stale run
         self.result_token = token
+        if result is self.result:  # the same run (mu moved: a normalised run does not depend on it, app.runs.run_key)
+            with self._held():
+                self.param.update(plot_units=self._compute_units(result), solving=False, pending=False)
+                self._name_downloads()
+            return
         with self._held():
             self.play.value = False
             self._sync_player(result)  # the widgets follow the run (ranges too); the frame is set once, below

@@ -19,6 +19,7 @@ import pytest
 
 import core
 from app import bodies, plots
+from app import runs
 from app.runs import runner
 from app.cards import inputs_text, on_side
 from app.explorer import SLIDER_FORMAT, Explorer
@@ -171,3 +172,33 @@ def test_typed_geometry_is_checked_in_the_inputs_units():
     box["R [mm]"].value = 40.0
     box["ν substrate"].value = 0.5
     assert ex.error == "" and ex.result is not None
+
+
+# ---------------------------------------------------------------- item 15: μ does not re-solve
+@pytest.mark.parametrize("body", RUNNABLE)
+def test_a_normalised_run_does_not_depend_on_mu(body):
+    # what lets the app keep the run when μ moves (app.runs.run_key leaves μ out of an uncoupled run's key)
+    a, b = _run(body=body, mu=0.58, periods=2), _run(body=body, mu=0.2, periods=2)
+    for name in ("traction", "state", "displacement", "xc", "increment_per_period"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=f"{body}: {name}")
+    s1, s2 = ExplorerState(body=body, mu=0.58), ExplorerState(body=body, mu=0.2)
+    assert runs.run_key(s1.contact(), s1.solver_options()) == runs.run_key(s2.contact(), s2.solver_options())
+
+
+def test_moving_mu_keeps_the_run_and_rescales_the_physical_figures():
+    ex = Explorer(query="?units=physical")
+    before, units = ex.result, ex.plot_units
+    solved = []
+    original = runs._BACKEND.run
+    runs._BACKEND.run = lambda *a, **k: solved.append(a) or original(*a, **k)
+    try:
+        ex.mu_slider.value = ex.state.mu = 0.8
+    finally:
+        runs._BACKEND.run = original
+    assert solved == [] and ex.result is before
+    assert ex.plot_units != units and ex.contact.mu == 0.8  # the physical scales follow μ
+    # a coupled contact (β != 0) keeps μ in its key
+    coupled = ExplorerState(rigid=False, E1=5.1, nu1=0.2)
+    assert coupled.contact().beta != 0
+    assert (runs.run_key(coupled.contact(), {}) != runs.run_key(ExplorerState(rigid=False, E1=5.1, nu1=0.2, mu=0.3)
+                                                                .contact(), {}))
