@@ -202,3 +202,33 @@ def test_moving_mu_keeps_the_run_and_rescales_the_physical_figures():
     assert coupled.contact().beta != 0
     assert (runs.run_key(coupled.contact(), {}) != runs.run_key(ExplorerState(rigid=False, E1=5.1, nu1=0.2, mu=0.3)
                                                                 .contact(), {}))
+
+
+# ---------------------------------------------------------------- item 5: 'Refine grid' ends in a result
+def test_refine_is_offered_only_when_it_fits_the_budget(monkeypatch):
+    from app import layout
+
+    ex = Explorer(query="?body=sphere&periods=2")
+    button = ex._grid_action()
+    assert ex.result.is_patch and ex.result.runtime < layout.SOLVE_BUDGET_S / layout.REFINE_COST
+    assert button.label == "Refine grid: a/10 → a/20" and not button.disabled
+    monkeypatch.setattr(layout, "SOLVE_BUDGET_S", layout.REFINE_COST * ex.result.runtime / 2)
+    ex.param.trigger("result")
+    assert button.label == "Finest grid in time (a/10)" and button.disabled
+    assert "a/20 would take about" in button.description
+
+
+def test_a_refined_run_that_runs_out_of_time_goes_back_with_a_notice(monkeypatch):
+    ex = Explorer(query="?body=sphere&periods=2")
+    coarse = ex.result
+    original = runs._BACKEND.run
+
+    def budget_runs_out(contact, options, *args, **kwargs):
+        if options["dx"] < coarse.dx:
+            raise core.SolveCancelled("solve stopped after 20 s (its time budget) at step 40 of 81")
+        return original(contact, options, *args, **kwargs)
+
+    monkeypatch.setattr(runs._BACKEND, "run", budget_runs_out)
+    ex.refine_grid()
+    assert ex.state.point_resolution == 10 and ex.error == "" and ex.result is coarse
+    assert any("a/20 did not finish in time" in n and "back to a/10" in n for n in ex.notices), ex.notices
