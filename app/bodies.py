@@ -35,7 +35,7 @@ from collections import OrderedDict
 import numpy as np
 import param
 
-__all__ = ["BODIES", "kind", "entry", "parameters", "state_name", "make", "runs_cycles", "own_grid", "is_ellipsoid",
+__all__ = ["BODIES", "DEFAULT", "has_closure", "shown_parameters", "kind", "entry", "parameters", "state_name", "make", "runs_cycles", "own_grid", "is_ellipsoid",
            "DEMO_FILES", "demo_heights", "wide", "demo_file", "store_upload", "uploaded", "SOURCE_PATTERN", "limit_curve",
            "note"]
 
@@ -47,6 +47,28 @@ def _registry() -> dict:
 
 #: The body selector's options: the registry's bodies, in its order (the cylinder, the paper's, first).
 BODIES: tuple[str, ...] = tuple(_registry())
+#: The default body: the registry's first (the paper's). The page describes it already and a run of it
+#: carries no body option.
+DEFAULT: str = BODIES[0]
+
+
+def has_closure(body) -> bool:
+    """Whether ``body`` (a name or a body object) has the closed-form shaken-down state the cards show beside the
+    solver's (stick half-width eq 30, limit eq 35): the registry's body tells (``shakedown_stick_halfwidth``)."""
+    from core.registry import resolve
+
+    try:
+        spec = resolve(body)
+    except ValueError:  # a body that needs inputs to be built (a height map's file): it has none
+        return False
+    return getattr(spec, "shakedown_stick_halfwidth", None) is not None
+
+
+def shown_parameters(name: str, spec) -> dict:
+    """The parameters of body object ``spec`` that its registry entry ``name`` declares (the sphere's ratio of 1
+    is no parameter of the sphere's)."""
+    own = {p.name for p in parameters(name)} if name in BODIES else set(getattr(spec, "parameters", {}))
+    return {k: v for k, v in dict(getattr(spec, "parameters", {})).items() if k in own}
 
 
 def entry(name: str):
@@ -104,7 +126,7 @@ SOURCE_PATTERN = re.compile(r"^(demo|upload-[0-9a-f]{16})$")
 MAX_UPLOAD_BYTES = 20 * 2**20
 #: Uploads kept in this process's memory (the oldest dropped first): nothing a browser sends touches the disk.
 MAX_UPLOADS = 16
-_UPLOADS: OrderedDict = OrderedDict()  # source name -> the file's bytes
+_UPLOADS: OrderedDict = OrderedDict()  # source name -> (the file's bytes, its name as the browser gave it)
 _READ: dict = {}  # source name -> its topography, read once
 
 
@@ -124,7 +146,7 @@ def store_upload(data: bytes, filename: str = "") -> str:
         raise ValueError(f"the uploaded file must be at most {MAX_UPLOAD_BYTES // 2**20} MB, got {len(data) / 2**20:.1f} MB")
     source = f"upload-{hashlib.sha1(bytes(data)).hexdigest()[:16]}"
     with _LOCK:
-        _UPLOADS[source] = bytes(data)
+        _UPLOADS[source] = (bytes(data), " ".join(str(filename).split())[:80])
         _UPLOADS.move_to_end(source)
         while len(_UPLOADS) > MAX_UPLOADS:
             _READ.pop(_UPLOADS.popitem(last=False)[0], None)
@@ -133,15 +155,22 @@ def store_upload(data: bytes, filename: str = "") -> str:
 
 def uploaded(source: str):
     """The topography of an uploaded ``source`` (``upload-<digest>``) on this server (read once from memory),
-    or None if there is none; a file SurfaceTopography cannot read raises its own error."""
+    or None if there is none.
+
+    Raises
+    ------
+    ValueError
+        For a file no reader understands (naming the readable formats) or one its reader cannot read, as
+        :func:`core.heightmap.read_topography` says it (the same words as the command line's).
+    """
+    from core.heightmap import read_topography
+
     with _LOCK:
-        data = _UPLOADS.get(source)
+        data, filename = _UPLOADS.get(source, (None, ""))
         done = _READ.get(source)
     if data is None or done is not None:
         return done
-    from SurfaceTopography import read_topography
-
-    topography = read_topography(io.BytesIO(data))
+    topography = read_topography(io.BytesIO(data), name=f"the uploaded file {filename}".strip())
     with _LOCK:
         return _READ.setdefault(source, topography)
 
@@ -261,6 +290,8 @@ def make(name: str, values: dict):
             source = str(value)
             try:
                 path = demo_file(name, p.name) if source == "demo" else uploaded(source)
+            except ValueError as e:  # a file no reader understands (the formats named) or cannot read
+                raise ValueError(f"body {name!r} cannot be built: {e}") from e
             except Exception as e:  # noqa: BLE001 - the reader's own errors name what it could not read
                 why = " ".join(str(e).split())[:300]
                 raise ValueError(f"body {name!r} cannot be built: its {p.name} {source!r} cannot be read: "

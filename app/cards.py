@@ -16,6 +16,8 @@ import numpy as np
 
 import core
 
+from . import bodies
+
 __all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
            "fmt", "count", "STRIP_KEYS", "on_side", "input_digits", "inputs_text"]
 
@@ -44,8 +46,13 @@ def body_name(body) -> str:
 
 def limit_name(body) -> str:
     """How the exact limit of ``body`` (a name or a body object) is cited."""
-    name = body_name(body)
-    return "eq 35" if name == "cylinder" else f"the {name}'s exact limit"
+    from core.registry import resolve
+
+    try:
+        citation = getattr(resolve(body), "limit_citation", None)
+    except ValueError:  # a body that needs inputs to be built (a height map's file)
+        citation = None
+    return citation or f"the {body_name(body)}'s exact limit"
 
 
 @functools.lru_cache(maxsize=4096)
@@ -62,7 +69,7 @@ def body_limits(ft: float, w: float, body) -> tuple[float, float]:
 def prediction(ft: float, w: float, body) -> tuple[str, str]:
     """The regime the exact limit of ``body`` (a name or a body object) predicts for ``ft``, ``w``, and how that
     limit is cited."""
-    if body_name(body) == "cylinder":
+    if bodies.has_closure(body):  # the paper's closed forms (eq 35)
         return str(core.classify_regime(ft, w)), limit_name(body)
     lim = body_limits(ft, w, body)[0]
     if not math.isfinite(lim):
@@ -91,17 +98,17 @@ def on_side(x: float, ref: float, decimals: int = 2) -> str:
     return f"{x:.{d}f}"
 
 
-def input_digits(ft: float, w: float, body="cylinder") -> tuple[str, str]:
+def input_digits(ft: float, w: float, body=bodies.DEFAULT) -> tuple[str, str]:
     """``ft`` and ``w`` as text, each to enough digits to stay on its side of the exact limit of ``body``: ft
     against ft_lim(w), w against w_lim(ft) (:func:`on_side`)."""
-    if body_name(body) == "cylinder":
+    if bodies.has_closure(body):
         _, ft_lim, w_lim = _closure(ft, w)
     else:
         ft_lim, w_lim = body_limits(ft, w, body)
     return on_side(ft, ft_lim), on_side(w, w_lim)
 
 
-def inputs_text(ft: float, w: float, body="cylinder") -> str:
+def inputs_text(ft: float, w: float, body=bodies.DEFAULT) -> str:
     """"ft = …, w = …" for a note (:func:`input_digits`)."""
     ft_text, w_text = input_digits(ft, w, body)
     return f"ft = {ft_text}, w = {w_text}"
@@ -193,7 +200,7 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
     """The rows of a line body's cards: inputs in physical units (the cylinder's Hertz scales), the closure's
     (the cylinder's only) and the solver's numbers, the exact limits and the margins (``wait``: why the solver's
     are not shown, or None). ``body``: the cylinder, or another line body (a name or an object)."""
-    if body_name(body) != "cylinder":
+    if not bodies.has_closure(body):
         return _line_rows(ft, w, mu, contact, result, wait, units, cycles, body)
     rows = []
     physical = units == "physical"
@@ -293,7 +300,7 @@ class CardsMixin:
         if state is None:
             return "cylinder"
         try:
-            return "cylinder" if state.body == "cylinder" else state.body_object()
+            return state.body if state.body == bodies.DEFAULT else state.body_object()
         except ValueError:
             return state.body
 

@@ -17,7 +17,7 @@ import param
 
 import core
 
-from . import panes
+from . import bodies, panes
 from .cards import body_name, input_digits, prediction
 from .pinned import MAX_PINS, PIN_STYLES, Pin, label
 
@@ -50,7 +50,7 @@ def _body(result) -> str:
     """The body of a run, with its parameters (a line run: its kernel too)."""
     spec = _spec(result)
     text = body_name(spec)
-    params = {} if isinstance(spec, str) or text in ("cylinder", "sphere") else dict(getattr(spec, "parameters", {}))
+    params = {} if isinstance(spec, str) else bodies.shown_parameters(text, spec)
     if params:
         text += " (" + ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in params.items()) + ")"
     return text if isinstance(result, core.PointContactResult) else f"{text}, {result.kernel}"

@@ -15,6 +15,7 @@ import panel as pn
 import core
 from core.export import to_csv, to_json
 
+from . import bodies
 from .cards import input_digits
 
 __all__ = ["DownloadsMixin", "FIRST_PERIOD"]
@@ -57,7 +58,7 @@ class DownloadsMixin:
         """Download names that carry the run's parameters (a folder of downloads stays readable)."""
         r = self.result
         name = None if r is None else str(getattr(r.body, "name", r.body))  # a cylinder-kind run: its body's name
-        body = "" if name in (None, "cylinder") else f"_{name}"
+        body = "" if name in (None, bodies.DEFAULT) else f"_{name}"
         if r is not None:  # ft and w to the digits that keep them on their side of the limit (app.cards.on_side)
             ft, w = input_digits(float(r.params.get("ft", 0)), float(r.params.get("w", 0)), r.body)
         tag = "" if r is None else f"{body}_ft{ft}_w{w}_mu{self.state.mu:.2f}_{r.periods}p"

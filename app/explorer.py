@@ -140,7 +140,7 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
             pn.widgets.RadioButtonGroup.from_param(s.param.kernel, sizing_mode="stretch_width"),
             pn.widgets.RadioButtonGroup.from_param(s.param.schedule, sizing_mode="stretch_width"),
             pn.widgets.RadioButtonGroup.from_param(s.param.loading, sizing_mode="stretch_width"),
-            FloatSlider.from_param(s.param.amplitude, visible=s.param.loading.rx() == "normal", **slider),
+            FloatSlider.from_param(s.param.amplitude, visible=s.param.loading.rx() != "rocking", **slider),
             FloatSlider.from_param(s.param.phase, visible=s.param.loading.rx() == "normal", **slider),
         ]
         self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, visible=False,

@@ -14,7 +14,7 @@ import panel as pn
 
 import core
 
-from . import panes, runs
+from . import bodies, panes, runs
 from .widgets import IntSlider
 
 __all__ = ["MapMixin", "shipped_map"]
@@ -57,11 +57,12 @@ class MapMixin:
             options = self.state.solver_options()  # a body with a grid of its own: its dx
             body = options.get("body")
             if body is None:  # an ellipsoid: by name, with its ratio
-                ratio = None if self.state.body == "sphere" else float(self.state.body_object().ratio)
+                ratio = (float(self.state.body_object().ratio) if "ratio" in {
+                    p.name for p in bodies.parameters(self.state.body)} else None)
                 return dict(periods=self.state.periods, dx=self.state.dx, shape=self.state.schedule,
                             body=self.state.body, ratio=ratio)
             return dict(periods=self.state.periods, dx=options["dx"], shape=self.state.schedule, body=body)
-        if self.state.body != "cylinder":  # another line body: the object, with its parameters
+        if self.state.body != bodies.DEFAULT:  # another line body: the object, with its parameters
             opts["body"] = self.state.body_object()
         if opts["kernel"] == "strip":
             if self.contact is None:  # invalid geometry: no strip to take L/a from

@@ -461,7 +461,7 @@ def body_inputs(state) -> list:
 
     def show(body):
         if body not in built:  # the paper's cylinder: no parameters, and the page says what it is already
-            built[body] = [] if body == "cylinder" else _body_widgets(state, body)
+            built[body] = [] if body == bodies.DEFAULT else _body_widgets(state, body)
         holder.objects = built[body]
         refinable = state.refinable
         if refinable and not grid.objects:

@@ -14,13 +14,14 @@ import os
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import urllib.error
 import urllib.request
 from pathlib import Path
 
 __all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "wait_until", "free_port", "served_app",
-           "chromium", "dask_cluster", "tasks_done", "scroll_through"]
+           "chromium", "dask_cluster", "tasks_done", "scroll_through", "ServerExited"]
 
 ROOT = Path(__file__).resolve().parent.parent
 #: The ``panel serve`` options the app is served with, here, in the README and in the Dockerfile
@@ -67,8 +68,26 @@ def scroll_through(page, timeout: float = 60.0) -> None:
                   " window.scrollTo(0, 0); }")
 
 
-def wait_until(predicate, timeout: float = 30.0, interval: float = 0.05, message: str = "condition"):
-    """Poll ``predicate()`` until it returns a truthy value (returned), or raise TimeoutError."""
+class ServerExited(RuntimeError):
+    """The served app's process ended before it answered (raised at once by :func:`served_app`)."""
+
+
+def _tail(log, lines: int = 30) -> str:
+    """The last ``lines`` lines of an open log file (``"(not captured)"`` for None)."""
+    if log is None:
+        return "(not captured: SHAKEDOWN_SERVER_LOG sends it to the terminal)"
+    log.flush()
+    log.seek(0)
+    return "".join(log.readlines()[-lines:]) or "(nothing)"
+
+
+def wait_until(predicate, timeout: float = 30.0, interval: float = 0.05, message: str = "condition",
+               give_up: type[BaseException] | tuple = ()):
+    """Poll ``predicate()`` until it returns a truthy value (returned), or raise TimeoutError.
+
+    An exception of a ``give_up`` class raised by ``predicate`` ends the wait at once (re-raised); any other
+    is kept and named in the TimeoutError.
+    """
     deadline = time.monotonic() + timeout
     last_error = None
     while time.monotonic() < deadline:
@@ -76,6 +95,8 @@ def wait_until(predicate, timeout: float = 30.0, interval: float = 0.05, message
             value = predicate()
             if value:
                 return value
+        except give_up:
+            raise
         except Exception as e:  # noqa: BLE001 - keep polling, report the last error
             last_error = e
         time.sleep(interval)
@@ -138,17 +159,23 @@ def served_app(port: int | None = None, timeout: float = 420.0, env: dict | None
            "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", *SERVE_OPTIONS,
            *map(str, extra_args)]
     if log_path is not None:
-        log = open(log_path, "w")
-    else:
-        log = open(os.devnull, "w") if not os.environ.get("SHAKEDOWN_SERVER_LOG") else None
+        log = open(log_path, "w+")
+    else:  # kept (in a temporary file) so that a server that fails to start can say why
+        log = tempfile.TemporaryFile("w+") if not os.environ.get("SHAKEDOWN_SERVER_LOG") else None
     proc = subprocess.Popen(cmd, cwd=ROOT, env={**os.environ, **(env or {})}, stdout=log,
                             stderr=subprocess.STDOUT if log is not None else None)
     info = {} if info is None else info
     base = f"http://127.0.0.1:{port}"
     info.update(pid=proc.pid, base=base)
+
+    def up():
+        if proc.poll() is not None:  # it will not come up: say so now, not after the timeout
+            raise ServerExited(f"the app server ({' '.join(cmd[1:5])}) exited with status {proc.returncode} before "
+                               f"{base}/liveness answered; its output ends:\n{_tail(log)}")
+        return _alive(f"{base}/liveness", wait_ready)
+
     try:
-        wait_until(lambda: proc.poll() is None and _alive(f"{base}/liveness", wait_ready), timeout,
-                   message=f"{base}/liveness")
+        wait_until(up, timeout, message=f"{base}/liveness", give_up=ServerExited)
         yield f"{base}/{Path(script).stem}"
     finally:
         t0 = time.monotonic()
@@ -226,13 +253,33 @@ def tasks_done(address: str, prefix: str) -> int:
         return client.run_on_scheduler(count)
 
 
+#: Seconds Playwright waits for Chromium to start (its own default is 180 s; a healthy start takes about 1 s).
+LAUNCH_TIMEOUT_S = 60.0
+
+
 @contextlib.contextmanager
 def chromium():
-    """A headless Chromium browser (Playwright, sync API)."""
+    """A headless Chromium browser (Playwright, sync API).
+
+    Raises
+    ------
+    RuntimeError
+        At once if there is no browser at :data:`CHROMIUM` (saying how to install one), or if it does not start
+        within :data:`LAUNCH_TIMEOUT_S`.
+    """
+    from playwright.sync_api import Error as PlaywrightError
     from playwright.sync_api import sync_playwright
 
+    if not (os.path.isfile(CHROMIUM) and os.access(CHROMIUM, os.X_OK)):
+        raise RuntimeError(f"no Chromium at {CHROMIUM} for the browser tests: install Debian's chromium "
+                           "(scripts/test.sh does: apt-get install chromium) or set SHAKEDOWN_CHROMIUM to a "
+                           "Chromium executable")
     with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+        try:
+            browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True,
+                                         timeout=LAUNCH_TIMEOUT_S * 1e3)
+        except PlaywrightError as e:
+            raise RuntimeError(f"Chromium ({CHROMIUM}) did not start: {str(e).strip()[:2000]}") from e
         try:
             yield browser
         finally:

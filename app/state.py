@@ -99,14 +99,16 @@ class ExplorerState(param.Parameterized):
                                 "or 'plane' (plane strain; displacement defined up to a constant).")
     schedule = param.Selector(default="triangle", objects=["triangle", "sine"], label="Rocking waveform",
                               doc="Waveform of the rocking motion of the contact centre: 'triangle' (the paper's) or 'sine'.")
-    loading = param.Selector(default="rocking", objects=["rocking", "normal"], label="Loading (cylinder)",
-                             doc="Loading history of a cylinder: 'rocking' under constant loads (the paper's) or "
-                                 "'normal': the same rocking under an oscillating normal force "
-                                 "Fn (1 + amplitude sin(2 pi t + phase)). Point contacts rock.")
+    loading = param.Selector(default="rocking", objects=["rocking", "normal", "tangential"], label="Loading",
+                             doc="Loading history of every body: 'rocking' under constant loads "
+                                 "(the paper's); 'normal': the same rocking under an oscillating normal force "
+                                 "Fn (1 + amplitude sin(2 pi t + phase)); 'tangential': the centre fixed and Ft "
+                                 "oscillating about its mean (a sphere's is Mindlin-Deresiewicz's fretting loop).")
     amplitude = param.Number(0.2, bounds=(0.0, 1.0), inclusive_bounds=(True, False), softbounds=(0.0, 0.9),
-                             step=0.05, label="Normal-force amplitude ΔFn/Fn",
-                             doc="Amplitude of the oscillating normal force over its mean [-], in [0, 1); "
-                                 "used with loading = 'normal'.")
+                             step=0.05, label="Load amplitude",
+                             doc="Amplitude of the oscillating load [-], in [0, 1): with loading = 'normal' that of "
+                                 "the normal force over its mean, ΔFn/Fn; with 'tangential' that of Ft over what is "
+                                 "left to full sliding, ΔFt/(μFn − |Ft|).")
     phase = param.Number(0.0, bounds=(-180.0, 180.0), softbounds=(-180.0, 180.0), step=15.0, label="Phase of Fn to the rocking [°]",
                          doc="Phase of the normal force's oscillation to the rocking [deg], in [-180, 180]; "
                              "used with loading = 'normal'.")
@@ -206,15 +208,24 @@ class ExplorerState(param.Parameterized):
         if self.point:
             body = self.body_object()
             if bodies.is_ellipsoid(body):
-                return dict(periods=self.periods, dx=self.dx, shape=self.schedule)
-            dx = float(body.default_dx) if bodies.own_grid(body) else self.dx
-            return dict(periods=self.periods, dx=dx, shape=self.schedule, body=body)
-        options = dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
-        if self.body != "cylinder":  # another line body: the cylinder's engine with this body's gap
-            options["body"] = self.body_object()
+                options = dict(periods=self.periods, dx=self.dx, shape=self.schedule)
+            else:
+                dx = float(body.default_dx) if bodies.own_grid(body) else self.dx
+                options = dict(periods=self.periods, dx=dx, shape=self.schedule, body=body)
+        else:
+            options = dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
+            if self.body != bodies.DEFAULT:  # another line body: the cylinder's engine with this body's gap
+                options["body"] = self.body_object()
+        return dict(options, **self.history_options())
+
+    def history_options(self) -> dict:
+        """The loading history's options of :func:`core.simulate_cycles` (none for the paper's rocking): every body
+        takes every history."""
         if self.loading == "normal":
-            options.update(history="normal", amplitude=self.amplitude, phase=math.radians(self.phase))
-        return options
+            return dict(history="normal", amplitude=self.amplitude, phase=math.radians(self.phase))
+        if self.loading == "tangential":  # the amplitude over the headroom to full sliding, so any value is valid
+            return dict(history="tangential", amplitude=self.amplitude * (1.0 - abs(self.ft)))
+        return {}
 
     def values(self) -> dict:
         """The URL-synced parameters and their current values."""

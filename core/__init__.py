@@ -40,12 +40,12 @@ def _load_locked():
         from .result import CycleResult, LineResult, StaticResult, SolverError, SolveCancelled  # noqa: F401
         from .engine import run, STEP_SOLVERS  # noqa: F401
         from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
-                             solve_static, shakedown_state)
+                             solve_static, shakedown_state, simulate_point_contact)
         from .convergence import ConvergedIncrement, converged_increment, grid_error, increment_error  # noqa: F401
         from .resolution import default_dx  # noqa: F401
         from .point_contact import Ellipsoid, Sphere, PointContact, POINT_BODIES  # noqa: F401
         from .halfspace import HalfSpaceOperator  # noqa: F401
-        from .solver3d import (simulate_point_contact, solve_point_schedule, mindlin_state,  # noqa: F401
+        from .solver3d import (solve_point_schedule, mindlin_state,  # noqa: F401
                                shakedown_state_3d, PointContactResult)
         from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)

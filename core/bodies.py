@@ -185,6 +185,10 @@ class Body:
     support = 2.0
     #: Total load of a unit traction over the nominal area per unit of Q: ``sum q dx = (pi/2) Q``.
     load_factor = 0.5 * math.pi
+    #: The closed form of its shaken-down traction ``f(x, ft, w)`` [mu p0] under the paper's rocking and of its
+    #: stick half-width ``f(ft, w)`` [a], where it has them (the cylinder's eqs 22-30); None otherwise.
+    shakedown_traction = None
+    shakedown_stick_halfwidth = None
 
     @property
     def parameters(self) -> dict:
@@ -594,6 +598,11 @@ class Cylinder(Body):
         return turning.min(axis=0)
 
     # ---- closed-form references (Wetter 2015) ---------------------------------
+    #: Its limit is in closed form (eq 35): :func:`core.melan.ft_limit` takes it from :meth:`ft_limit`.
+    closed_limit = True
+    #: How its limit is cited.
+    limit_citation = "eq 35"
+
     @staticmethod
     def ft_limit(w):
         """Eq 35 (:func:`core.analytical.ft_limit`)."""

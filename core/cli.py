@@ -328,7 +328,8 @@ def _add_solver_options(parser, kernel_default="plane"):
     add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
         help="the loading history, a name core.simulate_cycles accepts: rocking (the default: constant Ft, "
              "the centre rocked between -W and +W), normal (the same under a normal force 1 + 0.2 sin(2 pi t)) "
-             "or tangential (fixed centre, Ft oscillating by (1 - |ft|)/2 about its mean)")
+             "or tangential (fixed centre, Ft oscillating by (1 - |ft|)/2 about its mean: for a sphere "
+             "Mindlin-Deresiewicz); every body takes every history")
     add("--periods", type=_integer("periods", 1, 10_000), action=_Once, metavar="N",
         help="rocking periods to simulate, in [1, 10000] (default 10)")
     add("--dx", type=_number("dx", _DX_MIN, 0.5), action=_Once, metavar="DX",
@@ -498,16 +499,17 @@ def _body_options(args, options) -> None:
     for name, value in given.items():
         if body not in _BODY_FLAGS[name]:
             raise ValueError(f"--{name} is for --body {' or '.join(_BODY_FLAGS[name])}, not {_short(body)}")
-    if "flat" in given:
-        from .registry import make_body
-        options["body"] = make_body(body, flat=given["flat"])
-    if body == "heightmap":
-        from .registry import make_body
-        options["body"] = make_body(body, **{k: given[k] for k in ("file", "length_unit", "height_unit")
-                                             if k in given})
-    if body == "cone":
-        from .registry import make_body
-        options["body"] = make_body(body, **{k: given[k] for k in ("inner", "length", "load_at") if k in given})
+    # the body's own parameters (core/registry.py) make the body object; one that core.simulate_cycles takes as a
+    # keyword (the ellipsoid's ratio) passes as that
+    from .grid import solver_defaults
+    from .registry import REGISTRY, make_body
+
+    entry = REGISTRY.get(body) if isinstance(body, str) else None
+    if entry is not None:
+        keywords = solver_defaults()
+        own = {p.name: p for p in entry.parameters if p.name not in keywords}
+        if any(name in given for name in own) or any(p.path for p in own.values()):
+            options["body"] = make_body(body, **{k: v for k, v in given.items() if k in own})
     if "ratio" in given:
         options["ratio"] = given["ratio"]
     if "angle" in given:
@@ -609,10 +611,23 @@ def _trend_rows(s: dict, unit: str) -> list[tuple[str, str]]:
     return rows
 
 
+def _energy_rows(s: dict, contact) -> list[tuple[str, str]]:
+    """The rows of the energy dissipated per period: the last period's, its limit E_inf with its error, and with
+    a contact the last period's in J/m (a line) or J (a point contact)."""
+    unit, E, err = s["energy_unit"], s["E_inf"], s["E_inf_error"]
+    rows = [("energy, last period", _fmt(s["energy_last_period"], unit))]
+    if contact is not None:
+        si = "J" if unit.endswith("(E* a)") else "J/m"
+        rows.append(("  in SI units", _fmt(s["energy_last_period"] * contact.energy_unit, si)))
+    rows.append(("  E_inf (limit energy)", "- (too few periods to fit the trend)" if E is None or math.isnan(E)
+                 else f"{E:.4g} +- {err:.2g} {unit}"))
+    return rows
+
+
 def _cmd_run(args) -> int:
     import pandas as pd
 
-    from .analytical import ft_limit, shakedown_stick_halfwidth, w_limit
+    from .analytical import ft_limit, w_limit
     from .grid import sweep_grid
     from .solver import simulate_contact, simulate_cycles
     from .tables import CSV_FLOAT_FORMAT, atomic_write
@@ -628,12 +643,11 @@ def _cmd_run(args) -> int:
         result = simulate_contact(contact, **options)
     s = result.summary()
     inc = result.increment_per_period
-    c_paper = float(shakedown_stick_halfwidth(ft, w))
-    body = getattr(result, "body", None) or s.get("body", "cylinder")
-    if not isinstance(body, str):
-        body = body.name
-    line = body == "cylinder"  # the paper's closure and eq 35 are the cylinder's; other bodies have their own limit
     spec = result.body  # the body with its parameters
+    body = spec.name
+    # the paper's closure (eq 30) and eq 35: a body with a closed-form shaken-down state (the cylinder's);
+    # every other body has its own exact limit
+    line = getattr(spec, "shakedown_stick_halfwidth", None) is not None
     line_body = not result.is_patch  # a line contact (the cylinder, the punch, any core.bodies.Body)
     unit_u = "mu P/E*" if line_body else "mu Fn/(E* a)"
     since = f" (from period {s['shakedown_period']})" if s.get("shakedown_period") is not None else ""
@@ -643,10 +657,11 @@ def _cmd_run(args) -> int:
         *_trend_rows(s, unit_u),
         ("increment, last period", _fmt(s["increment_last_period"], unit_u)),
         ("increment, first period", _fmt(float(inc[0]) if inc.size else None, unit_u)),
+        *_energy_rows(s, contact),
         *([("twist, last period", _fmt(s["twist_last_period"], "mu Fn/(E* a^2) rad"))]
           if "twist_last_period" in s else []),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),
-        *([("  paper's ansatz (eq 30)", _fmt(c_paper, "a"))] if line else []),
+        *([("  paper's ansatz (eq 30)", _fmt(float(spec.shakedown_stick_halfwidth(ft, w)), "a"))] if line else []),
         (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),
         (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=spec)), "= w_lim")),
         ("Melan's limit on this grid", _grid_limit_text(result)),
@@ -658,7 +673,7 @@ def _cmd_run(args) -> int:
     ]
     model = (f"{result.kernel} kernel" if line else f"{spec!r}, {result.kernel} kernel"
              if line_body else f"{body}, 3D half-space")
-    history = result.params.get("history", "rocking") if line_body else "rocking"
+    history = result.params.get("history", "rocking")  # every body takes every history
     loading = {"normal": f"{s['shape']} rocking under an oscillating normal force",
                "tangential": f"{s['shape']} oscillating tangential force at a fixed centre"}.get(
         history, f"{s['shape']} rocking")

@@ -202,6 +202,12 @@ class Contact:
         return self.mu * self.P / self.E_star
 
     @property
+    def energy_unit(self) -> float:
+        """``mu^2 P^2 / E*`` [J/m], the unit of the energy dissipated per period per unit length
+        (:attr:`core.CycleResult.dissipation_per_period` of a line contact)."""
+        return self.mu * self.P * self.displacement_unit
+
+    @property
     def traction_unit(self) -> float:
         """``mu p0`` [Pa], the unit of normalised tractions."""
         return self.mu * self.p0

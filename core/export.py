@@ -5,10 +5,14 @@ Three tables describe a run:
 
 * ``"steps"``: one row per step (period, contact centre, rigid-body
   displacement, ``U/U0`` for the strip kernel, dissipation);
-* ``"periods"``: one row per rocking period (its displacement increment);
+* ``"periods"``: one row per rocking period (its displacement increment and the
+  energy dissipated by friction in it, ``CycleResult.dissipation_per_period``:
+  ``_mu2P2_Estar`` in mu^2 P^2/E* per unit length, a point contact's
+  ``_mu2Fn2_Estar_a`` in mu^2 Fn^2/(E* a); with a contact also in J/m or J);
 * ``"final"``: one row per element (final traction, lowest pressure of the last
-  period, zone, and the paper's closure traction, eqs 22-30, beside the
-  numerical one); for a point contact, one row per element of the line
+  period, zone, and the body's closed-form shaken-down traction beside the
+  numerical one: the cylinder's closure, eqs 22-30, under the paper's rocking;
+  NaN for a body without one, such as the punch, or another history); for a point contact, one row per element of the line
   ``y = 0`` (both traction components and the state).
 
 Periods are numbered from ``first_period`` (0 by default; the loading is
@@ -32,7 +36,6 @@ import math
 import numpy as np
 import pandas as pd
 
-from .analytical import shakedown_traction
 from .contact import Contact
 from .point_contact import PointContact
 from .result import CycleResult
@@ -104,7 +107,9 @@ def parameters(result: CycleResult, contact: Contact | None = None) -> dict:
     if contact is not None:
         out.update({f"contact_{k}": v for k, v in _contact_summary(contact).items()})
         unit = "muFn_Estar_a_m" if result.is_patch else "muP_Estar_m"
-        out.update({"a_m": contact.a, "mu_p0_Pa": contact.traction_unit, unit: contact.displacement_unit})
+        energy = "mu2Fn2_Estar_a_J" if result.is_patch else "mu2P2_Estar_J_per_m"
+        out.update({"a_m": contact.a, "mu_p0_Pa": contact.traction_unit, unit: contact.displacement_unit,
+                    energy: contact.energy_unit})
     return {k: (v.item() if isinstance(v, np.generic) else v) for k, v in out.items()}
 
 
@@ -138,7 +143,7 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
     >>> from core.export import result_table
     >>> r = core.simulate_cycles(0.2, 0.3, periods=2)
     >>> list(result_table(r, "periods").columns)
-    ['period', 'increment_muP_Estar']
+    ['period', 'increment_muP_Estar', 'energy_mu2P2_Estar']
     >>> list(result_table(r, "periods", first_period=1)["period"])
     [1, 2]
     """
@@ -164,15 +169,22 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
         return df
     if table == "periods":
         inc = result.increment_per_period
+        energy = result.dissipation_per_period
         df = pd.DataFrame({"period": np.arange(inc.size) + first_period, "increment_muP_Estar": inc})
         if result.u0 is not None:
             df["increment_U_over_U0"] = inc / result.u0
+        df["energy_mu2P2_Estar"] = energy
         if contact is not None:
             df["increment_m"] = inc * u_unit
+            df["energy_J_per_m"] = energy * contact.energy_unit
         return df
     zones = result.final_zones
     ft, w = float(result.params.get("ft", math.nan)), float(result.params.get("w", math.nan))
-    closure = (shakedown_traction(result.x, ft, w) if math.isfinite(ft) and math.isfinite(w)
+    # the body's own closed form of the shaken-down traction (the cylinder's eqs 22-30), under the paper's rocking
+    # at constant loads only; NaN for a body without one (the punch) or another history
+    own = getattr(result.body, "shakedown_traction", None)
+    rocking = result.params.get("history", "rocking") == "rocking"
+    closure = (own(result.x, ft, w) if own is not None and rocking and math.isfinite(ft) and math.isfinite(w)
                else np.full(result.x.size, math.nan))
     df = pd.DataFrame({
         "x_a": result.x,
@@ -181,7 +193,7 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
         "zone": zones,
         "zone_name": np.asarray(ZONE_NAMES)[zones],
         "state": np.asarray(STATE_NAMES)[result.state[-1]],
-        "closure_traction_mu_p0": closure,  # the paper's shakedown traction (eqs 22-30); NaN past ft_lim
+        "closure_traction_mu_p0": closure,  # the body's closed-form shakedown traction; NaN past ft_lim or without one
     })
     if contact is not None:
         df["x_m"] = result.x * contact.a
@@ -209,9 +221,12 @@ def _point_table(result: CycleResult, table: str, contact, first_period: int) ->
         return df
     if table == "periods":
         inc = result.increment_per_period
-        df = pd.DataFrame({"period": np.arange(inc.size) + first_period, "increment_muFn_Estar_a": inc})
+        energy = result.dissipation_per_period
+        df = pd.DataFrame({"period": np.arange(inc.size) + first_period, "increment_muFn_Estar_a": inc,
+                           "energy_mu2Fn2_Estar_a": energy})
         if contact is not None:
             df["increment_m"] = inc * u_unit
+            df["energy_J"] = energy * contact.energy_unit
         return df
     q, state = result.traction_cut[-1], result.state_cut[-1].astype(int)
     df = pd.DataFrame({

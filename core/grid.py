@@ -103,9 +103,12 @@ def _cells(w: float, items: tuple) -> tuple[int, int] | None:
     from .schedule import rocking_schedule
     from .solver import MAX_ELEMENTS, MAX_FFT_ELEMENTS, make_grid
 
+    from .registry import kind, resolve
+
     option = dict(items)
     defaults = solver_defaults()
-    if option.get("body", "cylinder") != "cylinder" or option.get("history") not in (None, "rocking"):
+    body = option.get("body")
+    if kind(body) != "line" or resolve(body) != resolve() or option.get("history") not in (None, "rocking"):
         return None  # another body or history: the solver checks its own size
     dx = check_scalar("dx", option.get("dx") or default_dx("cylinder"), 1e-4, 0.5)
     dW = option.get("dW")

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
 
 import numpy as np
 from scipy.ndimage import minimum_filter1d
@@ -32,11 +33,73 @@ from scipy.ndimage import minimum_filter1d
 from ._validate import check_scalar
 from .bodies import Body
 
-__all__ = ["HeightProfile", "HeightMap"]
+__all__ = ["HeightProfile", "HeightMap", "read_topography", "readable_formats"]
 
 
 def _digest(a):
     return hashlib.sha1(np.ascontiguousarray(a).tobytes()).hexdigest()[:12]
+
+
+def readable_formats() -> list[str]:
+    """The file formats a height map can be read from: SurfaceTopography's readers, as ``"name (.ext, ...)"``.
+
+    Returns
+    -------
+    list of str
+        One entry per reader of the installed SurfaceTopography (its own list, ``SurfaceTopography.IO.readers``).
+
+    Examples
+    --------
+    >>> from core.heightmap import readable_formats
+    >>> any(f.startswith("Network Common Data Format (NetCDF) (.nc") for f in readable_formats())
+    True
+    """
+    from SurfaceTopography.IO import readers
+
+    return [f"{r.name()} ({', '.join('.' + e for e in r.file_extensions())})" for r in readers]
+
+
+def read_topography(source, name=None):
+    """Read a height map's file with SurfaceTopography, or raise a ValueError a user can act on.
+
+    Parameters
+    ----------
+    source : str, path-like or binary file object
+        A file's path, or its bytes (``io.BytesIO``: an upload, never written to disk). The format is told
+        from the contents.
+    name : str, optional
+        How the file is named in a message (default: the path; ``"the file"`` for a file object).
+
+    Returns
+    -------
+    SurfaceTopography topography
+        What the file holds (a line scan or a 2D map).
+
+    Raises
+    ------
+    ValueError
+        ``file not found: PATH`` for a path that does not exist (or is not a file); for a file that no reader
+        understands, a message naming every readable format (:func:`readable_formats`); for a file a reader
+        recognises but cannot read, the reader's reason.
+    """
+    from SurfaceTopography import read_topography as _read
+    from SurfaceTopography.Exceptions import CannotDetectFileFormat, ReadFileError, UnknownFileFormat
+
+    is_path = isinstance(source, (str, bytes)) or hasattr(source, "__fspath__")
+    if is_path:
+        path = os.fsdecode(source)
+        name = path if name is None else name
+        if not os.path.isfile(path):
+            raise ValueError(f"file not found: {path}" if not os.path.exists(path) else f"{path} is not a file")
+    name = "the file" if name is None else name
+    try:
+        return _read(source)
+    except (CannotDetectFileFormat, UnknownFileFormat) as e:
+        raise ValueError(f"{name} is in no format that can be read; the readable formats: "
+                         f"{'; '.join(readable_formats())}") from e
+    except (ReadFileError, OSError) as e:
+        why = " ".join(str(e).split())[:300]
+        raise ValueError(f"{name} cannot be read: {why or type(e).__name__}") from e
 
 
 def _read_topography(topography, length_unit, height_unit, dim):
@@ -44,7 +107,6 @@ def _read_topography(topography, length_unit, height_unit, dim):
     length_unit = check_scalar("length_unit", length_unit, 0.0, None, lo_closed=False)
     height_unit = check_scalar("height_unit", height_unit, 0.0, None, lo_closed=False)
     if isinstance(topography, (str, bytes)) or hasattr(topography, "__fspath__"):
-        from SurfaceTopography import read_topography
         topography = read_topography(topography)
     if getattr(topography, "dim", None) != dim:
         raise ValueError("topography must be a 1D line scan" if dim == 1 else "topography must be a 2D topography")

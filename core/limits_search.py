@@ -13,6 +13,10 @@ body's exact limit (:func:`core.w_limit` with ``body=``: eq 35 for the
 cylinder, ``ft = 1 - 3w/2 + w^3/2`` for the point contacts). The columns keep
 their names ``w_limit_eq35`` and ``eq35_inside`` for every body.
 
+The bracket separates the runs whose body stops walking (``"shakedown"``, and
+``"cyclic slip"``, which counts as not ratcheting: :data:`NOT_RATCHETING`)
+from those that ratchet.
+
 A run whose periods cannot tell the regime (``"undetermined"``, see
 :attr:`core.CycleResult.verdict`) is run again with twice the periods, up to
 :data:`MAX_PERIOD_DOUBLINGS` times. A run that still cannot tell lies close to
@@ -35,8 +39,10 @@ from .tables import INPUT_COLUMNS, RESULT_COLUMNS, input_columns, run_point, tid
 from .tasks import SweepCancelled, run_tasks
 
 __all__ = ["LimitResult", "numerical_limit", "numerical_w_limit", "numerical_limit_curve", "MAX_PERIOD_DOUBLINGS",
-           "LIMIT_COLUMNS"]
+           "LIMIT_COLUMNS", "NOT_RATCHETING"]
 
+#: Regimes on the shakedown side of the bracket: the body does not walk (a cyclic slip counts with shakedown).
+NOT_RATCHETING = ("shakedown", "cyclic slip")
 #: Times an undetermined run is repeated with twice the periods before the search gives up.
 MAX_PERIOD_DOUBLINGS = 3
 #: Columns of :func:`numerical_limit_curve`'s table.
@@ -150,7 +156,9 @@ def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
         if row["regime"] == "undetermined":
             raise _Undetermined(f"the regime at w = {w:.6g} is undetermined after {periods} periods: "
                                 f"{row['regime_reason']}")
-        verdicts[w] = row["regime"] == "shakedown"
+        # the search is for the ratcheting limit: cyclic slip (no walk, slip every period) is "not ratcheting".
+        # Under the rocking histories' constant tangential load it does not occur (docs/guide/regimes.md)
+        verdicts[w] = row["regime"] in NOT_RATCHETING
         return verdicts[w]
 
     lo, hi = 0.0, W_MAX

@@ -120,28 +120,11 @@ def ft_limit_numerical(w, body, dx=None, normal="auto"):
 
 
 def _resolve(body):
-    from .bodies import Body, Cylinder, resolve_body
-    from .point_contact import Ellipsoid, POINT_BODIES
-    if body is None or (isinstance(body, str) and body == "cylinder") or type(body) is Cylinder:
-        return "cylinder"
-    if isinstance(body, Ellipsoid) or (isinstance(body, str) and body in POINT_BODIES):
-        return "point"
-    if isinstance(body, Body) or hasattr(body, "grid_pressure"):  # a line body, a height map or a cone
-        return body
-    if isinstance(body, str):  # another registered point body by name (its default parameters), e.g. "cone"
-        from .registry import REGISTRY, make_body
-        if body in REGISTRY and REGISTRY[body].kind == "point":
-            return make_body(body)
-    return resolve_body(body)
-
-
-def _closed_form(kind, which):
-    """The closed-form ``ft_limit`` (``which="ft"``) or ``w_limit`` (``"w"``) of a ``"cylinder"`` or ``"point"`` body."""
-    if kind == "cylinder":
-        from . import analytical
-        return analytical.ft_limit if which == "ft" else analytical.w_limit
-    from . import point_contact
-    return point_contact.ft_limit_point if which == "ft" else point_contact.w_limit_point
+    """The body object (:func:`core.registry.resolve`) and whether it has a closed-form limit (``closed_limit``:
+    the cylinder's eq 35, every ellipsoid's ``(1 - w)^2 (2 + w)/2``), which its own ``ft_limit``/``w_limit`` give."""
+    from .registry import resolve
+    spec = resolve(body)
+    return spec, bool(getattr(spec, "closed_limit", False))
 
 
 def ft_limit(w, body="cylinder", *, normal="auto", dx=None):
@@ -164,10 +147,10 @@ def ft_limit(w, body="cylinder", *, normal="auto", dx=None):
     >>> round(float(core.ft_limit(0.3, body=core.Punch(flat=0.5))), 4)
     0.5527
     """
-    kind = _resolve(body)
-    if kind in ("cylinder", "point"):
-        return _closed_form(kind, "ft")(w)
-    return _each(lambda v: ft_limit_numerical(v, kind, dx, normal), w)
+    spec, closed = _resolve(body)
+    if closed:
+        return spec.ft_limit(w)
+    return _each(lambda v: ft_limit_numerical(v, spec, dx, normal), w)
 
 
 def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
@@ -179,9 +162,9 @@ def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
     >>> round(float(core.w_limit(0.5527, body=core.Punch(flat=0.5))), 3)
     0.3
     """
-    kind = _resolve(body)
-    if kind in ("cylinder", "point"):
-        return _closed_form(kind, "w")(ft)
+    spec, closed = _resolve(body)
+    if closed:
+        return spec.w_limit(ft)
 
     def one(f):
         f = check_scalar("ft", f, 0.0, 1.0)
@@ -190,9 +173,9 @@ def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
         if f <= 0.0:
             return 1.0
         top = 1.0 - 1e-6
-        if ft_limit_numerical(top, kind, dx, normal) >= f:
+        if ft_limit_numerical(top, spec, dx, normal) >= f:
             return top
-        return brentq(lambda v: ft_limit_numerical(v, kind, dx, normal) - f, 0.0, top, xtol=1e-7)
+        return brentq(lambda v: ft_limit_numerical(v, spec, dx, normal) - f, 0.0, top, xtol=1e-7)
 
     return _each(one, ft)
 

@@ -48,7 +48,7 @@ from scipy.special import ellipe, ellipk
 from ._validate import check_range, check_scalar
 from .analytical import _ellipse_primitive
 
-__all__ = ["Ellipsoid", "Sphere", "resolve_body", "limit_body", "POINT_BODIES", "axis_ratio", "ft_limit_point",
+__all__ = ["Ellipsoid", "Sphere", "POINT_BODIES", "axis_ratio", "ft_limit_point",
            "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d", "PointContact"]
 
 #: Body names of the point contacts.
@@ -90,6 +90,19 @@ class Ellipsoid:
         """The body's parameters by name: ``{"ratio": Ry/Rx}``."""
         return {"ratio": self.ratio}
 
+    #: Its limit is in closed form (every ellipsoid rocked along a principal axis): :meth:`ft_limit`.
+    closed_limit = True
+
+    @staticmethod
+    def ft_limit(w):
+        """The exact limit ``(1 - w)^2 (2 + w)/2`` (:func:`ft_limit_point`; the same for every ratio)."""
+        return ft_limit_point(w)
+
+    @staticmethod
+    def w_limit(ft):
+        """Its inverse (:func:`w_limit_point`)."""
+        return w_limit_point(ft)
+
     def pressure(self, x, y, xc=0.0):
         """Hertz's pressure [p0] at ``(x, y)`` [a] with the centre at ``(xc, 0)`` (:func:`hertz_pressure_3d`)."""
         return hertz_pressure_3d(x, y, xc, self.kappa)
@@ -129,42 +142,6 @@ class Ellipsoid:
 def Sphere() -> Ellipsoid:
     """The sphere: ``Ellipsoid(1.0)``."""
     return Ellipsoid(1.0)
-
-
-def resolve_body(body, ratio=None) -> Ellipsoid:
-    """A point-contact body from ``"sphere"``, ``"ellipsoid"`` (with ``ratio = Ry/Rx``) or an :class:`Ellipsoid`.
-
-    Raises
-    ------
-    ValueError
-        For another name, or ``"ellipsoid"`` without ``ratio``.
-    """
-    if isinstance(body, Ellipsoid):
-        if ratio is not None and float(ratio) != body.ratio:
-            raise ValueError(f"ratio = {ratio!r} contradicts body = {body!r}")
-        return body
-    if body == "sphere":
-        if ratio is not None and float(ratio) != 1.0:
-            raise ValueError(f"the sphere has ratio 1, got ratio = {ratio!r}: use body='ellipsoid'")
-        return Ellipsoid(1.0)
-    if body == "ellipsoid":
-        if ratio is None:
-            raise ValueError("body='ellipsoid' needs ratio = Ry/Rx in [0.05, 20]")
-        return Ellipsoid(ratio)
-    raise ValueError(f"body must be one of cylinder, ellipsoid, sphere (or a core.Ellipsoid), got {body!r:.60}")
-
-
-def limit_body(body) -> bool:
-    """True for a point-contact body of the limit functions (any ellipsoid: the limit does not depend on the ratio).
-
-    Raises
-    ------
-    ValueError
-        For anything but ``"sphere"``, ``"ellipsoid"`` or an :class:`Ellipsoid`.
-    """
-    if isinstance(body, Ellipsoid) or body in POINT_BODIES:
-        return True
-    raise ValueError(f"body must be one of cylinder, ellipsoid, sphere (or a core.Ellipsoid), got {body!r:.60}")
 
 
 def _curvature_ratio(m):
@@ -437,6 +414,12 @@ class PointContact:
         """``mu Fn / (E* a)`` [m]."""
         return self.mu * self.Fn / (self.E_star * self.a)
 
+    @property
+    def energy_unit(self) -> float:
+        """``mu^2 Fn^2 / (E* a)`` [J], the unit of the energy dissipated per period
+        (:attr:`core.CycleResult.dissipation_per_period` of a point contact)."""
+        return self.mu * self.Fn * self.displacement_unit
+
     def replace(self, **changes) -> "PointContact":
         """A copy with some inputs changed, as :meth:`core.Contact.replace`: the normalised loads ``ft`` and
         ``w`` stay as they are unless ``ft``/``Ft`` or ``w``/``W`` is given (``ft`` and ``w`` may be given in
@@ -461,12 +444,14 @@ class PointContact:
         return PointContact(**{**{n: getattr(geometry, n) for n in names}, "Ft": Ft, "W": W})
 
     def simulate(self, periods=10, dx=None, **options):
-        """Run :func:`core.solver3d.simulate_point_contact` with this contact's ``ft``, ``w``, body, angle and ``nu``.
+        """Run :func:`core.simulate_point_contact` with this contact's ``ft``, ``w``, body, angle and ``nu``.
+
+        ``options`` are those of :func:`core.simulate_cycles` (``history``, ``amplitude``, ``shape``, ...).
 
         The result stays normalised: multiply lengths by :attr:`a`, tractions
         by :attr:`traction_unit` and displacements by :attr:`displacement_unit`.
         """
-        from .solver3d import simulate_point_contact
+        from .solver import simulate_point_contact
 
         return simulate_point_contact(self.ft, self.w, periods, dx, body=self.body, angle=self.angle, nu=self.nu,
                                       **options)

@@ -28,7 +28,8 @@ from typing import Callable
 
 from ._validate import check_scalar
 
-__all__ = ["Parameter", "BodyEntry", "REGISTRY", "make_body", "register", "describe", "body_name"]
+__all__ = ["Parameter", "BodyEntry", "REGISTRY", "make_body", "register", "describe", "body_name", "resolve", "kind",
+           "point_body"]
 
 
 @dataclass(frozen=True)
@@ -153,6 +154,71 @@ def make_body(name, **parameters):
         allowed = ", ".join(known) or "none"
         raise ValueError(f"body {name!r} has no parameter(s) {', '.join(unknown)} (its parameters: {allowed})")
     return entry.make(**{k: known[k].check(v) for k, v in parameters.items()})
+
+
+def resolve(body=None):
+    """The body object of ``body``: a registered name (its default parameters), a body class or a body object.
+
+    ``None`` is the default body, the cylinder. This is the one place where a body's name becomes a body.
+
+    Raises
+    ------
+    ValueError
+        For a name that is not registered (the message lists the names).
+    """
+    if body is None:
+        body = "cylinder"
+    if isinstance(body, str):
+        return make_body(body)
+    if isinstance(body, type):
+        return body()
+    return body
+
+
+def kind(body) -> str:
+    """``"line"`` (a line contact on the 1D engine) or ``"point"`` (a patch of elements) for a name or body object.
+
+    Raises
+    ------
+    ValueError
+        For a name that is not registered.
+    """
+    if body is None or isinstance(body, str):
+        name = "cylinder" if body is None else body
+        if name not in REGISTRY:
+            raise ValueError(f"body must be one of {', '.join(sorted(REGISTRY))}, got {name!r:.60}")
+        return REGISTRY[name].kind
+    return "line" if getattr(body, "dim", None) == 1 else "point"
+
+
+def point_body(body, ratio=None):
+    """A point body object from a registered name or an object, with ``ratio = Ry/Rx`` for a body that takes it.
+
+    A name whose entry has a ``ratio`` parameter takes ``ratio`` (its default when None); ``ratio`` for another
+    body is refused unless it is the body's own (the sphere's 1).
+
+    Raises
+    ------
+    ValueError
+        For a line body, an unknown name, or a ``ratio`` the body does not take.
+    """
+    if kind(body) != "point":
+        raise ValueError(f"body must be a point body ({', '.join(n for n, e in REGISTRY.items() if e.kind == 'point')}"
+                         f" or an object), got {body!r:.60}")
+    if not isinstance(body, str):
+        own = getattr(body, "ratio", None)
+        if ratio is not None and (own is None or float(ratio) != own):
+            raise ValueError(f"ratio = {ratio!r} contradicts body = {body!r}" if own is not None else
+                             f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
+        return body
+    takes_ratio = any(p.name == "ratio" for p in REGISTRY[body].parameters)
+    if ratio is None or takes_ratio:
+        return make_body(body, **({} if ratio is None else {"ratio": ratio}))
+    made = make_body(body)
+    if float(ratio) != getattr(made, "ratio", None):
+        raise ValueError(f"body {body!r} takes no ratio (got ratio = {ratio!r}): use a body with one, "
+                         f"{', '.join(n for n, e in REGISTRY.items() if any(p.name == 'ratio' for p in e.parameters))}")
+    return made
 
 
 def body_name(body) -> str:

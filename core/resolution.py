@@ -1,4 +1,4 @@
-"""The default grid of every body, in one place.
+"""The default grid of every body, and every grid kind's solver defaults, in one place.
 
 A run's element width ``dx`` (in the contact's semi-axis ``a`` along the
 rocking) defaults to the grid of its body: the line contact (the cylinder)
@@ -12,19 +12,52 @@ cost, and (ft 0.6, w 0.3) within 0.25 % of CONTACT's at the same grid (see
 the command line all take their default from :func:`default_dx`; every
 result reports the ``dx`` it ran at (``summary()["dx"]``).
 
+Each grid kind (``"line"``: a line contact's elements on the 1D engine;
+``"patch"``: a point contact's square elements) has its defaults in
+:data:`GRID_DEFAULTS` (:class:`GridDefaults`): the element width, the
+smallest one a run accepts, the KKT tolerance of every step, the periodic
+tolerance and the steps run between checks of the budget. Every entry point
+(:func:`core.simulate_cycles`, :func:`core.solver.solve_schedule`,
+:func:`core.solver3d.solve_point_schedule`, the static solves) reads them here.
+
 This module imports nothing heavy (the command line reads it to print its help).
 """
 
 from __future__ import annotations
 
-__all__ = ["default_dx", "DEFAULT_DX_LINE", "DEFAULT_DX_POINT", "LINE_BODIES"]
+from typing import NamedTuple
+
+__all__ = ["default_dx", "DEFAULT_DX_LINE", "DEFAULT_DX_POINT", "GridDefaults", "GRID_DEFAULTS"]
 
 #: Default element width [a] of the line contact (the cylinder): 80 elements across the contact.
 DEFAULT_DX_LINE = 1.0 / 40.0
 #: Default element side [a] of the point contacts: 40 elements across the contact.
 DEFAULT_DX_POINT = 1.0 / 20.0
-#: Names of the bodies run by the line-contact (2D) solver.
-LINE_BODIES = ("cylinder", "punch")
+
+
+class GridDefaults(NamedTuple):
+    """The defaults of one grid kind's runs (see :data:`GRID_DEFAULTS`)."""
+
+    #: Default element width [a].
+    dx: float
+    #: Smallest element width [a] a run accepts.
+    min_dx: float
+    #: KKT tolerance of every step (tractions in mu p0, slips in mu P/E*, loads in mu P).
+    tol: float
+    #: Change of the traction [mu p0] between the ends of two periods below which the state repeats
+    #: (None: the KKT tolerance, exact for the line solvers).
+    periodic_tol: float | None
+    #: Steps run between checks of the time budget, ``cancel`` and ``progress``.
+    chunk: int
+
+
+#: Every grid kind's defaults: ``"line"`` (the exact active-set solvers, solved to round-off) and ``"patch"``
+#: (the inexact 3D projected CG: a looser tolerance, a periodic tolerance of 100 tol, since a period repeats
+#: to about 10 tol, and shorter chunks, since a patch step costs far more than a line step).
+GRID_DEFAULTS = {
+    "line": GridDefaults(dx=DEFAULT_DX_LINE, min_dx=1e-4, tol=1e-10, periodic_tol=None, chunk=256),
+    "patch": GridDefaults(dx=DEFAULT_DX_POINT, min_dx=0.005, tol=1e-8, periodic_tol=1e-6, chunk=50),
+}
 
 
 def default_dx(body="cylinder") -> float:
@@ -53,6 +86,6 @@ def default_dx(body="cylinder") -> float:
     own = getattr(body, "default_dx", None)
     if own is not None and not isinstance(body, str):
         return float(own)
-    if body is None or getattr(body, "dim", None) == 1 or (isinstance(body, str) and body in LINE_BODIES):
-        return DEFAULT_DX_LINE
-    return DEFAULT_DX_POINT
+    from .registry import kind  # the one code that knows body names
+
+    return GRID_DEFAULTS["line" if kind(body) == "line" else "patch"].dx

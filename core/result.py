@@ -15,7 +15,7 @@ from .states import STATE_NAMES, State, Zone
 
 __all__ = ["CycleResult", "PointContactResult", "LineResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
            "STATE_NAMES", "SolverError", "SolveCancelled", "read_only", "classify_increments", "fit_trend", "Trend",
-           "Verdict", "VERDICT_SIGMAS", "MIN_FIT_PERIODS", "SETTLED_FRACTION"]
+           "Verdict", "EnergyVerdict", "classify_energy", "combine_verdicts", "REGIMES", "FrettingLoop", "VERDICT_SIGMAS", "MIN_FIT_PERIODS", "SETTLED_FRACTION"]
 
 #: Element states recorded per step (``CycleResult.state``): aliases of :class:`core.states.State`.
 STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = (
@@ -417,6 +417,125 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
                                           f"{advice}{melan.aside}"), trend, more)
 
 
+#: The regimes a run can end in (:attr:`CycleResult.regime`): after Klarbring, Ciavarella and Barber (2007) and
+#: Barber, Davies and Hills (2011), plus ``"undetermined"`` when the periods run cannot tell.
+REGIMES = ("shakedown", "cyclic slip", "ratcheting", "undetermined")
+
+
+class EnergyVerdict(NamedTuple):
+    """What the energy dissipated per period does (:func:`classify_energy`): ``(kind, words, trend)``.
+
+    ``kind`` is ``"zero"`` (it decays to zero: slip stops), ``"steady"`` (it tends to a positive constant:
+    slip goes on every period) or ``"undetermined"``; ``words`` says why; ``trend`` is the fit
+    ``E_n = E_inf + C r^n`` of its tail (:func:`fit_trend`; None below 4 periods).
+    """
+
+    kind: str
+    words: str
+    trend: Trend | None
+
+
+def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P^2/E*") -> EnergyVerdict:
+    """Whether the energy dissipated per period decays to zero or tends to a positive constant.
+
+    The same reading as the walk's (:func:`classify_increments`): the energy of a
+    run that shakes down decays geometrically to zero (slip stops); that of a
+    run in cyclic slip or ratcheting tends to a positive constant, the energy
+    of the steady loop. With ``tol = max(rtol * largest, floor)``:
+
+    * ``"zero"``: from some period on every energy is at most ``tol``, or the
+      fit's ``E_inf`` is below ``tol`` by more than :data:`VERDICT_SIGMAS`
+      standard errors and the energies decay (``r < 1``);
+    * ``"steady"``: the state repeats (``periodic_from``) with an energy above
+      ``tol``, or ``E_inf`` is above ``tol`` by more than :data:`VERDICT_SIGMAS`
+      errors and the energies have settled (the changing part at most
+      :data:`SETTLED_FRACTION` of ``E_inf``) or the trend is steady;
+    * ``"undetermined"`` otherwise.
+
+    Melan's limit does not enter: it tells shakedown from the other two regimes,
+    not cyclic slip from ratcheting (docs/guide/regimes.md).
+
+    Parameters
+    ----------
+    energy : array_like
+        Energy dissipated in each period (>= 0 up to solver noise).
+    rtol : float
+        Relative tolerance below which an energy counts as zero (of the largest).
+    periodic_from : int or None
+        Period from which the solver found the state repeating.
+    floor : float
+        Absolute size below which an energy counts as zero, the smallest scatter of the fit (>= 0).
+    unit : str
+        Unit of the energies, for the words.
+
+    Returns
+    -------
+    EnergyVerdict
+
+    Examples
+    --------
+    >>> from core.result import classify_energy
+    >>> classify_energy([0.07] + [0.036] * 9, 1e-3, periodic_from=1).kind
+    'steady'
+    >>> classify_energy([0.1 * 0.3 ** n for n in range(10)], 1e-3, floor=1e-12).kind
+    'zero'
+    """
+    e = np.asarray(energy, dtype=float)
+    if e.size == 0:
+        return EnergyVerdict("undetermined", "no period was run", None)
+    scale = float(np.abs(e).max())
+    tolerance = max(rtol * scale, float(floor))
+    trend = fit_trend(e, floor)
+    small = np.abs(e) <= tolerance
+    if small[-1]:
+        k = e.size - 1
+        while k > 0 and small[k - 1]:
+            k -= 1
+        return EnergyVerdict("zero", f"the energy dissipated per period fell to <= {rtol:g} of its largest from "
+                                     f"period {k}", trend)
+    last = float(e[-1])
+    if periodic_from is not None:
+        return EnergyVerdict("steady", f"the state repeats from period {periodic_from}, dissipating {last:.4g} "
+                                       f"{unit} per period", trend)
+    if trend is None:
+        return EnergyVerdict("undetermined", f"{e.size} period{'s' if e.size > 1 else ''} are too few to fit the "
+                                             f"energy per period ({last:.3g} {unit} in the last)", None)
+    E, err, r = trend.D_inf, trend.D_inf_error, trend.ratio
+    band = VERDICT_SIGMAS * err
+    fitted = f"E_inf = {E:.4g} +- {err:.2g} {unit}"
+    if E - band > tolerance and (abs(trend.transient) <= SETTLED_FRACTION * abs(E) or trend.steady):
+        return EnergyVerdict("steady", f"the energy dissipated per period tends to a constant, {fitted}", trend)
+    if E + band <= tolerance and math.isfinite(r) and r < 1.0:
+        return EnergyVerdict("zero", f"the energy dissipated per period decays to zero, {fitted} (r = {r:.4g})",
+                             trend)
+    return EnergyVerdict("undetermined", f"the energy dissipated per period ({last:.3g} {unit} in the last) "
+                                         f"extrapolates to {fitted}, which does not tell zero (tolerance "
+                                         f"{tolerance:.2g}) from a constant yet", trend)
+
+
+def combine_verdicts(walk: Verdict, energy: EnergyVerdict) -> Verdict:
+    """The regime from the two trends: the walk per period and the energy dissipated per period.
+
+    * ``"ratcheting"``: the walk tends to a non-zero constant (whatever the energy);
+    * ``"shakedown"``: the walk and the energy both go to zero (slip stops);
+    * ``"cyclic slip"``: the walk goes to zero and the energy to a positive
+      constant (slip repeats every period, the body does not walk: fretting);
+    * ``"undetermined"``: either trend cannot tell yet.
+
+    The reason names both trends. ``shakedown_period`` is kept for a shakedown
+    only; ``periods_to_decide`` is the walk's.
+    """
+    regime = walk.regime
+    if regime == "shakedown":
+        regime = {"zero": "shakedown", "steady": "cyclic slip"}.get(energy.kind, "undetermined")
+    why = {"shakedown": "the walk and the energy per period both go to zero",
+           "cyclic slip": "the body stops walking but slips every period",
+           "ratcheting": "the body keeps walking", "undetermined": "the trends cannot tell yet"}[regime]
+    reason = f"{why}: walk: {walk.reason}; energy: {energy.words}"
+    return Verdict(walk.shakedown_period if regime == "shakedown" else None, regime, reason, walk.trend,
+                   walk.periods_to_decide)
+
+
 def below_bound(q, bound):
     """Elements whose traction stays strictly below a positive bound (by :data:`STICK_MARGIN`)."""
     return (bound > 0) & (np.abs(q) < bound - STICK_MARGIN)
@@ -548,6 +667,36 @@ class SolveCancelled(RuntimeError):
     """A solve was stopped on request or because its time budget ran out; the message says which."""
 
 
+class FrettingLoop(NamedTuple):
+    """One period's fretting loop (:meth:`CycleResult.fretting_loop`).
+
+    Attributes
+    ----------
+    period : int
+        The period (from 0).
+    Q : ndarray
+        Tangential load at the last step of the period before and at each step of this one [``load_unit``].
+    displacement : ndarray
+        Rigid-body displacement along ``Ft`` at the same steps, from the first [``displacement_unit``].
+    work : float
+        ``int Q dD`` over the period (trapezoidal) [``energy_unit``]: the loop's area when it closes.
+    energy : float
+        The energy the solver dissipated in the period (:attr:`CycleResult.dissipation_per_period`).
+    load_unit, displacement_unit, energy_unit : str
+        ``mu P``, ``mu P/E*``, ``mu^2 P^2/E*`` on a line (per unit length); ``mu Fn``, ``mu Fn/(E* a)``,
+        ``mu^2 Fn^2/(E* a)`` on a patch.
+    """
+
+    period: int
+    Q: np.ndarray
+    displacement: np.ndarray
+    work: float
+    energy: float
+    load_unit: str
+    displacement_unit: str
+    energy_unit: str
+
+
 class PeriodVerdict:
     """The verdict of a run from its increments per period: the same properties on every result type.
 
@@ -561,13 +710,29 @@ class PeriodVerdict:
     #: Unit of the increments, as printed in the reason.
     increment_unit = "mu P/E*"
 
+    #: Unit of the energies per period, as printed in the reason.
+    energy_unit = "mu^2 P^2/E*"
+
     @cached_property
-    def _classified(self) -> Verdict:
+    def _walk(self) -> Verdict:
         checked = hasattr(type(self), "melan_limit") and self.Q.size > 0
         return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
                                    floor=10.0 * self.tol, unit=self.increment_unit,
                                    load=float(self.Q[-1]) if checked else None,
                                    limit=(lambda: self.melan_limit) if checked else None)
+
+    @cached_property
+    def _energy(self) -> EnergyVerdict | None:
+        """The trend of the energy per period (:func:`classify_energy`), None without ``dissipation_per_period``."""
+        if not hasattr(type(self), "dissipation_per_period"):
+            return None
+        return classify_energy(self.dissipation_per_period, self.shakedown_rtol, self.periodic_from,
+                               floor=10.0 * self.tol, unit=self.energy_unit)
+
+    @cached_property
+    def _classified(self) -> Verdict:
+        walk = self._walk
+        return walk if self._energy is None else combine_verdicts(walk, self._energy)
 
     @property
     def shakedown_period(self) -> int | None:
@@ -581,7 +746,8 @@ class PeriodVerdict:
 
     @property
     def regime(self) -> str:
-        """``"shakedown"``, ``"ratcheting"`` or ``"undetermined"`` (see :attr:`verdict`)."""
+        """``"shakedown"``, ``"cyclic slip"``, ``"ratcheting"`` or ``"undetermined"`` (:data:`REGIMES`; see
+        :attr:`verdict`): read from the walk per period and, when the result has it, the energy per period."""
         return self._classified.regime
 
     @property
@@ -613,6 +779,23 @@ class PeriodVerdict:
     def periods_to_decide(self) -> int | None:
         """Roughly how many more periods would decide an undetermined run (None otherwise or if unknown)."""
         return self._classified.periods_to_decide
+
+    @property
+    def energy_trend(self) -> Trend | None:
+        """The fit ``E_n = E_inf + C r^n`` of the tail of the energies per period (None below 4 periods or
+        without energies)."""
+        return None if self._energy is None else self._energy.trend
+
+    @property
+    def E_inf(self) -> float:
+        """Limit of the energy dissipated per period, in :attr:`energy_unit` (NaN below 4 periods): zero for a
+        shakedown, positive for cyclic slip and ratcheting."""
+        return math.nan if self.energy_trend is None else self.energy_trend.D_inf
+
+    @property
+    def E_inf_error(self) -> float:
+        """Standard error of :attr:`E_inf` (NaN below 4 periods)."""
+        return math.nan if self.energy_trend is None else self.energy_trend.D_inf_error
 
 
 @dataclass(frozen=True, eq=False)
@@ -930,6 +1113,83 @@ class CycleResult(PeriodVerdict):
         rot = self.rotation[self._period_ends()]
         return read_only(np.diff(rot) if self.period[0] < 0 else np.diff(np.concatenate([[0.0], rot])))
 
+    @property
+    def energy_unit(self) -> str:
+        """Unit of :attr:`dissipation_per_period` (and ``E_inf``): ``mu^2 P^2/E*`` per unit length on a line,
+        ``mu^2 Fn^2/(E* a)`` on a patch."""
+        return "mu^2 Fn^2/(E* a)" if self.is_patch else "mu^2 P^2/E*"
+
+    @cached_property
+    def dissipation_per_period(self) -> np.ndarray:
+        """Energy dissipated by friction in each period [:attr:`energy_unit`] (the loading block left out).
+
+        The sum over the period's steps of :attr:`dissipation`. On a line the
+        steps store ``sum q s dx`` in ``mu p0 a * mu P/E*``; the nominal load is
+        ``P = load_factor * p0 a`` (``pi/2`` for Hertz), so the sum is divided by
+        the body's ``load_factor`` to give ``mu^2 P^2/E*`` per unit length. On a
+        patch the steps are already divided by the load (``mu^2 Fn^2/(E* a)``).
+        Zero in a shakedown, the area of the fretting loop in cyclic slip
+        (:meth:`fretting_loop`), ``Q`` times the walk per period when the
+        tangential load is constant and the body ratchets.
+        """
+        periods = self.period
+        keep = periods >= 0
+        energy = np.bincount(periods[keep], weights=self.dissipation[keep], minlength=self.periods)
+        if not self.is_patch:
+            energy = energy / float(getattr(self.body, "load_factor", 0.5 * math.pi))
+        return read_only(energy)
+
+    def fretting_loop(self, period: int = -1) -> FrettingLoop:
+        """The fretting loop of one period: the tangential load against the rigid-body displacement along it.
+
+        What a fretting rig records, from the stored steps (nothing is solved
+        again): the last step of the period before (the loading's for the first
+        period) and every step of ``period``. Its area, the work ``int Q dD`` of
+        the tangential load over the period, is the energy dissipated in it once
+        the state is steady (the elastic energy returns; uncoupled contact: the
+        normal load does no work on the tangential displacements). Under a
+        constant load (the rocking histories) the loop is a horizontal segment
+        and its work is ``Q`` times the walk of the period.
+
+        Parameters
+        ----------
+        period : int
+            The period, from 0 (negative: counted from the last, -1 the last one).
+
+        Returns
+        -------
+        FrettingLoop
+
+        Raises
+        ------
+        ValueError
+            If ``period`` is not a period of the run.
+
+        Examples
+        --------
+        >>> import core
+        >>> r = core.simulate_cycles(0.0, 0.0, periods=3, history="tangential", amplitude=0.5, dx=0.05)
+        >>> loop = r.fretting_loop()
+        >>> round(loop.work, 3), round(float(r.dissipation_per_period[-1]), 3)
+        (0.036, 0.036)
+        """
+        n = self.periods
+        if isinstance(period, bool) or not isinstance(period, (int, np.integer)) or not -n <= period < n:
+            raise ValueError(f"period must be an integer in [{-n}, {n - 1}] (the run has {n} periods), "
+                             f"got {period!r}")
+        period = int(period) % n
+        steps = np.flatnonzero(self.period == period)
+        if steps[0] > 0:
+            steps = np.concatenate([[steps[0] - 1], steps])
+        along = self.displacement
+        if along.ndim == 2:
+            along = along @ np.array([math.cos(self.angle), math.sin(self.angle)])
+        Q, D = self.Q[steps], along[steps]
+        work = float(np.sum(0.5 * (Q[1:] + Q[:-1]) * np.diff(D)))
+        return FrettingLoop(period=period, Q=read_only(Q.copy()), displacement=read_only(D - D[0]), work=work,
+                            energy=float(self.dissipation_per_period[period]), load_unit="mu Fn" if self.is_patch
+                            else "mu P", displacement_unit=self.increment_unit, energy_unit=self.energy_unit)
+
     # ---- the final state ---------------------------------------------------
     @cached_property
     def final_zones(self) -> np.ndarray:
@@ -974,6 +1234,12 @@ class CycleResult(PeriodVerdict):
         """:attr:`max_kkt_residual` (the former point-contact name)."""
         return self.max_kkt_residual
 
+    def _energy_summary(self) -> dict:
+        """The energy figures of :meth:`summary`: the last period's, its limit with its error, their unit."""
+        energy = self.dissipation_per_period
+        return {"energy_last_period": float(energy[-1]) if energy.size else float("nan"), "E_inf": self.E_inf,
+                "E_inf_error": self.E_inf_error, "energy_unit": self.energy_unit}
+
     def summary(self) -> dict:
         """Scalar figures of the run (for tables, CSV headers, the CLI)."""
         inc = self.increment_per_period
@@ -985,6 +1251,7 @@ class CycleResult(PeriodVerdict):
                     "stick_halfwidth": self.stick_halfwidth, "increment_last_period": last,
                     "D_inf": self.D_inf, "D_inf_error": self.D_inf_error, "decay_ratio": self.decay_ratio,
                     "periods_to_decide": self.periods_to_decide, "shakedown_period": self.shakedown_period,
+                    **self._energy_summary(),
                     "max_kkt_residual": self.max_kkt_residual, "elements": self.elements,
                     "steps": int(self.xc.size), "periodic_from": self.periodic_from,
                     "max_iterations": int(self.iterations.max()), "max_cg_iterations": int(self.cg_iterations.max()),
@@ -1004,6 +1271,7 @@ class CycleResult(PeriodVerdict):
             "D_inf_error": self.D_inf_error,
             "decay_ratio": self.decay_ratio,
             "periods_to_decide": self.periods_to_decide,
+            **self._energy_summary(),
             "periods": self.periods,
             "elements": self.elements,
             "steps": int(self.xc.size),

@@ -23,17 +23,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from .resolution import DEFAULT_DX_LINE, default_dx
+from .resolution import DEFAULT_DX_LINE, GRID_DEFAULTS, default_dx
 from ._validate import check_int, check_scalar
 from .bodies import BODIES, MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, StaticResult, read_only
 from .engine import check_solver, make_operator, run, select_solver
+from .registry import kind, point_body, resolve
 from . import histories
 from .schedule import Schedule
 
 __all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
-           "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_FFT_ELEMENTS", "MAX_STORED_VALUES",
+           "simulate_point_contact", "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_FFT_ELEMENTS", "MAX_STORED_VALUES",
            "KKT_TOL"]
 
 #: Default element width [a]: 80 elements across the contact. The increment per
@@ -42,7 +43,7 @@ DEFAULT_DX = DEFAULT_DX_LINE  # the cylinder's default grid (core/resolution.py)
 #: Largest steps x elements a run may store (traction float64 + state int8: ~9 bytes each).
 MAX_STORED_VALUES = 2.5e8
 #: Default tolerance of the KKT residual (tractions in mu p0, slips in mu P/E*).
-KKT_TOL = 1e-10
+KKT_TOL = GRID_DEFAULTS["line"].tol
 
 
 def make_grid(reach, dx, max_elements=MAX_ELEMENTS):
@@ -70,7 +71,8 @@ def _kernel_options(kernel, L_over_a, nu):
 
 def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=None, tol=KKT_TOL,
                    maxiter=None, detect_periodic=True, shakedown_rtol=1e-3, params=None,
-                   time_budget=None, cancel=None, progress=None, chunk=256, solver="auto", body="cylinder",
+                   time_budget=None, cancel=None, progress=None, chunk=GRID_DEFAULTS["line"].chunk, solver="auto",
+                   body="cylinder",
                    normal="auto"):
     """Run the incremental solver over any :class:`~core.schedule.Schedule`.
 
@@ -149,7 +151,7 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     """
     if not isinstance(schedule, Schedule):
         raise ValueError(f"schedule must be a core.Schedule, got {type(schedule).__name__}")
-    dx = check_scalar("dx", dx, 1e-4, 0.5)
+    dx = check_scalar("dx", dx, GRID_DEFAULTS["line"].min_dx, 0.5)
     tol = check_scalar("tol", tol, 1e-14, 1e-4)
     shakedown_rtol = check_scalar("shakedown_rtol", shakedown_rtol, 0.0, 1.0)
     kernel_options = dict(kernel_options or {})
@@ -180,8 +182,9 @@ StaticSolution = ShakedownState = StaticResult
 
 def _is_line_body(body) -> bool:
     """Whether ``body`` (a name, class or object) is a line contact (:class:`core.bodies.Body`; else a point body)."""
-    return isinstance(body, Body) or (isinstance(body, type) and issubclass(body, Body)) or (
-        isinstance(body, str) and body in BODIES)
+    if isinstance(body, type):
+        return issubclass(body, Body)
+    return kind(body) == "line"
 
 
 def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None, solver="auto", body=None, nu=0.5,
@@ -330,7 +333,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
                     load_steps=1, L_over_a=None, nu=0.5, tol=None, detect_periodic=True,
                     shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, solver="auto",
                     body="cylinder", ratio=None, angle=0.0, history="rocking", amplitude=None, phase=0.0,
-                    normal="auto"):
+                    normal="auto", periodic_tol=None):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -395,7 +398,9 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         ``P = 1 + amplitude sin(2 pi t + phase)``; ``"tangential"``, the centre fixed and
         the tangential force ``ft + amplitude f(t)`` oscillating with ``shape``; a
         :class:`~core.schedule.Schedule` (run as it is) or a mapping of per-step arrays
-        ``xc``, ``P``, ``Q``, ``period`` (:func:`core.histories.from_arrays`). The cylinder only.
+        ``xc``, ``P``, ``Q``, ``period`` (:func:`core.histories.from_arrays`). Every body takes
+        every history (a point contact: the sphere under an oscillating normal force, or
+        Mindlin-Deresiewicz's oscillating tangential force with ``"tangential"``).
     amplitude : float, optional
         Amplitude of the oscillating load of ``"normal"`` (relative, in [0, 1), default 0.2)
         or ``"tangential"`` ([mu P], ``|ft| + amplitude < 1``, default ``(1 - |ft|)/2``).
@@ -408,6 +413,9 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         traction by the discrete normal problem on the run's grid (as CONTACT
         does), ``"exact"`` by the element means of Hertz's pressure (see
         :func:`core.solver3d.solve_point_schedule`).
+    periodic_tol : float, optional
+        The patch solver's periodic tolerance [mu p0] (point contacts only; default
+        ``core.resolution.GRID_DEFAULTS["patch"].periodic_tol``).
 
     Returns
     -------
@@ -427,29 +435,31 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     line = _is_line_body(body)
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
-    if not line:  # point contacts: a patch of elements (core/solver3d.py builds it and runs core.engine.run)
-        if not (isinstance(history, str) and history == "rocking"):
-            raise ValueError(f"history must be 'rocking' for a point contact (body={body!r:.40}), "
-                             f"got {history!r:.60}")
-        from .solver3d import simulate_point_contact
-        return simulate_point_contact(ft, w, periods, dx, dW, body=body, ratio=ratio, angle=angle, nu=nu, shape=shape,
-                                      load_steps=load_steps, detect_periodic=detect_periodic,
-                                      tol=tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget, cancel=cancel,
-                                      progress=progress, normal=normal, solver=solver)
-    if ratio is not None or angle != 0.0:
-        raise ValueError(f"ratio and angle are the point contacts' (body='ellipsoid' or 'sphere'), not "
-                         f"body={body!r:.40}'s: got ratio={ratio!r}, angle={angle!r}")
-    tol = KKT_TOL if tol is None else tol
-    dx = check_scalar("dx", default_dx(body) if dx is None else dx, 1e-4, 0.5)
+    if line:
+        if ratio is not None or angle != 0.0:
+            raise ValueError(f"ratio and angle are the point contacts' (body='ellipsoid' or 'sphere'), not "
+                             f"body={body!r:.40}'s: got ratio={ratio!r}, angle={angle!r}")
+        spec = resolve_body(body)
+    else:
+        spec = point_body(body, ratio)
+    defaults = GRID_DEFAULTS["line" if line else "patch"]
+    tol = defaults.tol if tol is None else tol
+    dx = check_scalar("dx", default_dx(spec) if dx is None else dx, defaults.min_dx, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
-    options = _kernel_options(kernel, L_over_a, nu)
     schedule = histories.for_run(history, ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps,
                                  amplitude=amplitude, phase=phase)
-    params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, kernel=kernel, shape=shape,
-                  load_steps=int(load_steps))
-    spec = resolve_body(body)
-    if spec.name != "cylinder" or normal != "auto":
-        params.update(spec.parameters, normal=spec.normal_mode(normal))
+    if line:
+        options = _kernel_options(kernel, L_over_a, nu)
+        params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, kernel=kernel, shape=shape,
+                      load_steps=int(load_steps))
+        if spec != resolve() or normal != "auto":  # another body than the default's: its parameters
+            params.update(spec.parameters, normal=spec.normal_mode(normal))
+        if kernel == "strip":
+            params.update(L_over_a=options["L_over_a"], nu=float(nu))
+    else:
+        params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=spec.name,
+                      ratio=getattr(spec, "ratio", None), angle=float(angle), nu=float(nu), shape=shape,
+                      load_steps=int(load_steps))
     params["history"] = history if isinstance(history, str) else "arrays"
     if params["history"] == "arrays":  # the schedule's own periods; the rocking options played no part
         params["periods"] = int(schedule.periods)
@@ -457,12 +467,54 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
             del params[name]
     if params["history"] in ("normal", "tangential"):
         params.update(amplitude=float(histories.default_amplitude(history, ft, amplitude)), phase=float(phase))
-    if kernel == "strip":
-        params.update(L_over_a=options["L_over_a"], nu=float(nu))
-    return solve_schedule(schedule, dx, kernel, kernel_options=options, tol=tol,
-                          detect_periodic=detect_periodic, shakedown_rtol=shakedown_rtol, params=params,
-                          time_budget=time_budget, cancel=cancel, progress=progress, solver=solver, body=spec,
-                          normal=normal)
+    common = dict(tol=tol, detect_periodic=detect_periodic, shakedown_rtol=shakedown_rtol, params=params,
+                  time_budget=time_budget, cancel=cancel, progress=progress, solver=solver, normal=normal)
+    if line:
+        return solve_schedule(schedule, dx, kernel, kernel_options=options, body=spec, **common)
+    from .solver3d import solve_point_schedule
+    if periodic_tol is not None:
+        common["periodic_tol"] = periodic_tol
+    return solve_point_schedule(schedule, dx, spec, nu=nu, angle=angle, **common)
+
+
+def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
+                           shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=None,
+                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, normal="auto",
+                           solver="auto", history="rocking", amplitude=None, phase=0.0):
+    """Simulate a point contact in normalised units: :func:`simulate_cycles` with a point body (the sphere by default).
+
+    Parameters
+    ----------
+    ft, w, periods, dx, dW, ratio, angle, nu, shape, load_steps, tol, detect_periodic, shakedown_rtol,
+    time_budget, cancel, progress, normal, solver, history, amplitude, phase :
+        As in :func:`simulate_cycles` (``dx`` the element side, in [0.005, 0.5]; default
+        :func:`core.resolution.default_dx`, 1/20).
+    body : {"sphere", "ellipsoid", ...} or a point body object
+        The body; ``"ellipsoid"`` takes ``ratio = Ry/Rx`` (x: the rocking direction).
+    periodic_tol : float, optional
+        The patch solver's periodic tolerance [mu p0] (default
+        ``core.resolution.GRID_DEFAULTS["patch"].periodic_tol``).
+
+    Returns
+    -------
+    CycleResult
+        On a patch of elements (``is_patch``).
+
+    Examples
+    --------
+    >>> import core
+    >>> r = core.simulate_point_contact(0.2, 0.3, periods=6, dx=0.2)
+    >>> r.regime
+    'shakedown'
+    """
+    if _is_line_body(body):
+        raise ValueError(f"body must be a point body (sphere, ellipsoid, ... or an object), got {body!r:.60}: "
+                         "use core.simulate_cycles for a line body")
+    return simulate_cycles(ft, w, periods, dx, dW, body=body, ratio=ratio, angle=angle, nu=nu, shape=shape,
+                           load_steps=load_steps, tol=tol, detect_periodic=detect_periodic,
+                           periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget,
+                           cancel=cancel, progress=progress, normal=normal, solver=solver, history=history,
+                           amplitude=amplitude, phase=phase)
 
 
 def strip_options(contact):

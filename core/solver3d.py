@@ -78,13 +78,14 @@ from ._validate import check_int, check_scalar
 from ._jit import jit
 from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
 from .normal import PatchOperator, solve_normal
-from .point_contact import Ellipsoid, hertz_element_means, resolve_body
-from .resolution import DEFAULT_DX_POINT, default_dx
+from .point_contact import Ellipsoid, hertz_element_means
+from .registry import point_body
+from .resolution import DEFAULT_DX_POINT, GRID_DEFAULTS
 from .result import PointContactResult, STICK_MARGIN, StaticResult, read_only  # noqa: F401 (the aliases)
-from .schedule import Schedule, rocking_schedule
+from .schedule import Schedule
 from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
-__all__ = ["solve_increment", "twist_field", "simulate_point_contact", "solve_point_schedule", "solve_static_3d",
+__all__ = ["solve_increment", "twist_field", "solve_point_schedule", "solve_static_3d",
            "solve_static_patch", "PatchGrid", "PatchSolver", "PatchTrajectory", "mindlin_state",
            "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
            "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
@@ -93,12 +94,12 @@ __all__ = ["solve_increment", "twist_field", "simulate_point_contact", "solve_po
 #: :data:`core.states.RESIDUAL_NAMES`.
 RESIDUAL_NAMES = _RESIDUAL_NAMES
 #: Default KKT tolerance of the 3D steps (tractions in mu p0, slips in mu Fn/(E* a), loads in mu Fn).
-TOL_3D = 1e-8
+TOL_3D = GRID_DEFAULTS["patch"].tol
 #: The patch solver's ``periodic_tol``: change of the traction [mu p0] between the ends of two blocks below
 #: which the state counts as periodic (the one rule of :mod:`core.engine`; the line solvers' is their KKT
 #: tolerance). The CG solves are inexact (forcing term :data:`_CG_FORCING`, acceptance at ``10 tol``), so a
 #: period repeats to about ``10 TOL_3D``, not to round-off: 100 ``TOL_3D``.
-PERIODIC_TOL = 1e-6
+PERIODIC_TOL = GRID_DEFAULTS["patch"].periodic_tol
 #: Default element side [a] of point-contact runs. The increment per period of a ratcheting sphere (ft = 0.4,
 #: w = 0.6) is 0.1742, 0.1779, 0.1790, 0.1797 at a/5, a/10, a/20, a/40 with the discrete normal bound
 #: (benchmarks/solver3d.py): a/20 is 0.4 % below a/40, at an eighth of its cost.
@@ -1377,7 +1378,7 @@ class PatchGrid:
 # --------------------------------------------------------------------------
 def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, detect_periodic=True,
                          periodic_tol=PERIODIC_TOL, shakedown_rtol=1e-3, params=None, time_budget=None, cancel=None,
-                         progress=None, chunk=50, normal="auto", solver="auto"):
+                         progress=None, chunk=GRID_DEFAULTS["patch"].chunk, normal="auto", solver="auto"):
     """Solve a loading :class:`~core.schedule.Schedule` for a point contact, step by step.
 
     Parameters
@@ -1432,7 +1433,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     if not (isinstance(body, Ellipsoid) or hasattr(body, "grid_pressure")):
         raise ValueError(f"body must be a point body: a core.Ellipsoid, a core.heightmap.HeightMap or an object with "
                          f"run_grid and grid_pressure (the patch protocol of core.engine), got {type(body).__name__}")
-    dx = check_scalar("dx", dx, 0.005, 0.5)
+    dx = check_scalar("dx", dx, GRID_DEFAULTS["patch"].min_dx, 0.5)
     nu = check_scalar("nu", nu, 0.0, 0.5)
     angle = check_scalar("angle", angle, -math.pi, math.pi)
     tol = check_scalar("tol", tol, 1e-13, 1e-4)
@@ -1448,76 +1449,6 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
                shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget, cancel=cancel,
                progress=progress, chunk=chunk, kernel="halfspace",
                solver_options=dict(grid.solver_options, angle=angle, periodic_tol=periodic_tol))
-
-
-def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
-                           shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=PERIODIC_TOL,
-                           shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, normal="auto",
-                           solver="auto"):
-    """Simulate a rocking sphere or ellipsoid in normalised units: loading at ``xc = 0``, then ``periods`` periods.
-
-    Parameters
-    ----------
-    ft : float
-        ``Ft / (mu Fn)`` in [0, 1).
-    w : float
-        Rocking amplitude ``W / a`` in [0, 1) (``a`` the semi-axis along x).
-    periods : int
-        Rocking periods, in [1, 10000].
-    dx : float, optional
-        Element side over ``a``, in [0.005, 0.5]; default: the body's grid,
-        :func:`core.resolution.default_dx` (:data:`DEFAULT_DX_3D` = 1/20: 40
-        elements across the contact; the increment per period is 0.4 % below
-        a/40's there, ``benchmarks/solver3d.py``).
-    dW : float, optional
-        Rocking step over ``a``; defaults to ``dx``.
-    body : {"sphere", "ellipsoid"} or Ellipsoid
-        The body; ``"ellipsoid"`` takes ``ratio = Ry/Rx`` (x: the rocking direction).
-    ratio : float, optional
-        ``Ry / Rx`` of the ellipsoid, in [0.05, 20].
-    angle : float
-        Angle of Ft to the rocking direction [rad], in [-pi, pi].
-    nu : float
-        Substrate's Poisson ratio under a rigid body, in [0, 0.5] (default 0.5: beta = 0).
-    shape, load_steps :
-        As in :func:`core.schedule.rocking_schedule`.
-    tol : float, optional
-        KKT tolerance of every step; default :data:`TOL_3D`.
-    detect_periodic, periodic_tol, shakedown_rtol, time_budget, cancel, progress, normal, solver :
-        As in :func:`solve_point_schedule`.
-
-    Returns
-    -------
-    CycleResult
-        On a patch of elements (``is_patch``).
-        With ``increment_per_period`` [mu Fn/(E* a)], ``regime``, ``stick_halfwidth`` [a].
-
-    Examples
-    --------
-    >>> import core
-    >>> r = core.simulate_cycles(0.2, 0.3, periods=6, dx=0.2, body="sphere")
-    >>> r.regime
-    'shakedown'
-    """
-    if isinstance(body, str) and body not in ("sphere", "ellipsoid"):  # another registered point body, e.g. "cone"
-        from .registry import REGISTRY, make_body
-        if body in REGISTRY and REGISTRY[body].kind == "point":
-            body = make_body(body)
-    if hasattr(body, "grid_pressure"):  # a body with its own pressure (a height map, a cone); its grid: default_dx
-        if ratio is not None:
-            raise ValueError(f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
-    else:
-        body = resolve_body(body, ratio)
-    tol = TOL_3D if tol is None else tol
-    dx = check_scalar("dx", default_dx(body) if dx is None else dx, 0.005, 0.5)
-    dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
-    schedule = rocking_schedule(ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps)
-    params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=body.name,
-                  ratio=getattr(body, "ratio", None), angle=float(angle), nu=float(nu), shape=shape,
-                  load_steps=int(load_steps))
-    return solve_point_schedule(schedule, dx, body, nu=nu, angle=angle, tol=tol, detect_periodic=detect_periodic,
-                                periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget,
-                                cancel=cancel, progress=progress, normal=normal, solver=solver)
 
 
 # --------------------------------------------------------------------------
@@ -1559,7 +1490,7 @@ def solve_static_patch(bound, ft, dx, *, body=None, nu=0.5, angle=0.0, tol=TOL_3
     if bound.size > MAX_GRID_ELEMENTS:
         raise ValueError(f"bound has {bound.size} elements (> {MAX_GRID_ELEMENTS}): use a larger dx")
     dx = check_scalar("dx", dx, 0.005, 0.5)
-    body = resolve_body("sphere" if body is None else body) if not hasattr(body, "grid_pressure") else body
+    body = point_body("sphere" if body is None else body)
     ny, nx = bound.shape
     return _static_patch(bound, ft, dx * (np.arange(nx + 1) - nx / 2), dx * (np.arange(ny + 1) - ny / 2), body,
                          nu=nu, angle=angle, tol=tol)
@@ -1618,7 +1549,7 @@ def mindlin_state(ft, dx=0.05, body="sphere", *, ratio=None, nu=0.5, angle=0.0, 
     -------
     core.result.StaticResult
     """
-    body = resolve_body(body, ratio)
+    body = point_body(body, ratio)
     dx = check_scalar("dx", dx, 0.005, 0.5)
     xe, ye = _grid(body, 1.0, 1.0, dx)
     return solve_static_3d(_pressure(xe, ye, 0.0, body), ft, xe, ye, body, nu=nu, angle=angle, tol=tol)
@@ -1636,9 +1567,17 @@ def shakedown_state_3d(ft, w, dx=0.05, body="sphere", *, ratio=None, nu=0.5, ang
     -------
     core.result.StaticResult
     """
-    body = resolve_body(body, ratio)
+    body = point_body(body, ratio)
     dx = check_scalar("dx", dx, 0.005, 0.5)
     w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
     xe, ye = _grid(body, 1.0 + w, 1.0, dx)
     pmin = np.minimum(_pressure(xe, ye, -w, body), _pressure(xe, ye, w, body))
     return solve_static_3d(pmin, ft, xe, ye, body, nu=nu, angle=angle, tol=tol)
+
+
+def __getattr__(name):
+    # simulate_point_contact is the point-body case of core.simulate_cycles, in core.solver (one path for every body)
+    if name == "simulate_point_contact":
+        from .solver import simulate_point_contact
+        return simulate_point_contact
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

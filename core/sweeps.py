@@ -177,7 +177,7 @@ def sweep(ft, w, scheduler=None, *, workers=None, max_workers=None, progress=Non
         One row per run, ``ft`` varying slowest, then ``w``, then the option
         axes in the order given. Columns: the inputs (``ft``, ``w``,
         ``periods``, ``dx``, ``kernel``, ``shape`` and every option given),
-        then ``regime`` (``"shakedown"``, ``"ratcheting"``,
+        then ``regime`` (``"shakedown"``, ``"cyclic slip"``, ``"ratcheting"``,
         ``"undetermined"`` when the periods run cannot tell, or ``"error"``),
         ``regime_reason`` (why, in words), ``increment`` (rigid-body
         displacement in the last period [mu P/E*]), ``D_inf`` and
@@ -185,7 +185,12 @@ def sweep(ft, w, scheduler=None, *, workers=None, max_workers=None, progress=Non
         error, from the fit of the verdict, :func:`core.result.fit_trend`),
         ``decay_ratio`` (``r``, the factor by which the changing part of the
         increment shrinks each period), ``periods_to_decide`` (for an
-        undetermined run, the more periods likely to decide), ``stick_halfwidth``
+        undetermined run, the more periods likely to decide), ``energy`` (the
+        energy dissipated by friction in the last period [mu^2 P^2/E* per unit
+        length; a point contact mu^2 Fn^2/(E* a)]), ``E_inf`` and
+        ``E_inf_error`` (the limit the energies per period tend to, with its
+        standard error: zero in a shakedown, the energy of the steady loop in
+        cyclic slip and ratcheting), ``stick_halfwidth``
         (``c_sd / a``), ``shakedown_period`` (first period below the shakedown
         tolerance, else NA), ``runtime`` (solve time [s]),
         ``max_kkt_residual``, ``max_iterations`` (active-set iterations of the

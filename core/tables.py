@@ -31,10 +31,10 @@ __all__ = ["INPUT_COLUMNS", "RESULT_COLUMNS", "REGIMES", "DEFAULT_MAP", "normali
 INPUT_COLUMNS = ("ft", "w", "periods", "dx", "kernel", "shape")
 #: Result columns of a sweep table, in order.
 RESULT_COLUMNS = ("regime", "regime_reason", "increment", "D_inf", "D_inf_error", "decay_ratio", "periods_to_decide",
-                  "stick_halfwidth", "shakedown_period", "runtime", "max_kkt_residual", "max_iterations", "elements",
+                  "energy", "E_inf", "E_inf_error", "stick_halfwidth", "shakedown_period", "runtime", "max_kkt_residual", "max_iterations", "elements",
                   "steps", "periodic_from", "error")
 #: Values of the ``regime`` column.
-REGIMES = ("shakedown", "ratcheting", "undetermined", "error")
+REGIMES = ("shakedown", "cyclic slip", "ratcheting", "undetermined", "error")
 #: How CSV files write floats: 15 significant digits, so that round-off noise of the last digits
 #: (``0.5750000000000001``, ``0.30000000000000004``) does not reach the file.
 CSV_FLOAT_FORMAT = "%.15g"
@@ -93,7 +93,7 @@ def failed_row(message: str, runtime: float = float("nan")) -> dict:
     """The result columns of a run that failed with ``message``."""
     return {"regime": "error", "regime_reason": None, "increment": float("nan"), "D_inf": float("nan"),
             "D_inf_error": float("nan"), "decay_ratio": float("nan"), "periods_to_decide": None,
-            "stick_halfwidth": float("nan"),
+            "energy": float("nan"), "E_inf": float("nan"), "E_inf_error": float("nan"), "stick_halfwidth": float("nan"),
             "shakedown_period": None, "runtime": runtime, "max_kkt_residual": float("nan"),
             "max_iterations": None, "elements": None, "steps": None, "periodic_from": None,
             "error": message[:500]}
@@ -111,7 +111,8 @@ def run_point(point: dict) -> dict:
         return failed_row(f"{type(e).__name__}: {e}", time.perf_counter() - t0)
     return {"regime": s["regime"], "regime_reason": r.regime_reason, "increment": s["increment_last_period"],
             "D_inf": s["D_inf"], "D_inf_error": s["D_inf_error"], "decay_ratio": s["decay_ratio"],
-            "periods_to_decide": s["periods_to_decide"], "stick_halfwidth": s["stick_halfwidth"], "shakedown_period": s["shakedown_period"],
+            "periods_to_decide": s["periods_to_decide"], "energy": s["energy_last_period"], "E_inf": s["E_inf"],
+            "E_inf_error": s["E_inf_error"], "stick_halfwidth": s["stick_halfwidth"], "shakedown_period": s["shakedown_period"],
             "runtime": s["runtime_s"], "max_kkt_residual": s["max_kkt_residual"],
             "max_iterations": s["max_iterations"], "elements": s["elements"], "steps": s["steps"],
             "periodic_from": s["periodic_from"], "error": None}
@@ -318,6 +319,8 @@ def load_default_map() -> pd.DataFrame:
     """
     path = resources.files("core") / "data" / DEFAULT_MAP
     with resources.as_file(path) as p:
-        table = normalise_table(pd.read_csv(p))
+        table = pd.read_csv(p)
+    # the shipped map predates the energy columns (energy, E_inf, E_inf_error): they read NaN, not measured
+    table = normalise_table(table.reindex(columns=list(INPUT_COLUMNS) + list(RESULT_COLUMNS)))
     table.attrs["source"] = f"core/data/{DEFAULT_MAP}"
     return table

@@ -279,5 +279,13 @@ def test_uploading_a_file_in_the_page_opens_it_and_a_bad_one_is_reported(tmp_pat
     assert select and "demo" in select[0].options.values()  # back to the demo is one choice away
     upload.param.update(filename="notes.txt", value=b"not a height map at all")
     assert ex.contact is None and "cannot be built" in ex.error and "heightmap" in ex.error
+    # the same words as the command line's (core.heightmap.read_topography), every readable format named
+    from core.heightmap import readable_formats
+
+    assert "the uploaded file notes.txt is in no format that can be read; the readable formats: " in ex.error
+    assert all(f in ex.error for f in readable_formats()) and "Network Common Data Format (NetCDF) (.nc)" in ex.error
+    badge = ex._badge(ex.state.ft, ex.state.w, ex.result, ex.error)
+    assert "INVALID INPUT" in badge and "notes.txt is in no format that can be read" in badge
+    assert "(NetCDF) (.nc)" in badge
     select[0].value = "demo"
     assert ex.state.file == "demo" and ex.error == ""

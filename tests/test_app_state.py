@@ -660,7 +660,24 @@ def test_the_oscillating_normal_force_is_a_loading_option():
     ex = Explorer(ExplorerState(ft=0.3, w=0.5, periods=3, resolution=20, loading="normal"))
     assert any("normal force oscillates" in m for m in ex._warnings(0.3, 0.5, ex.contact, r))
     assert not any("normal force oscillates" in m for m in ex._warnings(0.3, 0.5, ex.contact, rocking))
-    assert ExplorerState(body="sphere", loading="normal").solver_options().get("history") is None  # points rock
+    # issue 28: every body takes every history, the point contacts too
+    assert ExplorerState(body="sphere", loading="normal").solver_options()["history"] == "normal"
+
+
+@pytest.mark.parametrize("body", ["cylinder", "sphere"])
+def test_every_body_takes_the_tangential_history(body):
+    """The explorer offers every history for every body: 'tangential' fixes the centre and oscillates Ft by the
+    amplitude's share of what is left to full sliding; the run carries it."""
+    from app.runs import runner
+
+    s = ExplorerState(body=body, ft=0.4, w=0.3, periods=2, resolution=10, point_resolution=5, loading="tangential",
+                      amplitude=0.5)
+    opts = s.solver_options()
+    assert opts["history"] == "tangential" and opts["amplitude"] == pytest.approx(0.3)
+    r = runner(s.contact(), opts)(**opts)
+    assert r.params["history"] == "tangential" and r.is_patch == (body == "sphere")
+    np.testing.assert_allclose([r.Q.min(), r.Q.max()], [0.1, 0.7], atol=1e-12)
+    np.testing.assert_array_equal(r.xc, 0.0)
 
 
 def test_the_grid_error_of_a_shaken_down_run_is_not_relative_to_its_noise():

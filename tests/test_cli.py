@@ -90,7 +90,6 @@ def test_an_interrupted_sweep_resumes_from_its_journal(capsys, tmp_path, monkeyp
 
     monkeypatch.setattr(sweep_module, "run_chunk", interrupted)
     out = tmp_path / "map.parquet"
-    pytest.importorskip("pyarrow")
     code, _, err = _run(capsys, "sweep", "--ft", "0.1,0.3,0.5", "--w", "0.2,0.6", "--out", str(out), *FAST)
     journal = tmp_path / "map.parquet.partial.csv"
     assert code == 130 and "rerun the same command" in err

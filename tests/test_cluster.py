@@ -13,13 +13,12 @@ import subprocess
 import sys
 import time
 
+import distributed
 import pandas as pd
 import pytest
 
 import core
 from core.tables import read_table
-
-distributed = pytest.importorskip("distributed")
 
 FT, W = [0.1, 0.6], [0.2, 0.7]
 OPTIONS = dict(periods=6)

@@ -96,3 +96,17 @@ def test_bad_arguments_name_the_parameter(plane_run, kwargs, name):
     args = dict(result=plane_run, table="steps", contact=None) | kwargs
     with pytest.raises(ValueError, match=name):
         result_table(args["result"], args["table"], args["contact"])
+
+
+def test_final_table_writes_each_bodys_own_closure_only():
+    """Issue 28: the 'final' table wrote the cylinder's closure traction (eqs 22-30) for every line body. The
+    cylinder's column is its closure (equal to core.shakedown_traction); the punch has none (NaN), nor has a
+    history other than the paper's rocking."""
+    cyl = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.05)
+    df = result_table(cyl, "final")
+    np.testing.assert_allclose(df["closure_traction_mu_p0"], core.shakedown_traction(cyl.x, 0.2, 0.3), rtol=1e-15)
+    assert np.isfinite(df["closure_traction_mu_p0"]).any()
+    punch = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.05, body="punch")
+    assert result_table(punch, "final")["closure_traction_mu_p0"].isna().all()
+    tangential = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.05, history="tangential")
+    assert result_table(tangential, "final")["closure_traction_mu_p0"].isna().all()

@@ -24,7 +24,7 @@ def test_sampled_cylinder_is_the_cylinder():
 def test_measured_punch_from_a_surfacetopography_file(tmp_path):
     """A punch's profile as a 'measured' line scan in micrometres (a = 200 um, P/E* = 0.05 um), written to a
     NetCDF file and read back: its limit is the punch's, and runs 10 % either side of it shake down / ratchet."""
-    st = pytest.importorskip("SurfaceTopography")
+    import SurfaceTopography as st
     a_um, unit_um = 200.0, 0.05
     n, size = 1200, 3.0  # 3 a wide
     x = (np.arange(n) - n // 2) * size / n
@@ -49,7 +49,7 @@ def test_height_map_of_a_sphere():
 
 
 def test_height_map_from_topography_object():
-    st = pytest.importorskip("SurfaceTopography")
+    import SurfaceTopography as st
     x = (np.arange(48) + 0.5) * 0.0625 - 1.5
     X, Y = np.meshgrid(x, x, indexing="ij")  # SurfaceTopography indexes (x, y)
     topo = st.Topography(-(0.375 * X**2 + 0.2 * Y**2) * 2.0, (3.0, 3.0))
@@ -142,7 +142,7 @@ def test_cli_runs_a_height_map_file(tmp_path):
     """shakedown run --body heightmap --file map.nc: the flat-top paraboloid as a 'measured' map in micrometres
     (a = 100 um, P/(E* a) = 2 um) written to NetCDF by SurfaceTopography; 10 % below its limit it shakes down,
     and the run prints the map's Melan limit (0.5312, as from the array)."""
-    st = pytest.importorskip("SurfaceTopography")
+    import SurfaceTopography as st
     n, dx = 35, 0.1
     x = (np.arange(n) - n // 2) * dx
     X, Y = np.meshgrid(x, x, indexing="ij")  # SurfaceTopography indexes (x, y)
@@ -164,3 +164,45 @@ def test_a_height_map_has_one_name_registry_cli_and_result():
     from core.registry import REGISTRY
     assert HeightMap.name == "heightmap" and "heightmap" in REGISTRY and REGISTRY["heightmap"].kind == "point"
     assert HeightProfile.name not in REGISTRY  # a line profile is given as an object, under its own name
+
+
+def test_cli_says_a_height_map_file_is_missing_or_unreadable(tmp_path):
+    """Bad input, exit 2 and one line: a file that does not exist is 'file not found: PATH'; a file no reader
+    understands names every format that can be read (SurfaceTopography's own list of readers)."""
+    from SurfaceTopography.IO import readers
+
+    from core.heightmap import readable_formats
+
+    missing = tmp_path / "missing.nc"
+    p = _cli("run", "--ft", "0.3", "--w", "0.3", "--body", "heightmap", "--file", str(missing))
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.strip() == f"shakedown: error: file not found: {missing}" and "Traceback" not in p.stderr
+    notes = tmp_path / "notes.txt"
+    notes.write_text("not a height map at all\n")
+    p = _cli("run", "--ft", "0.3", "--w", "0.3", "--body", "heightmap", "--file", str(notes))
+    assert p.returncode == 2 and "Traceback" not in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+    assert f"{notes} is in no format that can be read" in p.stderr
+    assert len(readable_formats()) == len(readers) >= 20
+    for reader, listed in zip(readers, readable_formats()):
+        assert listed.startswith(reader.name()) and listed in p.stderr
+    assert "Network Common Data Format (NetCDF) (.nc)" in p.stderr
+    p = _cli("run", "--ft", "0.3", "--w", "0.3", "--body", "heightmap", "--file", str(tmp_path))
+    assert p.returncode == 2 and f"{tmp_path} is not a file" in p.stderr, p.stderr
+
+
+def test_read_topography_from_memory_and_its_errors(tmp_path):
+    """The same reader for a path and for bytes in memory (an upload); its errors are ValueErrors."""
+    import io
+
+    import SurfaceTopography as st
+
+    from core.heightmap import read_topography
+
+    path = tmp_path / "bowl.nc"
+    st.Topography(np.arange(64.0).reshape(8, 8), (1.0, 1.0)).to_netcdf(str(path))
+    from_path, from_bytes = read_topography(path), read_topography(io.BytesIO(path.read_bytes()))
+    assert np.array_equal(from_path.heights(), from_bytes.heights()) and from_bytes.nb_grid_pts == (8, 8)
+    with pytest.raises(ValueError, match="^file not found: "):
+        read_topography(tmp_path / "nope.nc")
+    with pytest.raises(ValueError, match="^the upload is in no format that can be read; the readable formats: "):
+        read_topography(io.BytesIO(b"\x00\x01 nothing"), name="the upload")

@@ -58,3 +58,50 @@ def test_the_served_app_opens_no_file(path):
 def test_downloads_are_built_in_memory():
     text = (ROOT / "app" / "downloads.py").read_text(encoding="utf-8")  # since the app split
     assert "FileDownload" in text and ("BytesIO" in text or "StringIO" in text)
+
+
+def test_an_upload_is_read_from_memory_and_writes_nothing(tmp_path):
+    """An uploaded height map (a good one and one no reader understands: every reader of SurfaceTopography
+    tries it) is read from memory: Python's audit events record no file opened for writing, no directory
+    made and no temporary file while the explorer stores it and builds its body."""
+    import os
+    import sys
+    import threading
+
+    import numpy as np
+    from SurfaceTopography import Topography
+
+    from app import bodies
+
+    n, h = 24, 0.1
+    x = (np.arange(n) - n // 2) * h
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    path = tmp_path / "bowl.nc"
+    Topography(-0.375 * (X**2 + Y**2), (n * h, n * h)).to_netcdf(str(path))
+    good, bad = path.read_bytes(), b"not a height map at all\n" * 40
+    writes, watching, me = [], [False], threading.get_ident()
+    write_flags = os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_APPEND | os.O_TRUNC
+
+    def hook(event, args):  # an audit hook cannot be removed: it records only while this test watches
+        if not watching[0] or threading.get_ident() != me:
+            return
+        if event == "open":
+            file, mode, flags = args
+            if (isinstance(mode, str) and any(c in mode for c in "wax+")) or (flags or 0) & write_flags:
+                writes.append((event, file, mode, flags))
+        elif event in ("os.mkdir", "os.rename", "os.remove", "shutil.copyfile", "tempfile.mkstemp",
+                       "tempfile.mkdtemp"):
+            writes.append((event, args))
+
+    sys.addaudithook(hook)
+    watching[0] = True
+    try:
+        source = bodies.store_upload(good, "bowl.nc")
+        body = bodies.make("heightmap", {"file": source})
+        unreadable = bodies.store_upload(bad, "notes.txt")
+        with pytest.raises(ValueError, match="notes.txt is in no format that can be read"):
+            bodies.make("heightmap", {"file": unreadable})
+    finally:
+        watching[0] = False
+    assert body.heights.shape == (n, n)
+    assert not writes, f"an upload touched the disk: {writes[:5]}"

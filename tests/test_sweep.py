@@ -28,7 +28,7 @@ def serial_table():
 
 @pytest.fixture(scope="module")
 def dask_client():
-    distributed = pytest.importorskip("distributed")
+    import distributed
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         yield client
@@ -133,7 +133,6 @@ def test_dask_gives_the_serial_table(serial_table, dask_client):
     ("tcp://host:port", "tcp://host:8786"), ("x" * 400, "at most 300 characters"),
 ])
 def test_bad_schedulers_are_refused(scheduler, match):
-    pytest.importorskip("distributed")
     with pytest.raises(ValueError, match=match):
         core.sweep(0.1, 0.1, scheduler=scheduler, periods=2)
 
@@ -183,7 +182,6 @@ def test_tables_survive_csv_and_parquet(serial_table, tmp_path):
     serial_table.to_csv(tmp_path / "t.csv", index=False)
     back = normalise_table(pd.read_csv(tmp_path / "t.csv"))
     pd.testing.assert_frame_equal(back, serial_table, check_exact=True)
-    pytest.importorskip("pyarrow")
     serial_table.to_parquet(tmp_path / "t.parquet", index=False)
     pd.testing.assert_frame_equal(normalise_table(pd.read_parquet(tmp_path / "t.parquet")), serial_table)
 
