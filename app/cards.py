@@ -101,7 +101,7 @@ def on_side(x: float, ref: float, decimals: int = 2) -> str:
 def input_digits(ft: float, w: float, body="cylinder") -> tuple[str, str]:
     """``ft`` and ``w`` as text, each to enough digits to stay on its side of the exact limit of ``body``: ft
     against ft_lim(w), w against w_lim(ft) (:func:`on_side`)."""
-    if body_name(body) == "cylinder":
+    if bodies.has_closure(body):  # the paper's closed forms (eq 35)
         _, ft_lim, w_lim = _closure(ft, w)
     else:
         ft_lim, w_lim = body_limits(ft, w, body)

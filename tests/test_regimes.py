@@ -8,7 +8,7 @@ import pytest
 import core
 from core import histories
 from core.result import classify_energy, combine_verdicts, classify_increments
-from core.solver3d import solve_point_schedule
+from core.point_runs import solve_point_schedule
 
 
 @pytest.fixture(scope="module")
