@@ -229,7 +229,15 @@ def pressure_step(units: Units, result: core.CycleResult | None = None, frame: i
     return (x * units.x, units.p * core.hertz_pressure(x, xc))
 
 
+def _tangential(result) -> bool:
+    """Whether ``result`` is a run of the tangential loading (a fixed centre: no reversal points, no eq 34/35)."""
+    return result is not None and result.params.get("history") == "tangential"
+
+
 def _pressure_layers(i: Inputs) -> tuple:
+    if _tangential(i.result):  # a fixed centre: its Hertz pressure is the lowest; no reversal points ±W
+        centre, _, _, low = pressure_curves(0.0, i.units, line_body(i.result))
+        return centre, _EMPTY, _EMPTY, low, pressure_step(i.units, i.result, i.frame)
     return (*pressure_curves(i.w, i.units, line_body(i.result)), pressure_step(i.units, i.result, i.frame))
 
 
@@ -465,7 +473,8 @@ def displacement_curves(result: core.CycleResult | None, units: Units) -> tuple:
         return _EMPTY, []
     usd = []
     ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
-    if line_body(result) is None and result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w)):
+    if (line_body(result) is None and result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w))
+            and not _tangential(result)):  # eq 34 is the rocking cylinder's
         usd = [float(approx.shakedown_displacement_approx(ft, w)) * result.u0 * units.u]
     return (time_axis(result), result.displacement * units.u), usd
 
