@@ -11,6 +11,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from . import melan
 from .states import STATE_NAMES, State, Zone
 
 __all__ = ["CycleResult", "PointContactResult", "LineResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
@@ -972,11 +973,8 @@ class CycleResult(PeriodVerdict):
             return float(lim["lo"] * P[-1]), float(lim["hi"] * P[-1])
         step = int(np.flatnonzero(last)[-1])
         now = self.pressure_at(step) if self.is_patch else self.pressure[step]
-        total = float(np.sum(now))
-        if total <= 0:
-            return None
-        limit = float(np.sum(self.lowest_pressure)) / total * float(P[-1])
-        return limit, limit
+        limit = melan.grid_limit(self.lowest_pressure, now, P[-1])  # the one place Melan's limit is computed
+        return None if limit is None else (limit, limit)
 
     # ---- grid ------------------------------------------------------------
     @property
