@@ -83,6 +83,7 @@ import time
 
 import numpy as np
 
+from ._jit import announce_compile
 from .bodies import MAX_ELEMENTS
 from .dense import DenseSolver, Trajectory
 from .matrix_free import FFTSolver
@@ -208,6 +209,7 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     shape = grid_shape(body)
     cls = select_solver(solver, n, shape)
     maxiter = cls.default_maxiter(n) if maxiter is None else maxiter
+    announce_compile(*getattr(cls, "kernels", ()))  # once per process, before a first run's minute of compiling
     element_size = body.dx if shape == "line" else body.dx * body.dx
     step_solver = cls(operator, element_size=element_size, tol=tol, maxiter=maxiter,
                       **dict(solver_options or {}))

@@ -977,6 +977,8 @@ class PatchSolver:
     """
 
     name = "pcg3d"
+    #: Its main compiled kernel (:data:`core._jit.KERNELS`): a run says once that it compiles it if it is not cached.
+    kernels = ("core.solver3d._increment_kernel",)
     #: The operator form it needs: the windowed half-space operator of a patch grid.
     form = "patch"
     #: The grid shape it solves.
