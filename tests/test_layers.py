@@ -25,7 +25,7 @@ LAYERS = {
     "normal": ["normal", "melan"],
     "bodies": ["bodies", "heightmap", "cone", "patch", "registry", "resolution"],
     "limits": ["limits"],
-    "results": ["result"],
+    "results": ["verdict", "result"],
     "solvers": ["_pdas", "_pcg", "dense", "matrix_free", "solver3d"],
     "engine": ["engine"],
     "api": ["solver", "point_runs", "contact", "convergence", "export"],
