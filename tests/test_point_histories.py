@@ -47,7 +47,7 @@ def test_sphere_tangential_is_mindlin_deresiewicz(fretting):
     rise = last[last <= last[0] + int(np.argmax(r.Q[last]))]
     np.testing.assert_allclose(u[rise], -u[top] + 2.0 * _mindlin((r.Q[rise] + r.Q[top]) / 2.0), atol=3e-3,
                                err_msg="reloading branch (Masing)")
-    assert r.regime == "shakedown"
+    assert abs(r.increment_per_period[-1]) < 1e-6  # no walk: the loop closes
 
 
 def test_sphere_normal_history_scales_the_bound():
