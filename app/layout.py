@@ -15,22 +15,45 @@ from pathlib import Path
 from typing import ClassVar
 
 import panel as pn
+from panel.io.state import set_curdoc
 
 from . import panes, plots, point_view, slides
 from .compare import Pins
 from .figures import GRID, KEY_FIGURES
+from .limits import SOLVE_BUDGET_S
 from .paper_figures import paper_figures_tab
 from .state import MAX_POINT_RESOLUTION
-from .styles import A11Y_JS, CSS, KATEX_CSS, PAGE_CSS, MathFonts
+from .styles import A11Y_JS, CSS, KATEX_CSS, PAGE_CSS, PRESENT_JS, MathFonts
 from .widgets import filled_when
 
-__all__ = ["LayoutMixin"]
+__all__ = ["LayoutMixin", "REFINE_COST", "refine_fits"]
+
+#: How many times longer a point contact's run takes on a grid twice as fine: measured 3.8 (sphere) and 4.1
+#: (ellipsoid) from a/10 to a/20 (twice the steps, four times the elements; benchmarks/app.py prints the
+#: per-body times), taken as 5 for a margin.
+REFINE_COST = 5.0
+
+
+def refine_fits(runtime: float, budget: float | None = None) -> bool:
+    """Whether the run on a grid twice as fine as that of a run of ``runtime`` [s] is expected to end within
+    ``budget`` [s] (default: the server's, ``SHAKEDOWN_SOLVE_BUDGET_S``; :data:`REFINE_COST`)."""
+    return REFINE_COST * runtime <= (SOLVE_BUDGET_S if budget is None else budget)
 
 _ABOUT = Path(__file__).with_name("about.md")
+#: How long a lazy tab's spinner is shown before its content is built [ms]: the tab's first message (the
+#: spinner) is sent before the build holds the event loop.
+_BUILD_DELAY_MS = 50
 #: When the model applies (one sentence, under the inputs).
 _APPLIES = ("*When the model applies:* a long cylinder (L ≫ a) rocking without macroscopic sliding "
             "(Ft < μ Fn) on an elastic half-space, slowly (no inertia), with one constant friction coefficient, "
             "elastic bodies whose normal and tangential problems are uncoupled (Dundurs β ≈ 0).")
+
+
+def _building(title: str) -> pn.viewable.Viewable:
+    """What a lazy tab shows while it is built: a spinner and a line saying what comes."""
+    return pn.Row(pn.indicators.LoadingSpinner(value=True, size=36, margin=(10, 10)),
+                  pn.pane.HTML(f"<div style='font-size: 17px; padding-top: 14px'>Building “{html.escape(title)}”…</div>"),
+                  css_classes=["tab-building"], sizing_mode="stretch_width")
 
 
 class LayoutMixin:
@@ -71,7 +94,7 @@ class LayoutMixin:
                       styles={"flex": "1 1 280px", "min-width": "250px"}, margin=0),
             flex_wrap="wrap", sizing_mode="stretch_width", css_classes=["first-row"])
         tabs = pn.Tabs(("Explorer", self.explorer_tab()), *self._lazy_tabs(), sizing_mode="stretch_width",
-                       dynamic=True)  # a tab's models are sent only when shown
+                       dynamic=False)  # the lazy tabs hold a spinner until built: a click shows it at once
         tabs.param.watch(lambda e: self._fill_tab(tabs, e.new), "active")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
 
@@ -94,38 +117,75 @@ class LayoutMixin:
 
     def _grid_action(self) -> pn.viewable.Viewable:
         """The point contacts' 'Refine grid' button under the verdict (the strip's 'grid error' is the run's
-        estimated discretisation error): one click doubles the elements per a and re-runs."""
+        estimated discretisation error): one click doubles the elements per a and re-runs. It is offered only
+        when the finer run is expected to end within the server's time budget (:func:`refine_fits`); should it
+        still run out of time, the explorer goes back to the grid it came from and says so (:meth:`refine_grid`)."""
         button = pn.widgets.Button(label="Refine grid", width=210, height=28, css_classes=["refine-grid"],
                                    margin=(0, 10, 2, 10), stylesheets=[":host button {font-size: 13px; padding: 0;}"],
                                    visible=self.state.param.body.rx().rx.pipe(lambda b: self.state.refinable))
 
-        def label(resolution):
+        def label(*_):
+            resolution = self.state.point_resolution
             finer = min(2 * resolution, MAX_POINT_RESOLUTION)
-            button.param.update(label=f"Refine grid: a/{resolution} → a/{finer}" if finer > resolution
-                                else f"Finest grid (a/{resolution})", disabled=finer <= resolution)
+            result = self.result
+            runtime = result.runtime if (result is not None and result.is_patch
+                                         and abs(1 / result.dx - resolution) < 1e-9) else None
+            if finer <= resolution:
+                button.param.update(label=f"Finest grid (a/{resolution})", disabled=True, description=None)
+            elif runtime is not None and not refine_fits(runtime):
+                button.param.update(
+                    label=f"Finest grid in time (a/{resolution})", disabled=True,
+                    description=f"a/{finer} would take about {REFINE_COST * runtime:.0f} s, past this server's "
+                                f"{SOLVE_BUDGET_S:.0f} s for one run (SHAKEDOWN_SOLVE_BUDGET_S)")
+            else:
+                button.param.update(label=f"Refine grid: a/{resolution} → a/{finer}", disabled=False,
+                                    description=None)
 
-        label(self.state.point_resolution)
-        self.state.param.watch(lambda e: label(e.new), "point_resolution")
+        label()
+        self.state.param.watch(label, "point_resolution")
+        self.param.watch(label, "result")
         button.on_click(lambda e: self.refine_grid())
         return button
 
     def refine_grid(self) -> None:
-        """Re-run the point contact on a grid twice as fine (up to the finest the app accepts)."""
-        self.state.point_resolution = min(2 * self.state.point_resolution, MAX_POINT_RESOLUTION)
+        """Re-run the point contact on a grid twice as fine (up to the finest the app accepts). If that run is
+        stopped by the time budget, the explorer goes back to this grid (its run is cached) with a notice."""
+        old = self.state.point_resolution
+        self._refined_from = old
+        self.state.point_resolution = min(2 * old, MAX_POINT_RESOLUTION)
 
     #: The tabs built only when first shown (most visitors never open them): title, builder.
     _LAZY_TABS: ClassVar[dict] = {"Paper's figures": lambda self: paper_figures_tab(),
                                   "About the model": lambda self: self.about()}
 
     def _lazy_tabs(self) -> list:
+        """The lazy tabs' holders: each shows a spinner and 'Building ...' until its content is built."""
         self._unbuilt = dict(self._LAZY_TABS)
-        return [(title, pn.Column(name=title, sizing_mode="stretch_width")) for title in self._LAZY_TABS]
+        return [(title, pn.Column(_building(title), name=title, sizing_mode="stretch_width"))
+                for title in self._LAZY_TABS]
 
     def _fill_tab(self, tabs: pn.Tabs, index: int) -> None:
+        """Build tab ``index`` when first shown (its spinner, sent with the page, shows meanwhile: the Paper's
+        figures take seconds to build, and a blank tab looked broken). In a served session the build waits for
+        the next turns of the event loop, so that the messages of the tab switch are handled first."""
         holder = tabs[index]
         build = self._unbuilt.pop(holder.name, None)
-        if build is not None:
+        if build is None:
+            return
+        doc = self._doc
+
+        def fill():
             holder.objects = [build(self)]
+
+        if doc is None or doc.session_context is None:
+            fill()
+            return
+
+        def later():
+            with set_curdoc(doc):
+                fill()
+
+        doc.add_timeout_callback(later, _BUILD_DELAY_MS)
 
     #: Every figure's place: the first-screen figures, then the others.
     _GRID = (*KEY_FIGURES["cylinder"], *KEY_FIGURES["point"], *GRID)
@@ -198,11 +258,7 @@ class LayoutMixin:
         """The served page: sidebar, header with the presentation-mode switch, the main area."""
         present = pn.widgets.Toggle(label="Presentation mode", width=170, css_classes=["presentation-toggle"],
                                     color="light", margin=(8, 10))
-        present.jscallback(value="""
-            const on = cb_obj.active;
-            document.documentElement.classList.toggle('presenting', on);
-            window.dispatchEvent(new Event('resize'));
-        """)
+        present.jscallback(value=PRESENT_JS)
         template = pn.template.BootstrapTemplate(
             title="Shakedown Explorer: rocking contacts with Coulomb friction",
             # the sidebar is one root, not one per input: the template renders each root in a `config.set`

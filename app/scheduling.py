@@ -62,10 +62,15 @@ class SolveMixin:
             self._request_solve()
 
     def _update_contact(self):
+        """The contact of the inputs, or why there is none (``error``; then no run is shown: figures of other
+        inputs under INVALID INPUT would be read as the answer)."""
         try:
+            typed = getattr(self, "typed_errors", {})
+            if typed:
+                raise ValueError("; ".join(typed.values()))
             contact = self.state.contact()
         except ValueError as e:
-            self.param.update(contact=None, error=str(e))
+            self.param.update(contact=None, error=str(e), result=None)
             return
         geometry = contact.replace(ft=0.0, w=0.0)
         self.param.update(contact=contact, error="",
@@ -112,7 +117,9 @@ class SolveMixin:
             return not self._generation.is_current(token)
 
         def failed(message):
-            if not stale():  # a stale run was cancelled on purpose: say nothing
+            if stale():  # a stale run was cancelled on purpose: say nothing
+                return
+            if not self._back_from_refine(message):
                 self.param.update(error=f"solver: {message}", solving=False, pending=False)
 
         def done(future):  # in the solver thread
@@ -125,16 +132,35 @@ class SolveMixin:
 
         submit(contact, options, cancel=stale).add_done_callback(done)
 
+    def _back_from_refine(self, message: str) -> bool:
+        """The run of the 'Refine grid' button failed (ran out of time): go back to the grid it came from (its
+        run is cached) and say so in a notice, rather than an error where a result was. False if the failed
+        run was not a refinement."""
+        refined_from = getattr(self, "_refined_from", None)
+        if refined_from is None or refined_from == self.state.point_resolution:
+            return False
+        tried, self._refined_from = self.state.point_resolution, None
+        self.notices = [*self.notices, f"The grid a/{tried} did not finish in time ({message}); back to a/{refined_from}."]
+        self.state.point_resolution = refined_from
+        return True
+
     def _finish(self, token, contact, options, result=None):
         if result is None:
             try:
                 result = solve(contact, options)
             except (core.SolverError, core.SolveCancelled, ValueError) as e:
-                self.error = f"solver: {e}"
+                if not self._back_from_refine(str(e)):
+                    self.error = f"solver: {e}"
                 return
         if not self._generation.is_current(token):
             return  # a newer request is pending: never overwrite it with this stale run
         self.result_token = token
+        self._refined_from = None  # a refined grid's run arrived (or another input's): nothing to go back to
+        if result is self.result:  # the same run (mu moved: a normalised run does not depend on it, app.runs.run_key)
+            with self._held():
+                self.param.update(plot_units=self._compute_units(result), solving=False, pending=False)
+                self._name_downloads()
+            return
         with self._held():
             self.play.value = False
             self._sync_player(result)  # the widgets follow the run (ranges too); the frame is set once, below
