@@ -195,7 +195,7 @@ def _prepared_then_solved():
                 urllib.request.urlopen(health, timeout=10)
             assert answer.value.code == 503 and not json.loads(answer.value.read())["ready"]
             page = browser.new_page()
-            page.goto(url + "?ft=0.3&w=0.372")
+            page.goto(url + "?ft=0.3&w=0.372", timeout=180_000)  # the first session may pay for imports
             page.get_by_text("compiling the solver (first start only)").first.wait_for(timeout=60_000)
             page.locator(".regime-note", has_text="eq 35 predicts").first.wait_for(timeout=30_000)
             assert page.evaluate(_SLIDERS) == ["ft = Ft/(μ Fn)", "w = W/a"]
