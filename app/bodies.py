@@ -223,16 +223,30 @@ def wide(p) -> bool:
     return not (math.isfinite(lo) and math.isfinite(hi)) or (lo > 0 and hi / lo > 1e3)
 
 
+#: The inputs' labels in a user's words, by (body, parameter); a body registered later without one here is
+#: labelled with its parameter's name in words (:func:`label`).
+LABELS = {("punch", "flat"): "Flat part b/a", ("ellipsoid", "ratio"): "Radii ratio Ry/Rx",
+          ("heightmap", "file"): "Height map", ("heightmap", "length_unit"): "a in the file's length unit",
+          ("heightmap", "height_unit"): "P/(E* a) in the file's height unit",
+          ("cone", "inner"): "Inner end r1/r2 (0: a full cone)", ("cone", "length"): "Contact length L/a",
+          ("cone", "load_at"): "Where Ft acts (0 inner end, 1 outer end)"}
+
+
+def label(body: str, parameter: str) -> str:
+    """The label of the input of ``parameter`` of ``body`` (:data:`LABELS`, else the name in words)."""
+    return LABELS.get((body, parameter)) or parameter.replace("_", " ").capitalize()
+
+
 def state_parameters() -> dict:
     """The explorer inputs of every body's parameters (param objects, by input name)."""
     out = {}
     for body in BODIES:
         for p in parameters(body):
-            label = f"{p.name} ({body})"
-            doc = f"{p.doc[:1].upper()}{p.doc[1:]}; body = {body}"
+            text = label(body, p.name)
+            doc = f"{p.doc[:1].upper()}{p.doc[1:]}"
             if p.path:
                 out[state_name(body, p.name)] = param.String(
-                    "demo", regex=SOURCE_PATTERN.pattern, label=label,
+                    "demo", regex=SOURCE_PATTERN.pattern, label=text,
                     doc=f"{doc}: 'demo' (the built-in map) or 'upload-<digest>' (a file uploaded to this server).")
                 continue
             lo, hi = float(p.lo), float(p.hi)
@@ -244,7 +258,7 @@ def state_parameters() -> dict:
                 soft, step, unit = (lo, hi if p.hi_closed else hi - _step(lo, hi)), _step(lo, hi), "[-]"
             out[state_name(body, p.name)] = param.Number(
                 default, bounds=(lo, hi), inclusive_bounds=(True, bool(p.hi_closed)), softbounds=soft, step=step,
-                allow_None=default is None, label=label,
+                allow_None=default is None, label=text,
                 doc=f"{doc} {unit}, in [{lo:g}, {hi:g}{']' if p.hi_closed else ')'}"
                     + ("; empty: the body's own default." if default is None else "."))
     return out

@@ -25,7 +25,7 @@ import param
 
 import core
 
-from . import panes, plots
+from . import panes, plots, runs
 from .cards import CardsMixin
 from .downloads import DownloadsMixin
 from .engineer import EngineerInputs
@@ -35,7 +35,7 @@ from .mapview import MapMixin
 from .player import PlayerMixin
 from .runs import Generation
 from .scheduling import SolveMixin
-from .state import PRESET_NOTES, PRESETS, URL_PARAMETERS, ExplorerState, parse_query
+from .state import PRESET_NOTES, PRESETS, URL_PARAMETERS, ExplorerState, parse_query, typed_error
 from .widgets import FloatSlider, IntSlider
 
 __all__ = ["Explorer"]
@@ -64,6 +64,8 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
     pending = param.Boolean(default=False, doc="The run shown is not the current inputs' run (a solve is on its way).")
     error = param.String(default="", doc="Why the current inputs cannot be solved, if they cannot.")
     notices = param.List(default=[], doc="Messages about rejected URL parameters.")
+    typed_errors = param.Dict(default={}, doc="Numbers typed into the geometry's boxes that are not valid, by input "
+                                              "name: why (in the input's units); the state keeps its last valid value.")
     map_table = param.DataFrame(default=None, allow_None=True,
                                 doc="Sweep table shown on the shakedown map (the shipped map until one is computed).")
     map_label = param.String(default="shipped map", doc="Where the numerical map comes from.")
@@ -100,11 +102,17 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self._places: dict[str, pn.Column] = {}  # the served page's places of the figures in their grids
         self.param.watch(self._redraw, list(FIGURE_INPUTS.values()))
         self._update_contact()
-        if self.state.point and self._doc is not None and self._doc.session_context is not None:
-            # a point contact's run takes seconds: off the event loop once the page is shown (updates sent
-            # before the browser has built the page could be lost); until then the badge says 'solving'
+        served = self._doc is not None and self._doc.session_context is not None
+        if served and (self.state.point or not runs.warmed(self._solver_group())):
+            # a point contact's run takes seconds, and the first run of a fresh install waits for the server's
+            # warm-up to compile the solver (a minute or more): off the event loop once the page is shown
+            # (updates sent before the browser has built the page could be lost); until then the badge says
+            # 'solving' and, while the solver compiles, the status line says so with the seconds spent (the
+            # sliders, the sketch, the exact limits and the closure curves need no solver: the page works at once)
             self.pending = True
             pn.state.onload(self._request_solve)
+            if self._compiling_line() is not None:
+                self._follow_compiling()
         else:
             self.solve_now()  # the first run is in the page as it is first sent: no update before the browser connects
         self._build_map()
@@ -130,11 +138,9 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
                                             styles={"font-size": "14px"})
         s.param.watch(self._preset_edited, list(URL_PARAMETERS))
         geometry = ["R", "L", "Fn", "E2", "nu2"]
-        self.geometry_inputs = [pn.widgets.FloatInput.from_param(s.param[p], sizing_mode="stretch_width")
-                                for p in geometry]
+        self.geometry_inputs = [self._typed_input(p) for p in geometry]
         self.rigid_box = pn.widgets.Checkbox.from_param(s.param.rigid)
-        self.cylinder_inputs = [pn.widgets.FloatInput.from_param(s.param[p], sizing_mode="stretch_width")
-                                for p in ("E1", "nu1")]
+        self.cylinder_inputs = [self._typed_input(p) for p in ("E1", "nu1")]
         for w in self.cylinder_inputs:
             w.disabled = s.rigid
         s.param.watch(lambda e: [setattr(w, "disabled", e.new) for w in self.cylinder_inputs], "rigid")
@@ -152,6 +158,42 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self.status = panes.HTML("", css_classes=["solve-status"], margin=(8, 4), visible=False)
         self._build_player()
         self._build_downloads()
+
+    def _typed_input(self, name: str) -> pn.widgets.FloatInput:
+        """A number box for input ``name`` that takes any number typed: a valid one goes to the state, another
+        one is named in the badge (INVALID INPUT, in the input's units, the figures cleared) until it is
+        corrected. (A box bounded by the slider range of the input silently put back the old value.)"""
+        p = self.state.param[name]
+        box = pn.widgets.FloatInput(label=p.label, value=getattr(self.state, name), start=None, end=None,
+                                    step=p.step, description=p.doc, sizing_mode="stretch_width")
+
+        def typed(event):
+            if event.new is None:
+                return
+            value, had = float(event.new), name in self.typed_errors
+            try:
+                p._validate(value)
+            except ValueError:
+                self.typed_errors = {**self.typed_errors, name: typed_error(p, value)}
+            else:
+                self.typed_errors = {k: v for k, v in self.typed_errors.items() if k != name}
+                if getattr(self.state, name) != value:
+                    setattr(self.state, name, value)  # the state's watchers solve the new inputs
+                    return
+                if not had:
+                    return
+            with self._held():  # an error named or corrected, the state unchanged: the badge and the figures follow
+                self._update_contact()
+                self._request_solve()
+
+        def held(event):  # the state changed (a preset, a link): the box shows it, and it is valid
+            box.value = event.new
+            if name in self.typed_errors:
+                self.typed_errors = {k: v for k, v in self.typed_errors.items() if k != name}
+
+        box.param.watch(typed, "value")
+        self.state.param.watch(held, name)
+        return box
 
     def _live_changed(self, *_):
         with self._held():

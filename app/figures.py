@@ -27,7 +27,7 @@ KEY_FIGURES = {"cylinder": ("pressure", "traction", "displacement"),
 #: Height of a first-screen figure [px] (set by its options in :mod:`app.plots`).
 KEY_HEIGHT = plots.KEY_HEIGHT
 #: The other figures, in the order they are laid out below the first screen.
-GRID = ("sketch", "states", "increments", "point_pressure", "point_traction", "point_zones", "map")
+GRID = ("loop", "sketch", "states", "increments", "point_pressure", "point_traction", "point_zones", "map")
 
 
 def key_figures(body: str) -> tuple[str, ...]:

@@ -61,7 +61,7 @@ from tornado import ioloop, web  # noqa: E402
 from app import runs  # noqa: E402 - after the cache is seeded: this imports the solver
 from app.heap import HEAP, set_aside_sessions  # noqa: E402
 from app.limits import LOOP_WATCH_MS  # noqa: E402
-from app.loop import take_turns  # noqa: E402
+from app.loop import quiet_closed_sockets, take_turns  # noqa: E402
 
 #: The garbage collector's thresholds in the server (Python's default: 700, 10, 10), see _freeze_the_heap
 GC_THRESHOLDS = (10_000, 10, 10)
@@ -171,6 +171,7 @@ class LivenessHandler(web.RequestHandler):
 
 
 take_turns(after=HEAP.built)  # sessions' builds take turns with the rest of the event loop, and are frozen
+quiet_closed_sockets()  # a tab closed mid-update leaves no "Task exception was never retrieved" in the log
 set_aside_sessions()  # ended sessions' frozen objects are reclaimed
 
 if "BOKEH_VALIDATE_DOC" not in os.environ:

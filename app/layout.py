@@ -20,12 +20,24 @@ from panel.io.state import set_curdoc
 from . import panes, plots, point_view, slides
 from .compare import Pins
 from .figures import GRID, KEY_FIGURES
+from .limits import SOLVE_BUDGET_S
 from .paper_figures import paper_figures_tab
 from .state import MAX_POINT_RESOLUTION
 from .styles import A11Y_JS, CSS, KATEX_CSS, PAGE_CSS, PRESENT_JS, MathFonts
 from .widgets import filled_when
 
-__all__ = ["LayoutMixin"]
+__all__ = ["LayoutMixin", "REFINE_COST", "refine_fits"]
+
+#: How many times longer a point contact's run takes on a grid twice as fine: measured 3.8 (sphere) and 4.1
+#: (ellipsoid) from a/10 to a/20 (twice the steps, four times the elements; benchmarks/app.py prints the
+#: per-body times), taken as 5 for a margin.
+REFINE_COST = 5.0
+
+
+def refine_fits(runtime: float, budget: float | None = None) -> bool:
+    """Whether the run on a grid twice as fine as that of a run of ``runtime`` [s] is expected to end within
+    ``budget`` [s] (default: the server's, ``SHAKEDOWN_SOLVE_BUDGET_S``; :data:`REFINE_COST`)."""
+    return REFINE_COST * runtime <= (SOLVE_BUDGET_S if budget is None else budget)
 
 _ABOUT = Path(__file__).with_name("about.md")
 #: How long a lazy tab's spinner is shown before its content is built [ms]: the tab's first message (the
@@ -105,24 +117,42 @@ class LayoutMixin:
 
     def _grid_action(self) -> pn.viewable.Viewable:
         """The point contacts' 'Refine grid' button under the verdict (the strip's 'grid error' is the run's
-        estimated discretisation error): one click doubles the elements per a and re-runs."""
+        estimated discretisation error): one click doubles the elements per a and re-runs. It is offered only
+        when the finer run is expected to end within the server's time budget (:func:`refine_fits`); should it
+        still run out of time, the explorer goes back to the grid it came from and says so (:meth:`refine_grid`)."""
         button = pn.widgets.Button(label="Refine grid", width=210, height=28, css_classes=["refine-grid"],
                                    margin=(0, 10, 2, 10), stylesheets=[":host button {font-size: 13px; padding: 0;}"],
                                    visible=self.state.param.body.rx().rx.pipe(lambda b: self.state.refinable))
 
-        def label(resolution):
+        def label(*_):
+            resolution = self.state.point_resolution
             finer = min(2 * resolution, MAX_POINT_RESOLUTION)
-            button.param.update(label=f"Refine grid: a/{resolution} → a/{finer}" if finer > resolution
-                                else f"Finest grid (a/{resolution})", disabled=finer <= resolution)
+            result = self.result
+            runtime = result.runtime if (result is not None and result.is_patch
+                                         and abs(1 / result.dx - resolution) < 1e-9) else None
+            if finer <= resolution:
+                button.param.update(label=f"Finest grid (a/{resolution})", disabled=True, description=None)
+            elif runtime is not None and not refine_fits(runtime):
+                button.param.update(
+                    label=f"Finest grid in time (a/{resolution})", disabled=True,
+                    description=f"a/{finer} would take about {REFINE_COST * runtime:.0f} s, past this server's "
+                                f"{SOLVE_BUDGET_S:.0f} s for one run (SHAKEDOWN_SOLVE_BUDGET_S)")
+            else:
+                button.param.update(label=f"Refine grid: a/{resolution} → a/{finer}", disabled=False,
+                                    description=None)
 
-        label(self.state.point_resolution)
-        self.state.param.watch(lambda e: label(e.new), "point_resolution")
+        label()
+        self.state.param.watch(label, "point_resolution")
+        self.param.watch(label, "result")
         button.on_click(lambda e: self.refine_grid())
         return button
 
     def refine_grid(self) -> None:
-        """Re-run the point contact on a grid twice as fine (up to the finest the app accepts)."""
-        self.state.point_resolution = min(2 * self.state.point_resolution, MAX_POINT_RESOLUTION)
+        """Re-run the point contact on a grid twice as fine (up to the finest the app accepts). If that run is
+        stopped by the time budget, the explorer goes back to this grid (its run is cached) with a notice."""
+        old = self.state.point_resolution
+        self._refined_from = old
+        self.state.point_resolution = min(2 * old, MAX_POINT_RESOLUTION)
 
     #: The tabs built only when first shown (most visitors never open them): title, builder.
     _LAZY_TABS: ClassVar[dict] = {"Paper's figures": lambda self: paper_figures_tab(),

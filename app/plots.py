@@ -38,7 +38,7 @@ from .units import Units, make_units, time_axis
 __all__ = ["Units", "make_units", "Inputs", "FIGURES", "figure", "layers", "specs", "group",
            "pressure_curves", "pressure_step", "traction_zones", "traction_run", "traction_bounds",
            "traction_closure", "state_image", "state_marks", "frame_marks", "time_axis", "displacement_curves",
-           "displacement_step", "increment_layers", "map_base", "map_numerical", "map_point", "grid_boundary",
+           "displacement_step", "loop_curves", "increment_layers", "map_base", "map_numerical", "map_point", "grid_boundary",
            "ZONE_COLORS", "STATE_COLORS", "REGIME_COLORS", "REGIME_MARKERS", "OKABE_ITO", "FONT"]
 
 hv.Store.set_current_backend("bokeh")
@@ -106,9 +106,10 @@ ZONE_COLORS = {"stick": _C["blue"], "slip": _C["orange"], "zero traction": _C["g
 ZONE_HATCH = {"stick": " ", "slip": "/", "zero traction": " "}
 _ZONE_CODES = {"stick": core.Zone.STICK, "slip": core.Zone.SLIP, "zero traction": core.Zone.RELEASED}
 #: Colour and marker of a point on the map, by numerical regime (None: not solved yet): shape is the second cue.
-REGIME_COLORS = {"shakedown": _C["blue"], "ratcheting": _C["vermillion"], "undetermined": _C["grey"],
-                 None: _C["grey"]}
-REGIME_MARKERS = {"shakedown": "circle", "ratcheting": "triangle", "undetermined": "diamond", None: "square"}
+REGIME_COLORS = {"shakedown": _C["blue"], "cyclic slip": _C["orange"], "ratcheting": _C["vermillion"],
+                 "undetermined": _C["grey"], None: _C["grey"]}
+REGIME_MARKERS = {"shakedown": "circle", "cyclic slip": "hex", "ratcheting": "triangle", "undetermined": "diamond",
+                  None: "square"}
 _NX = 401
 _EMPTY = (np.zeros(0), np.zeros(0))
 
@@ -484,6 +485,35 @@ def _displacement_layers(i: Inputs) -> tuple:
 
 
 # --------------------------------------------------------------------------
+# fretting loop
+# --------------------------------------------------------------------------
+def _loop_specs(units: Units) -> list:
+    kd, vd = _dim("u", units.u_label), _dim("Q", "Ft / (μ Fn)")
+    return [
+        Layer(hv.Curve, (kd,), (vd,), "first period", dict(color=_C["sky"], line_dash="dashed", line_width=2)),
+        Layer(hv.Curve, (kd,), (vd,), "last period", dict(color=_C["vermillion"], line_width=LINE)),
+    ]
+
+
+@_memo
+def loop_curves(result: core.CycleResult | None, units: Units) -> tuple:
+    """The fretting loops of the first and the last period (:meth:`core.CycleResult.fretting_loop`): the
+    tangential load against the rigid-body displacement, from the stored steps."""
+    if result is None or result.periods == 0:
+        return _EMPTY, _EMPTY
+    out = []
+    for period in (0, -1):
+        loop = result.fretting_loop(period)
+        start = float(result.displacement[result.period == loop.period][0]) if loop.Q.size else 0.0
+        out.append(((loop.displacement + start) * units.u, loop.Q))
+    return tuple(out)
+
+
+def _loop_layers(i: Inputs) -> tuple:
+    return loop_curves(i.result, i.units)
+
+
+# --------------------------------------------------------------------------
 # increment per period
 # --------------------------------------------------------------------------
 def _increments_specs(units: Units) -> list:
@@ -564,7 +594,7 @@ def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
         return np.array(fts), np.array(ws)
     for ft, group in table.sort_values(["ft", "w"]).groupby("ft", sort=True):
         w = group["w"].to_numpy(float)
-        ok = (group["regime"] == "shakedown").to_numpy()
+        ok = group["regime"].isin(("shakedown", "cyclic slip")).to_numpy()  # not ratcheting, as the limit search
         if ok.all() or not ok.any():
             continue
         k = int(np.argmin(ok))  # first grid w that did not shake down
@@ -573,7 +603,7 @@ def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
     return np.array(fts), np.array(ws)
 
 
-_MAP_REGIMES = ("shakedown", "ratcheting", "undetermined")
+_MAP_REGIMES = ("shakedown", "cyclic slip", "ratcheting", "undetermined")
 
 
 def _map_specs(label: str = "solver") -> list:
@@ -672,6 +702,12 @@ FIGURES = {
     "displacement": dict(opts=dict(title="Rigid-body displacement", **key_opts()),
                 caption="What you see: the body's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
+    "loop": dict(opts=dict(title="Fretting loop", legend_position="bottom_right"),
+                 caption="What you see: the tangential force against the rigid-body displacement in the first and "
+                         "the last period; its area is the energy dissipated per period (the cards give it). It is "
+                         "a closed loop in cyclic slip (loading 'tangential'), a horizontal segment under a constant "
+                         "force (rocking: the walk).", specs=_loop_specs, layers=_loop_layers,
+                 inputs=("units", "result")),
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),
                 caption="What you see: how far the body walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result", "pinned")),

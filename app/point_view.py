@@ -387,7 +387,7 @@ def _source_input(state, body, p, name):
             out[f"uploaded ({current[7:15]})"] = current
         return out
 
-    select = pn.widgets.Select(label=f"{p.name} ({body})", options=options(getattr(state, name)),
+    select = pn.widgets.Select(label=bodies.label(body, p.name), options=options(getattr(state, name)),
                                value=getattr(state, name), sizing_mode="stretch_width", description=p.doc,
                                css_classes=[f"body-source-{name}"])
     upload = pn.widgets.FileInput(sizing_mode="stretch_width", multiple=False, css_classes=[f"body-upload-{name}"])

@@ -19,7 +19,7 @@ from panel.io.state import set_curdoc
 import core
 from core.convergence import increment_error
 
-from . import bodies
+from . import bodies, runs
 from .runs import RESULTS, run_key, solve, submit
 
 __all__ = ["SolveMixin", "SPINNER_DELAY_MS"]
@@ -62,10 +62,15 @@ class SolveMixin:
             self._request_solve()
 
     def _update_contact(self):
+        """The contact of the inputs, or why there is none (``error``; then no run is shown: figures of other
+        inputs under INVALID INPUT would be read as the answer)."""
         try:
+            typed = getattr(self, "typed_errors", {})
+            if typed:
+                raise ValueError("; ".join(typed.values()))
             contact = self.state.contact()
         except ValueError as e:
-            self.param.update(contact=None, error=str(e))
+            self.param.update(contact=None, error=str(e), result=None)
             return
         geometry = contact.replace(ft=0.0, w=0.0)
         self.param.update(contact=contact, error="",
@@ -84,6 +89,21 @@ class SolveMixin:
             # cached, or headless (tests, notebooks without a server): solve here
             self._finish(token, contact, options, cached)
             return
+        group = self._solver_group()
+        if not runs.warmed(group):
+            # the server's warm-up still compiles this grid's solver (a fresh install): the solve is asked for
+            # once it is ready, so that it neither compiles a second time beside it nor runs out of its time
+            # budget while compiling; meanwhile the page works without it (the analytical layers)
+            self.pending = True
+            if not getattr(self, "_awaiting_solver", False):
+                self._awaiting_solver = True
+
+                def ask():
+                    self._awaiting_solver = False
+                    self._request_solve()
+
+                runs.on_warm(group, lambda: self._in_session(ask))
+            return
 
         self.pending = True  # every card and the badge say so at once: no old verdict beside new inputs
 
@@ -97,7 +117,9 @@ class SolveMixin:
             return not self._generation.is_current(token)
 
         def failed(message):
-            if not stale():  # a stale run was cancelled on purpose: say nothing
+            if stale():  # a stale run was cancelled on purpose: say nothing
+                return
+            if not self._back_from_refine(message):
                 self.param.update(error=f"solver: {message}", solving=False, pending=False)
 
         def done(future):  # in the solver thread
@@ -110,16 +132,35 @@ class SolveMixin:
 
         submit(contact, options, cancel=stale).add_done_callback(done)
 
+    def _back_from_refine(self, message: str) -> bool:
+        """The run of the 'Refine grid' button failed (ran out of time): go back to the grid it came from (its
+        run is cached) and say so in a notice, rather than an error where a result was. False if the failed
+        run was not a refinement."""
+        refined_from = getattr(self, "_refined_from", None)
+        if refined_from is None or refined_from == self.state.point_resolution:
+            return False
+        tried, self._refined_from = self.state.point_resolution, None
+        self.notices = [*self.notices, f"The grid a/{tried} did not finish in time ({message}); back to a/{refined_from}."]
+        self.state.point_resolution = refined_from
+        return True
+
     def _finish(self, token, contact, options, result=None):
         if result is None:
             try:
                 result = solve(contact, options)
             except (core.SolverError, core.SolveCancelled, ValueError) as e:
-                self.error = f"solver: {e}"
+                if not self._back_from_refine(str(e)):
+                    self.error = f"solver: {e}"
                 return
         if not self._generation.is_current(token):
             return  # a newer request is pending: never overwrite it with this stale run
         self.result_token = token
+        self._refined_from = None  # a refined grid's run arrived (or another input's): nothing to go back to
+        if result is self.result:  # the same run (mu moved: a normalised run does not depend on it, app.runs.run_key)
+            with self._held():
+                self.param.update(plot_units=self._compute_units(result), solving=False, pending=False)
+                self._name_downloads()
+            return
         with self._held():
             self.play.value = False
             self._sync_player(result)  # the widgets follow the run (ranges too); the frame is set once, below
@@ -176,6 +217,34 @@ class SolveMixin:
 
     def _show_spinner(self, *_):
         """Show the spinner while this session's solve runs (watches ``solving``)."""
-        self.spinner.param.update(value=self.solving, visible=self.solving)
-        self.status.param.update(object="solving…" if self.solving else "", visible=self.solving)
+        compiling = self._compiling_line()
+        busy = self.solving or compiling is not None
+        self.spinner.param.update(value=busy, visible=busy)
+        self.status.param.update(object=compiling or ("solving…" if self.solving else ""), visible=busy)
+
+    def _solver_group(self) -> str:
+        """Which of the server's warm-up groups (:func:`app.runs.on_warm`) solves the current inputs."""
+        return "point" if self.state.point else "line"
+
+    def _compiling_line(self) -> str | None:
+        """``compiling the solver (first start only), N s`` while the server's warm-up still compiles the solver
+        of the current inputs and this session has no run yet (else None)."""
+        seconds = runs.warming_seconds()
+        if seconds is None or self.result is not None or self.error or runs.warmed(self._solver_group()):
+            return None
+        return f"compiling the solver (first start only), {seconds:.0f} s"
+
+    def _follow_compiling(self) -> None:
+        """Show :meth:`_compiling_line` now and count its seconds up, once a second, until this session's first
+        run arrives (or its inputs turn out invalid)."""
+        self._show_spinner()
+        doc = self._doc
+        holder = {}
+
+        def tick():
+            self._show_spinner()
+            if self._compiling_line() is None and "callback" in holder:
+                doc.remove_periodic_callback(holder.pop("callback"))
+
+        holder["callback"] = doc.add_periodic_callback(tick, 1000)
 

@@ -13,6 +13,7 @@ in N, moduli in MPa. :meth:`ExplorerState.contact` converts to SI for
 from __future__ import annotations
 
 import math
+import re
 import urllib.parse
 from typing import Mapping
 
@@ -23,7 +24,7 @@ import core
 from . import bodies
 from .limits import MAX_PERIODS, MAX_RESOLUTION
 
-__all__ = ["ExplorerState", "BODIES", "POINT_RESOLUTION", "MAX_POINT_RESOLUTION", "PRESETS", "PRESET_NOTES", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
+__all__ = ["ExplorerState", "typed_error", "BODIES", "POINT_RESOLUTION", "MAX_POINT_RESOLUTION", "PRESETS", "PRESET_NOTES", "URL_PARAMETERS", "parse_query", "MAX_QUERY_VALUE_LENGTH"]
 
 #: Longest query-string value that is even looked at (longer ones are rejected).
 MAX_QUERY_VALUE_LENGTH = 64
@@ -57,9 +58,7 @@ class ExplorerState(param.Parameterized):
                       step=0.01, label="μ (friction)", doc="Coulomb friction coefficient μ [-], in (0, 10].")
     # ---- the body -------------------------------------------------------------
     body = param.Selector(default="cylinder", objects=list(BODIES), label="Body",
-                          doc="The rocking body, one of core.registry's: " + "; ".join(
-                              f"'{b}' ({bodies.entry(b).kind}): {bodies.entry(b).doc}" for b in BODIES)
-                          + ". Its parameters are inputs of their own (app.bodies).")
+                          doc="The rocking body; its own inputs and a note on it follow below.")
     # ---- geometry and materials --------------------------------------------
     R = param.Number(40.0, bounds=(0.0, 1e5), inclusive_bounds=(False, True), softbounds=(1.0, 200.0),
                      step=1.0, label="R [mm]",
@@ -85,15 +84,15 @@ class ExplorerState(param.Parameterized):
     periods = param.Integer(10, bounds=(1, MAX_PERIODS), softbounds=(1, min(30, MAX_PERIODS)), step=1,
                             label="Periods",
                             doc=f"Rocking periods simulated after the loading [-], in [1, {MAX_PERIODS}] "
-                                "(SHAKEDOWN_MAX_PERIODS).")
+                                "(this server's cap).")
     resolution = param.Integer(40, bounds=(5, MAX_RESOLUTION), softbounds=(10, min(100, MAX_RESOLUTION)), step=5,
                                label="Elements per a",
                                doc=f"Grid resolution: elements per half-width a [-] (dx = a/resolution), in "
-                                   f"[5, {MAX_RESOLUTION}] (SHAKEDOWN_MAX_RESOLUTION).")
+                                   f"[5, {MAX_RESOLUTION}] (this server's cap).")
     point_resolution = param.Integer(
         POINT_RESOLUTION, bounds=(4, MAX_POINT_RESOLUTION), softbounds=(4, MAX_POINT_RESOLUTION), step=1,
         label="Elements per a (point contacts)",
-        doc=f"Grid of a point contact: elements per semi-axis a (dx = a/point_resolution; the elements of the 2D grid "
+        doc=f"Grid of a point contact: elements per semi-axis a (dx = a/n for n elements; the elements of the 2D grid "
             f"grow as its square, the steps in proportion), in [4, {MAX_POINT_RESOLUTION}]; coarse by default.")
     kernel = param.Selector(default="strip", objects=["strip", "plane"], label="Kernel",
                             doc="Influence kernel: 'strip' (truncated 3D strip of length L, gives U/U0) "
@@ -101,7 +100,7 @@ class ExplorerState(param.Parameterized):
     schedule = param.Selector(default="triangle", objects=["triangle", "sine"], label="Rocking waveform",
                               doc="Waveform of the rocking motion of the contact centre: 'triangle' (the paper's) or 'sine'.")
     loading = param.Selector(default="rocking", objects=["rocking", "normal", "tangential"], label="Loading",
-                             doc="Loading history of every body (core.histories): 'rocking' under constant loads "
+                             doc="Loading history of every body: 'rocking' under constant loads "
                                  "(the paper's); 'normal': the same rocking under an oscillating normal force "
                                  "Fn (1 + amplitude sin(2 pi t + phase)); 'tangential': the centre fixed and Ft "
                                  "oscillating about its mean (a sphere's is Mindlin-Deresiewicz's fretting loop).")
@@ -191,12 +190,12 @@ class ExplorerState(param.Parameterized):
                                   E2=self.E2 * _MPA, nu2=self.nu2, E1=math.inf if rigid else self.E1 * _MPA,
                                   nu1=0.3 if rigid else self.nu1, Ft=self.ft * self.mu * self.Fn)
             return c.replace(w=self.w)
-        return core.Contact(
-            R1=self.R * _MM, L=self.L * _MM, Fn=self.Fn, mu=self.mu,
-            E2=self.E2 * _MPA, nu2=self.nu2,
-            E1=math.inf if rigid else self.E1 * _MPA, nu1=0.3 if rigid else self.nu1,
-            ft=self.ft, w=self.w,
-        )
+        inputs = dict(R1=self.R * _MM, Fn=self.Fn, mu=self.mu, E2=self.E2 * _MPA, nu2=self.nu2,
+                      E1=math.inf if rigid else self.E1 * _MPA, nu1=0.3 if rigid else self.nu1, ft=self.ft, w=self.w)
+        try:
+            return core.Contact(L=self.L * _MM, **inputs)
+        except ValueError as e:  # core's lengths are in metres: say it in the inputs' mm
+            raise ValueError(_in_mm(str(e))) from None
 
     @property
     def dx(self) -> float:
@@ -243,6 +242,24 @@ class ExplorerState(param.Parameterized):
         if name not in PRESETS:
             raise ValueError(f"preset must be one of {sorted(PRESETS)}, got {name!r}")
         self.param.update(**PRESETS[name])
+
+
+def _in_mm(message: str) -> str:
+    """A message of :mod:`core` with its lengths in metres ("2a = 0.04413 m") in the inputs' mm ("44.13 mm")."""
+    return re.sub(r"(\d+(?:\.\d*)?(?:[eE][-+]?\d+)?) m\b", lambda m: f"{float(m.group(1)) / _MM:.4g} mm", message)
+
+
+def typed_error(p: param.Parameter, value) -> str:
+    """Why ``value`` typed for input ``p`` is refused, in the input's units (its label's ``[unit]``):
+    "R must be in (0, 100000] mm, got -1 mm"."""
+    label = str(p.label)
+    name, _, unit = label.partition(" [")
+    unit = unit.rstrip("]")
+    lo, hi = p.bounds
+    ilo, ihi = getattr(p, "inclusive_bounds", (True, True))
+    space = f" {unit}" if unit else ""
+    return (f"{name} must be in {'[' if ilo else '('}{lo:g}, {hi:g}{']' if ihi else ')'}{space}, "
+            f"got {float(value):g}{space}")
 
 
 def _contact_inputs(contact: core.Contact) -> dict:

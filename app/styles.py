@@ -1,6 +1,6 @@
 """The explorer's style sheets and page scripts (strings only: no Panel model is made here).
 
-:data:`CSS` styles the badge, the cards and the captions inside their shadow roots; :data:`PAGE_CSS` is
+:data:`CSS` styles the badge (its regimes in :data:`BADGE_COLORS`), the cards and the captions inside their shadow roots; :data:`PAGE_CSS` is
 document-level (presentation mode, narrow screens); :data:`A11Y_JS` labels the widgets for screen readers and
 loads the math fonts; :class:`MathFonts` serves those fonts.
 """
@@ -12,14 +12,21 @@ from typing import ClassVar
 
 from panel.models.katex import KaTeX as KaTeXModel
 
-__all__ = ["CSS", "PAGE_CSS", "PRESENT_JS", "KATEX_CSS", "A11Y_JS", "MathFonts"]
+__all__ = ["BADGE_COLORS", "CSS", "PAGE_CSS", "PRESENT_JS", "KATEX_CSS", "A11Y_JS", "MathFonts"]
 
 _ASSETS = Path(__file__).with_name("assets")
+#: Background and text colour of the verdict badge per regime (:data:`CSS`). Okabe and Ito's blue and orange and a
+#: dark vermillion, far apart in lightness (relative luminance 0.15, 0.42, 0.06; pale grey 0.72 with a dashed
+#: border for a run the periods cannot tell yet): they read in greyscale and for colour-blind viewers, and the badge
+#: also says the regime in words. Every text contrast is at least 5:1.
+BADGE_COLORS = {"shakedown": ("#0072B2", "white"), "cyclic slip": ("#E69F00", "black"),
+                "ratcheting": ("#7F2704", "white"), "undetermined": ("#dddddd", "black")}
 CSS = """
 .regime-badge {display: inline-block; padding: 5px 16px; border-radius: 10px; color: white;
                font-size: calc(23px * var(--shakedown-text-scale, 1)); font-weight: 700; letter-spacing: 0.04em;}
-.regime-shakedown {background: #0072B2;} .regime-ratcheting {background: #D55E00;}
-.regime-none, .regime-undetermined {background: #6b6b6b;}
+.regime-shakedown {background: #0072B2;} .regime-cyclicslip {background: #E69F00; color: black;}
+.regime-ratcheting {background: #7F2704;}
+.regime-none, .regime-undetermined {background: #dddddd; color: black; border: 2px dashed #555; padding: 3px 14px;}
 .regime-note {font-size: calc(13px * var(--shakedown-text-scale, 1)); color: #333; margin-top: 4px; line-height: 1.3;}
 .strip {display: flex; flex-wrap: wrap; gap: 2px 18px; font-size: calc(15px * var(--shakedown-text-scale, 1)); line-height: 1.35;}
 .strip .item {white-space: nowrap;} .strip .more {color: #1f5f99; cursor: pointer; white-space: nowrap;} .strip .k {color: #444;} .strip .v {font-weight: 600;}

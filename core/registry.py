@@ -127,7 +127,7 @@ register(BodyEntry("heightmap", _heightmap, "point", "a measured or designed sur
                     Parameter("length_unit", 1.0, 1e-12, 1e12, "a in the file's length unit"),
                     Parameter("height_unit", 1.0, 1e-12, 1e12, "P/(E* a) in the file's height unit"))))
 register(BodyEntry("cone", _cone, "point", "the rocking cone or frustum (a tapered roller) on its side, turning about "
-                   "the vertical axis through its apex, free to translate and turn about the normal (core/cone.py); "
+                   "the vertical axis through its apex, free to translate and turn about the normal; "
                    "a and w at the mid-length",
                    (Parameter("inner", 0.5, 0.0, 1.0, "r1/r2, the inner end's distance from the apex over the outer "
                               "end's (0: a full cone)", hi_closed=False),

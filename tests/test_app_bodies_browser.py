@@ -98,8 +98,8 @@ def test_the_punch_its_flat_and_the_shared_link(browser, app_url):
                                timeout=30_000)
         before = page.evaluate(_CURVE_DATA, title)
         # the flat slider, built from the registry's parameter (its range [0, 1), its doc as the tooltip)
-        assert page.evaluate(_VALUE, "flat (punch)") == 0.5
-        assert page.evaluate(_SET, ["flat (punch)", 0.8])
+        assert page.evaluate(_VALUE, "Flat part b/a") == 0.5
+        assert page.evaluate(_SET, ["Flat part b/a", 0.8])
         page.locator(".regime-note", has_text="punch's exact limit predicts ratcheting").first.wait_for(timeout=180_000)
         page.locator(VERDICT).first.wait_for(timeout=180_000)
         wait_until(lambda: page.evaluate(_CURVE_DATA, title) != before, 30, message="the pressure figure following the flat")
@@ -110,7 +110,7 @@ def test_the_punch_its_flat_and_the_shared_link(browser, app_url):
     finally:
         page.close()
     # a second session from the shared link: the same body, parameter and verdict
-    second = _reopen(browser, url, "punch", "flat (punch)", 0.8)
+    second = _reopen(browser, url, "punch", "Flat part b/a", 0.8)
     assert "punch's exact limit predicts ratcheting" in second["note"]
     assert second["badge"] == badge
 
@@ -120,14 +120,14 @@ def test_the_height_map_its_maps_a_parameter_and_the_shared_link(browser, app_ur
     try:
         _pick(page, "heightmap")
         # the built-in demo map, on its own grid: the pressure map shows the contact
-        assert page.evaluate(_VALUE, "file (heightmap)") == "demo"
+        assert page.evaluate(_VALUE, "Height map") == "demo"
         title = "Traction on y = 0"
         page.wait_for_function(f"() => {{ const d = ({_CURVE_DATA})({title!r}); "
                                "return d !== null && d.some((c) => c.length > 20); }", timeout=60_000)
         before = page.evaluate(_CURVE_DATA, title)
         cards_before = page.locator(".strip").first.inner_text()
         # a parameter: the map's height unit (a softer surface: a wider contact, another limit)
-        assert page.evaluate(_SET, ["height_unit (heightmap)", 1.5])
+        assert page.evaluate(_SET, ["P/(E* a) in the file's height unit", 1.5])
         wait_until(lambda: "height_unit=1.5" in page.evaluate("() => window.location.search"), 60,
                    message="height_unit in the URL")
         page.locator(VERDICT).first.wait_for(timeout=180_000)
@@ -139,4 +139,4 @@ def test_the_height_map_its_maps_a_parameter_and_the_shared_link(browser, app_ur
         assert page.problems == [], page.problems
     finally:
         page.close()
-    assert _reopen(browser, url, "heightmap", "height_unit (heightmap)", 1.5)["note"] == note
+    assert _reopen(browser, url, "heightmap", "P/(E* a) in the file's height unit", 1.5)["note"] == note

@@ -324,7 +324,7 @@ def test_explorer_pushes_only_what_changed(scroll_through):
     n_traction = len(before["traction"])
     assert not set(point_view.FIGURES) & set(changed)  # the sphere's figures are not drawn beside a cylinder
     assert changed == {"sketch": [], "pressure": [], "traction": [n_traction - 2 - MAX_PINS], "states": [],
-                       "displacement": [], "increments": [], "map": [len(before["map"]) - 1]}
+                       "displacement": [], "loop": [], "increments": [], "map": [len(before["map"]) - 1]}
 
 
 def test_a_new_run_pushes_only_the_layers_of_the_run(scroll_through):
