@@ -19,14 +19,14 @@ import core
 from . import bodies
 
 __all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
-           "fmt", "count", "STRIP_KEYS", "on_side", "input_digits", "inputs_text"]
+           "fmt", "count", "STRIP_KEYS", "on_side", "input_digits", "inputs_text", "NO_WALK", "energy_row"]
 
 #: The rows of the cards shown in the strip, in its order, with their short names there (the first row of each
 #: group that is present).
 STRIP_KEYS = ((("margin ft / ft_lim", "ft/ft_lim"),), (("margin w / w_lim", "w/w_lim"),),
               (("c_sd numerical", "c_sd"), ("c_sd numerical (y = 0)", "c_sd (y = 0)")),
               (("Δu last period", "Δu/period"), ("creep per period (last)", "creep/period")),
-              (("grid error of Δu", "grid error"),))
+              (("energy per period (last)", "energy/period"),), (("grid error of Δu", "grid error"),))
 
 
 @functools.lru_cache(maxsize=4096)
@@ -98,17 +98,17 @@ def on_side(x: float, ref: float, decimals: int = 2) -> str:
     return f"{x:.{d}f}"
 
 
-def input_digits(ft: float, w: float, body=bodies.DEFAULT) -> tuple[str, str]:
+def input_digits(ft: float, w: float, body="cylinder") -> tuple[str, str]:
     """``ft`` and ``w`` as text, each to enough digits to stay on its side of the exact limit of ``body``: ft
     against ft_lim(w), w against w_lim(ft) (:func:`on_side`)."""
-    if bodies.has_closure(body):
+    if bodies.has_closure(body):  # the paper's closed forms (eq 35)
         _, ft_lim, w_lim = _closure(ft, w)
     else:
         ft_lim, w_lim = body_limits(ft, w, body)
     return on_side(ft, ft_lim), on_side(w, w_lim)
 
 
-def inputs_text(ft: float, w: float, body=bodies.DEFAULT) -> str:
+def inputs_text(ft: float, w: float, body="cylinder") -> str:
     """"ft = …, w = …" for a note (:func:`input_digits`)."""
     ft_text, w_text = input_digits(ft, w, body)
     return f"ft = {ft_text}, w = {w_text}"
@@ -122,6 +122,22 @@ def count(n: int) -> str:
     m = n / 10**e
     power = "10" + str(e).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
     return power if abs(m - 1) < 1e-9 else f"{m:.3g}×{power}"
+
+
+#: Regimes whose body stops walking: the last increment is the solver's noise, an error relative to it means nothing.
+NO_WALK = ("shakedown", "cyclic slip")
+
+
+def energy_row(result, energy_unit=None) -> tuple[str, str]:
+    """The card row of the energy dissipated in the last period (:attr:`core.CycleResult.dissipation_per_period`):
+    normalised, or in J/m (a line) or J (a point contact) given the contact's ``energy_unit`` [J/m or J]."""
+    energy = result.dissipation_per_period
+    last = float(energy[-1]) if energy.size else math.nan
+    if energy_unit is not None:
+        si = "J" if result.is_patch else "J/m"
+        return ("energy per period (last)", fmt(last * energy_unit, si, 3))
+    unit = "μ²Fn²/(E*a)" if result.is_patch else "μ²P²/E*"
+    return ("energy per period (last)", fmt(last, unit, 3))
 
 
 def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, body="sphere",
@@ -142,7 +158,8 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
              ("ft_lim(w), cylinder (eq 35)", _limit(float(core.ft_limit(w)), ft)),
              ("margin ft / ft_lim", _margin(ft, lim)), ("margin w / w_lim", _margin(w, wlim))]
     if wait:
-        rows += [("c_sd numerical (y = 0)", wait), ("Δu last period", wait), ("solve", wait)]
+        rows += [("c_sd numerical (y = 0)", wait), ("Δu last period", wait), ("energy per period (last)", wait),
+                 ("solve", wait)]
         return rows
     physical = units == "physical" and c is not None
     scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
@@ -154,9 +171,10 @@ def point_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**
                  (f"creep after {count(cycles)} periods", fmt(um * cycles / 1e3, "mm", 3))]
     else:
         rows.append(("Δu last period", f"{inc:.3g} μFn/(E*a)"))
+    rows.append(energy_row(result, c.energy_unit if physical else None))
     scale, unit = (c.displacement_unit * 1e6, "µm") if physical else (1.0, "μFn/(E*a)")
     rows.append(("grid error of Δu", "estimating…" if grid_error is None
-                 else grid_error_text(grid_error, inc, scale, unit, relative=result.regime != "shakedown")))
+                 else grid_error_text(grid_error, inc, scale, unit, relative=result.regime not in NO_WALK)))
     rows.append(grid_limit_row(result))
     nx, ny = result.x_edges.size - 1, result.y_edges.size - 1
     rows.append(("solve", f"{result.runtime:.1f} s, {nx}×{ny} el. (dx = a/{1 / result.dx:.3g}), "
@@ -244,7 +262,7 @@ def _line_tail(ft, w, ft_lim, w_lim, result, wait, physical_contact, cycles) -> 
     physical units when ``physical_contact`` is the contact, else in U0 or mu P/E*) and the solve."""
     rows = [("margin ft / ft_lim", _margin(ft, ft_lim)), ("margin w / w_lim", _margin(w, w_lim))]
     if wait:
-        return rows + [("Δu last period", wait), ("solve", wait)]
+        return rows + [("Δu last period", wait), ("energy per period (last)", wait), ("solve", wait)]
     inc = float(result.increment_per_period[-1])
     if physical_contact is not None:
         um = inc * physical_contact.displacement_unit * 1e6
@@ -253,6 +271,7 @@ def _line_tail(ft, w, ft_lim, w_lim, result, wait, physical_contact, cycles) -> 
     else:
         unit_u = "U0" if result.u0 else "μP/E*"
         rows.append(("Δu last period", f"{(inc / result.u0 if result.u0 else inc):.3g} {unit_u}"))
+    rows.append(energy_row(result, None if physical_contact is None else physical_contact.energy_unit))
     rows.append(grid_limit_row(result))
     rows.append(("solve", f"{result.runtime * 1e3:.0f} ms, {result.edges.size - 1} el., {result.xc.size} steps"))
     return rows

@@ -25,7 +25,7 @@ import param
 
 import core
 
-from . import panes, plots
+from . import panes, plots, runs
 from .cards import CardsMixin
 from .downloads import DownloadsMixin
 from .engineer import EngineerInputs
@@ -99,13 +99,20 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self.sentinels = {}  # name -> app.live.WhenShown, the served page's: a figure is drawn when shown
         self._when_shown = False
         self._cells: dict[str, pn.Column] = {}  # the served page's figures with their captions, once drawn
+        self._places: dict[str, pn.Column] = {}  # the served page's places of the figures in their grids
         self.param.watch(self._redraw, list(FIGURE_INPUTS.values()))
         self._update_contact()
-        if self.state.point and self._doc is not None and self._doc.session_context is not None:
-            # a point contact's run takes seconds: off the event loop once the page is shown (updates sent
-            # before the browser has built the page could be lost); until then the badge says 'solving'
+        served = self._doc is not None and self._doc.session_context is not None
+        if served and (self.state.point or not runs.warmed(self._solver_group())):
+            # a point contact's run takes seconds, and the first run of a fresh install waits for the server's
+            # warm-up to compile the solver (a minute or more): off the event loop once the page is shown
+            # (updates sent before the browser has built the page could be lost); until then the badge says
+            # 'solving' and, while the solver compiles, the status line says so with the seconds spent (the
+            # sliders, the sketch, the exact limits and the closure curves need no solver: the page works at once)
             self.pending = True
             pn.state.onload(self._request_solve)
+            if self._compiling_line() is not None:
+                self._follow_compiling()
         else:
             self.solve_now()  # the first run is in the page as it is first sent: no update before the browser connects
         self._build_map()
@@ -119,8 +126,11 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self.ft_slider = FloatSlider.from_param(s.param.ft, format=SLIDER_FORMAT, **slider)
         self.w_slider = FloatSlider.from_param(s.param.w, format=SLIDER_FORMAT, **slider)
         self.mu_slider = FloatSlider.from_param(s.param.mu, **slider)
+        # outlined: the selected unit is the filled button (solid buttons all had the same blue background)
         self.units_toggle = pn.widgets.RadioButtonGroup.from_param(s.param.units, color="primary",
-                                                                   sizing_mode="stretch_width")
+                                                                   button_style="outline",
+                                                                   sizing_mode="stretch_width",
+                                                                   css_classes=["units-toggle"])
         self.preset = pn.widgets.Select(label="Preset", options=["(custom)", *PRESETS], value="(custom)",
                                         sizing_mode="stretch_width")
         self.preset.param.watch(self._apply_preset, "value")

@@ -27,7 +27,7 @@ KEY_FIGURES = {"cylinder": ("pressure", "traction", "displacement"),
 #: Height of a first-screen figure [px] (set by its options in :mod:`app.plots`).
 KEY_HEIGHT = plots.KEY_HEIGHT
 #: The other figures, in the order they are laid out below the first screen.
-GRID = ("sketch", "states", "increments", "point_pressure", "point_traction", "point_zones", "map")
+GRID = ("loop", "sketch", "states", "increments", "point_pressure", "point_traction", "point_zones", "map")
 
 
 def key_figures(body: str) -> tuple[str, ...]:
@@ -39,8 +39,9 @@ FIGURE_INPUTS = {"ft": "ft_live", "w": "w_live", "units": "plot_units", "result"
                   "table": "map_table", "pinned": "pinned"}
 #: Range padding (x, y) of the axes that follow the data; None: the figure's own fixed ranges.
 _CELL_STYLE = {"flex": "1 1 560px", "min-width": "min(300px, 100%)"}
-#: A first-screen figure's cell: three in a row from 3 x 280 px, two (and one) in a row below.
-_KEY_STYLE = {"flex": "1 1 280px", "min-width": "min(260px, 100%)"}
+#: A first-screen figure's cell: three in a row from 3 x 220 px (a 1024 px screen beside the sidebar), two (and
+#: one) in a row below.
+_KEY_STYLE = {"flex": "1 1 220px", "min-width": "min(220px, 100%)"}
 _PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
 
 
@@ -147,32 +148,56 @@ class FiguresMixin:
         return [n for n in names if point_view.shown(n, body)]
 
     def _slots(self, key: bool = False) -> list:
-        """What a figure grid holds: for each of its figures of the current body, its cell once drawn, else
-        the sentinel that keeps its place (the other body's figures are not in the page)."""
+        """What a figure grid holds: for each of its figures of the current body, its place (:meth:`_place`),
+        holding its cell once drawn, else the sentinel that keeps its place (the other body's figures are not in
+        the page).
+
+        A figure drawn later replaces the sentinel inside its place, not in the grid: replacing the grid's
+        children re-rendered all of them, the page was shorter for a moment and the browser's scroll position
+        jumped back to the top of the grid each time a figure further down was drawn."""
         for name in self._live:
             if name not in self._cells:
-                self._cells[name] = self._cell(name)
-        return [self._cells.get(name) or self._sentinel(name) for name in self._grid_names(key)]
+                self._cells[name] = self._cell(name, flex=False)
+        places = []
+        for name in self._grid_names(key):
+            place = self._place(name)
+            content = self._cells.get(name) or self._sentinel(name)
+            if place.objects != [content]:
+                place.objects = [content]
+            places.append(place)
+        return places
+
+    def _place(self, name: str) -> pn.Column:
+        """The grid's place of figure ``name`` (made once): a column as tall as the figure will be, that holds
+        the figure's sentinel, then the figure's cell."""
+        places = self._places
+        if name not in places:
+            key = name in KEY_FIGURES["cylinder"] or name in KEY_FIGURES["point"]
+            height = KEY_HEIGHT if key else plots.HEIGHT + 40
+            places[name] = pn.Column(sizing_mode="stretch_width", margin=0, css_classes=[f"place-{name}"],
+                                     styles={**(_KEY_STYLE if key else _CELL_STYLE), "min-height": f"{height}px"})
+        return places[name]
 
     def _sentinel(self, name: str) -> WhenShown:
         """The sentinel that keeps figure ``name``'s place until the browser scrolls near it (made once)."""
         if name not in self.sentinels:
             key = name in KEY_FIGURES["cylinder"] or name in KEY_FIGURES["point"]
             self.sentinels[name] = WhenShown(height=(KEY_HEIGHT if key else plots.HEIGHT) + 40,
-                                             styles=_KEY_STYLE if key else _CELL_STYLE, css_classes=[f"figure-{name}"])
+                                             css_classes=[f"figure-{name}"])  # (in its place: _place)
             self.sentinels[name].param.watch(lambda e: self._show_figures([name]), "shown")
         return self.sentinels[name]
 
-    def _cell(self, name: str) -> pn.Column:
+    def _cell(self, name: str, flex: bool = True) -> pn.Column:
         """Figure ``name`` with its caption (and, for the map, its controls), shown while the body shows it. The
         first-screen figures' captions are together under them (:meth:`key_captions`), so the three figures
-        start on the same line and the next row starts right below."""
+        start on the same line and the next row starts right below. ``flex``: the cell is a child of a figure
+        grid (else of its place in the grid, :meth:`_place`, which is)."""
         key = name in KEY_FIGURES["cylinder"] or name in KEY_FIGURES["point"]
         caption = [] if key else [pn.pane.HTML(f"<div class='caption'>{html.escape(plots.FIGURES[name]['caption'])}"
                                                "</div>", stylesheets=[CSS], sizing_mode="stretch_width", margin=0)]
         extra = [self.map_controls()] if name == "map" else []
         return pn.Column(self._panes[name], *caption, *extra, sizing_mode="stretch_width",
-                         styles=_KEY_STYLE if key else _CELL_STYLE,
+                         styles=(_KEY_STYLE if key else _CELL_STYLE) if flex else {},
                          visible=pn.bind(point_view.shown, name, self.state.param.body))
 
     @staticmethod

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import ClassVar
 
 import panel as pn
+from panel.io.state import set_curdoc
 
 from . import panes, plots, point_view, slides
 from .compare import Pins
@@ -22,7 +23,7 @@ from .figures import GRID, KEY_FIGURES
 from .limits import SOLVE_BUDGET_S
 from .paper_figures import paper_figures_tab
 from .state import MAX_POINT_RESOLUTION
-from .styles import A11Y_JS, CSS, KATEX_CSS, PAGE_CSS, MathFonts
+from .styles import A11Y_JS, CSS, KATEX_CSS, PAGE_CSS, PRESENT_JS, MathFonts
 from .widgets import filled_when
 
 __all__ = ["LayoutMixin", "REFINE_COST", "refine_fits"]
@@ -39,10 +40,20 @@ def refine_fits(runtime: float, budget: float | None = None) -> bool:
     return REFINE_COST * runtime <= (SOLVE_BUDGET_S if budget is None else budget)
 
 _ABOUT = Path(__file__).with_name("about.md")
+#: How long a lazy tab's spinner is shown before its content is built [ms]: the tab's first message (the
+#: spinner) is sent before the build holds the event loop.
+_BUILD_DELAY_MS = 50
 #: When the model applies (one sentence, under the inputs).
 _APPLIES = ("*When the model applies:* a long cylinder (L ≫ a) rocking without macroscopic sliding "
             "(Ft < μ Fn) on an elastic half-space, slowly (no inertia), with one constant friction coefficient, "
             "elastic bodies whose normal and tangential problems are uncoupled (Dundurs β ≈ 0).")
+
+
+def _building(title: str) -> pn.viewable.Viewable:
+    """What a lazy tab shows while it is built: a spinner and a line saying what comes."""
+    return pn.Row(pn.indicators.LoadingSpinner(value=True, size=36, margin=(10, 10)),
+                  pn.pane.HTML(f"<div style='font-size: 17px; padding-top: 14px'>Building “{html.escape(title)}”…</div>"),
+                  css_classes=["tab-building"], sizing_mode="stretch_width")
 
 
 class LayoutMixin:
@@ -83,7 +94,7 @@ class LayoutMixin:
                       styles={"flex": "1 1 280px", "min-width": "250px"}, margin=0),
             flex_wrap="wrap", sizing_mode="stretch_width", css_classes=["first-row"])
         tabs = pn.Tabs(("Explorer", self.explorer_tab()), *self._lazy_tabs(), sizing_mode="stretch_width",
-                       dynamic=True)  # a tab's models are sent only when shown
+                       dynamic=False)  # the lazy tabs hold a spinner until built: a click shows it at once
         tabs.param.watch(lambda e: self._fill_tab(tabs, e.new), "active")
         return pn.Column(top, tabs, sizing_mode="stretch_width")
 
@@ -148,14 +159,33 @@ class LayoutMixin:
                                   "About the model": lambda self: self.about()}
 
     def _lazy_tabs(self) -> list:
+        """The lazy tabs' holders: each shows a spinner and 'Building ...' until its content is built."""
         self._unbuilt = dict(self._LAZY_TABS)
-        return [(title, pn.Column(name=title, sizing_mode="stretch_width")) for title in self._LAZY_TABS]
+        return [(title, pn.Column(_building(title), name=title, sizing_mode="stretch_width"))
+                for title in self._LAZY_TABS]
 
     def _fill_tab(self, tabs: pn.Tabs, index: int) -> None:
+        """Build tab ``index`` when first shown (its spinner, sent with the page, shows meanwhile: the Paper's
+        figures take seconds to build, and a blank tab looked broken). In a served session the build waits for
+        the next turns of the event loop, so that the messages of the tab switch are handled first."""
         holder = tabs[index]
         build = self._unbuilt.pop(holder.name, None)
-        if build is not None:
+        if build is None:
+            return
+        doc = self._doc
+
+        def fill():
             holder.objects = [build(self)]
+
+        if doc is None or doc.session_context is None:
+            fill()
+            return
+
+        def later():
+            with set_curdoc(doc):
+                fill()
+
+        doc.add_timeout_callback(later, _BUILD_DELAY_MS)
 
     #: Every figure's place: the first-screen figures, then the others.
     _GRID = (*KEY_FIGURES["cylinder"], *KEY_FIGURES["point"], *GRID)
@@ -228,11 +258,7 @@ class LayoutMixin:
         """The served page: sidebar, header with the presentation-mode switch, the main area."""
         present = pn.widgets.Toggle(label="Presentation mode", width=170, css_classes=["presentation-toggle"],
                                     color="light", margin=(8, 10))
-        present.jscallback(value="""
-            const on = cb_obj.active;
-            document.documentElement.classList.toggle('presenting', on);
-            window.dispatchEvent(new Event('resize'));
-        """)
+        present.jscallback(value=PRESENT_JS)
         template = pn.template.BootstrapTemplate(
             title="Shakedown Explorer: rocking contacts with Coulomb friction",
             # the sidebar is one root, not one per input: the template renders each root in a `config.set`

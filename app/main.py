@@ -5,9 +5,13 @@ are validated first (rejected ones show a notice and are not applied), then
 every parameter is kept in sync with the URL under its own name, so a link
 reproduces the view.
 
-While the server is still warming the solver (the first minute after a fresh
-install, when numba compiles it), a page says so and reloads itself once the
-solver is ready, instead of the server freezing on the first visitor's solve.
+The page is served as soon as the server listens, also while the server is
+still warming the solver (the first minute or more after a fresh install, when
+numba compiles it): the sliders, the sketch, the exact limits, the closure
+curves and the paper's figures need no solver; the session's first run is
+solved off the event loop (:class:`app.explorer.Explorer`) and fills the
+numerical figures when it arrives, the status line saying "compiling the
+solver (first start only), N s" meanwhile.
 """
 
 import contextlib
@@ -61,32 +65,12 @@ def _sync_url(explorer: Explorer) -> None:
     location.param.watch(clean, "search")
 
 
-def _preparing() -> None:
-    """Say the solver is being prepared; reload the page (same URL) once it is ready."""
-    doc, location = pn.state.curdoc, pn.state.location
-    pn.Column(pn.pane.Markdown("## Shakedown Explorer\n\nThe solver is being prepared: after a fresh install "
-                               "it is compiled once, which takes up to a minute. This page reloads by itself "
-                               "when it is ready."),
-              pn.indicators.LoadingSpinner(value=True, size=40, name="preparing the solver"),
-              css_classes=["preparing-solver"]).servable(title="Shakedown Explorer: preparing the solver")
-
-    def reload():
-        if location is not None:
-            location.reload = True  # the browser reloads the page, keeping its query
-
-    if doc is not None and doc.session_context is not None:
-        runs.on_ready(lambda: doc.add_next_tick_callback(reload))
-
-
 runs.start_warm_up()  # already running when served with --plugins app.health
 watch_loop()
-if not runs.ready():
-    _preparing()
-else:
-    # URL parameters are validated and applied before the first solve, so the page is sent complete
-    explorer = Explorer(query=pn.state.location.search if pn.state.location else None)
-    explorer.map_scheduler = runs.map_scheduler()  # the Dask cluster of SHAKEDOWN_SCHEDULER, or local processes
-    _sync_url(explorer)
-    # one recomputation of the document's model graph for all the template's roots, not one per root (0.5 s)
-    with pn.state.curdoc.models.freeze() if pn.state.curdoc else contextlib.nullcontext():
-        explorer.template().servable()
+# URL parameters are validated and applied before the first solve, so the page is sent complete
+explorer = Explorer(query=pn.state.location.search if pn.state.location else None)
+explorer.map_scheduler = runs.map_scheduler()  # the Dask cluster of SHAKEDOWN_SCHEDULER, or local processes
+_sync_url(explorer)
+# one recomputation of the document's model graph for all the template's roots, not one per root (0.5 s)
+with pn.state.curdoc.models.freeze() if pn.state.curdoc else contextlib.nullcontext():
+    explorer.template().servable()

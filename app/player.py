@@ -16,7 +16,10 @@ from .styles import CSS
 from .units import time_axis
 from .widgets import IntSlider
 
-__all__ = ["PlayerMixin"]
+__all__ = ["PlayerMixin", "PLAY", "PAUSE"]
+
+#: The play button's label when stopped, and while it plays (it says what a click will do).
+PLAY, PAUSE = "▶ Play", "❚❚ Pause"
 
 
 class PlayerMixin:
@@ -30,7 +33,7 @@ class PlayerMixin:
         self.step_slider = IntSlider(label="Step in the period", start=0, end=1, value=0, css_classes=["step-slider"],
                                      width=160, margin=(2, 8))
         self.step_back = pn.widgets.Button(label="◀ Step", width=70, css_classes=["step-back"], margin=(2, 3))
-        self.play = pn.widgets.Toggle(label="▶ Play", width=76, css_classes=["play-period"], margin=(2, 3))
+        self.play = pn.widgets.Toggle(label=PLAY, width=82, css_classes=["play-period"], margin=(2, 3))
         self.step_forward = pn.widgets.Button(label="Step ▶", width=70, css_classes=["step-forward"], margin=(2, 3))
         self.speed = pn.widgets.Select(options={"slow": 400, "normal": 150, "fast": 60}, value=150, width=96,
                                        margin=(2, 8), description="Player speed: 400, 150 or 60 ms a step",
@@ -43,6 +46,8 @@ class PlayerMixin:
         self.step_back.on_click(lambda e: self.step(-1))
         self.step_forward.on_click(lambda e: self.step(+1))
         self.play.param.watch(self._toggle_play, "value")
+        # the label flips in the browser at the click, before the server answers (and the server sets it too)
+        self.play.jscallback(value=f"cb_obj.label = cb_obj.active ? {PAUSE!r} : {PLAY!r};")
         self.speed.param.watch(self._toggle_play, "value")
 
     @staticmethod
@@ -93,6 +98,7 @@ class PlayerMixin:
 
     def _toggle_play(self, *_):
         """Autoplay the current period at the chosen speed (a periodic callback of this session)."""
+        self.play.label = PAUSE if self.play.value else PLAY
         if self._autoplay is not None:
             self._autoplay.stop()
             self._autoplay = None

@@ -38,7 +38,7 @@ from .units import Units, make_units, time_axis
 __all__ = ["Units", "make_units", "Inputs", "FIGURES", "figure", "layers", "specs", "group",
            "pressure_curves", "pressure_step", "traction_zones", "traction_run", "traction_bounds",
            "traction_closure", "state_image", "state_marks", "frame_marks", "time_axis", "displacement_curves",
-           "displacement_step", "increment_layers", "map_base", "map_numerical", "map_point", "grid_boundary",
+           "displacement_step", "loop_curves", "increment_layers", "map_base", "map_numerical", "map_point", "grid_boundary",
            "ZONE_COLORS", "STATE_COLORS", "REGIME_COLORS", "REGIME_MARKERS", "OKABE_ITO", "FONT"]
 
 hv.Store.set_current_backend("bokeh")
@@ -52,18 +52,49 @@ LINE = 3
 HEIGHT = 480
 #: Height of a figure of the first screen [px] (:data:`app.figures.KEY_FIGURES`): three fit above the fold at
 #: 1280x720 and at 1024x768, two or three in a row.
-KEY_HEIGHT = 270
+KEY_HEIGHT = 330
 
 
-def key_opts(legend: str = "top_right") -> dict:
-    """Options of a first-screen figure: lower, its legend inside the frame (at ``legend``), one column, small
-    (short swatches, tight rows, half-transparent: at 1024x768 a figure is 300 px wide and its legend covers as
-    little of the curves as it can, and lets them show through)."""
-    return dict(height=KEY_HEIGHT, legend_position=legend, legend_cols=1, fontsize={**FONT, "title": 14, "labels": 15},
+def readable_ticks(plot, element) -> None:
+    """A render hook: few tick labels on a narrow figure's axes, so that they never run into each other (a first
+    screen's figure is 240 to 420 px wide: the default six ticks gave "-1.5-1-0.5" on a wide x range, and a log
+    axis spanning less than two decades, where Bokeh ticks linearly, piled 0.04 to 0.09 at its top)."""
+    from bokeh.models import LogTicker
+
+    fig = plot.state
+    for axis in (*fig.xaxis, *fig.yaxis):
+        ticker = getattr(axis, "ticker", None)
+        if isinstance(ticker, LogTicker):
+            ticker.desired_num_ticks = 3
+        elif ticker is not None and hasattr(ticker, "desired_num_ticks"):
+            ticker.desired_num_ticks = 4
+
+
+def title_over_axis(plot, element) -> None:
+    """A render hook: the title starts over the y axis, not over the frame, so that a narrow figure's title is
+    not cut at its right edge (the y axis of a first-screen figure is at least :data:`KEY_SHIFT` px wide); the
+    legend under the x axis is shifted as far (``legend_offset`` of :func:`key_opts`)."""
+    readable_ticks(plot, element)
+    title = plot.state.title
+    if title is not None:
+        title.offset = -KEY_SHIFT
+
+
+#: How far left of the frame a first-screen figure's title and legend start [px] (:func:`title_over_axis`).
+KEY_SHIFT = 45
+
+
+def key_opts() -> dict:
+    """Options of a first-screen figure: lower, its legend outside the frame, under the x axis, in two columns of
+    small type (inside the frame it covered the curves: the traction's 6 to 9 entries half the plot), few ticks
+    and the title over the y axis too (:func:`title_over_axis`)."""
+    return dict(height=KEY_HEIGHT, legend_position="bottom", legend_cols=2, legend_offset=(-KEY_SHIFT, 0),
+                fontsize={**FONT, "title": 12, "labels": 15, "legend": 11},  # pt: a title fits 240 px
                 backend_opts={**_BASE["backend_opts"], "plot.toolbar.autohide": True},  # no toolbar over the title
-                legend_opts={"label_text_font_size": "11px", "spacing": 0, "padding": 3, "margin": 3,
+                legend_opts={"label_text_font_size": "11px", "spacing": 0, "padding": 2, "margin": 0,
                              "label_height": 12, "glyph_height": 12, "glyph_width": 14, "label_standoff": 3,
-                             "background_fill_alpha": 0.5})
+                             "border_line_alpha": 0},
+                hooks=[title_over_axis])
 #: Okabe and Ito's colour-blind-safe palette (distinct under deuteranopia, protanopia and tritanopia).
 OKABE_ITO = {"orange": "#E69F00", "sky": "#56B4E9", "green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
              "vermillion": "#D55E00", "purple": "#CC79A7", "black": "#000000", "grey": "#999999"}
@@ -75,9 +106,10 @@ ZONE_COLORS = {"stick": _C["blue"], "slip": _C["orange"], "zero traction": _C["g
 ZONE_HATCH = {"stick": " ", "slip": "/", "zero traction": " "}
 _ZONE_CODES = {"stick": core.Zone.STICK, "slip": core.Zone.SLIP, "zero traction": core.Zone.RELEASED}
 #: Colour and marker of a point on the map, by numerical regime (None: not solved yet): shape is the second cue.
-REGIME_COLORS = {"shakedown": _C["blue"], "ratcheting": _C["vermillion"], "undetermined": _C["grey"],
-                 None: _C["grey"]}
-REGIME_MARKERS = {"shakedown": "circle", "ratcheting": "triangle", "undetermined": "diamond", None: "square"}
+REGIME_COLORS = {"shakedown": _C["blue"], "cyclic slip": _C["orange"], "ratcheting": _C["vermillion"],
+                 "undetermined": _C["grey"], None: _C["grey"]}
+REGIME_MARKERS = {"shakedown": "circle", "cyclic slip": "hex", "ratcheting": "triangle", "undetermined": "diamond",
+                  None: "square"}
 _NX = 401
 _EMPTY = (np.zeros(0), np.zeros(0))
 
@@ -89,7 +121,8 @@ _BASE = dict(fontsize=FONT, responsive=True, height=HEIGHT, show_grid=True, lege
              # one click away in the toolbar
              active_tools=[],
              backend_opts={"plot.toolbar.autohide": False, "plot.toolbar.active_scroll": None,
-                           "plot.toolbar.active_drag": None})
+                           "plot.toolbar.active_drag": None},
+             hooks=[readable_ticks])
 
 
 def _memo(fn):
@@ -245,16 +278,16 @@ def _hatch(pattern: str, color: str):
 
 def _traction_specs(units: Units) -> list:
     kd, vd = _dim("x", units.x_label), _dim("q", units.q_label)
-    zones = [Layer(hv.Rectangles, (kd, vd, "x1", "y1"), (), f"zone: {name}",
+    zones = [Layer(hv.Rectangles, (kd, vd, "x1", "y1"), (), name,
                    dict(color=ZONE_COLORS[name], alpha=0.18, line_alpha=0, hooks=[_hatch(ZONE_HATCH[name], ZONE_COLORS[name])]))
              for name in _ZONE_CODES]
     return [
         *zones,
-        _line("±μ p (this step)", "#555555", kd, vd, dash="dashed", width=2),
+        _line("±μ p (step)", "#555555", kd, vd, dash="dashed", width=2),
         _line("", "#555555", kd, vd, dash="dashed", width=2),
         _line("±μ p_min", "black", kd, vd, dash="dotted", width=2),
         _line("", "black", kd, vd, dash="dotted", width=2),
-        _line("closure (eqs 22–30)", _C["blue"], kd, vd, dash="dashed", width=LINE + 1),
+        _line("closure (paper)", _C["blue"], kd, vd, dash="dashed", width=LINE + 1),
         _line("numerical", _C["vermillion"], kd, vd),
         *pinned.specs("traction", kd, vd),
     ]
@@ -418,7 +451,7 @@ def _displacement_specs(units: Units) -> list:
     kd, vd = _dim("t", "time [periods]"), _dim("u", units.u_label)
     return [
         Layer(hv.Curve, (kd,), (vd,), "numerical", dict(color=_C["vermillion"], line_width=LINE)),
-        Layer(hv.HLines, (vd,), (), "u_sd (eq 34, regression)",
+        Layer(hv.HLines, (vd,), (), "u_sd (eq 34)",
               dict(color=_C["blue"], line_dash="dashed", line_width=2)),
         *pinned.specs("displacement", kd, vd),
         Layer(hv.Scatter, (kd,), (vd,), "player step", dict(color=_C["yellow"], size=12, line_color="black")),
@@ -449,6 +482,35 @@ def displacement_step(units: Units, result: core.CycleResult | None = None, fram
 def _displacement_layers(i: Inputs) -> tuple:
     return (*displacement_curves(i.result, i.units), *pinned.layers("displacement", i.pinned, i.units),
             displacement_step(i.units, i.result, i.frame))
+
+
+# --------------------------------------------------------------------------
+# fretting loop
+# --------------------------------------------------------------------------
+def _loop_specs(units: Units) -> list:
+    kd, vd = _dim("u", units.u_label), _dim("Q", "Ft / (μ Fn)")
+    return [
+        Layer(hv.Curve, (kd,), (vd,), "first period", dict(color=_C["sky"], line_dash="dashed", line_width=2)),
+        Layer(hv.Curve, (kd,), (vd,), "last period", dict(color=_C["vermillion"], line_width=LINE)),
+    ]
+
+
+@_memo
+def loop_curves(result: core.CycleResult | None, units: Units) -> tuple:
+    """The fretting loops of the first and the last period (:meth:`core.CycleResult.fretting_loop`): the
+    tangential load against the rigid-body displacement, from the stored steps."""
+    if result is None or result.periods == 0:
+        return _EMPTY, _EMPTY
+    out = []
+    for period in (0, -1):
+        loop = result.fretting_loop(period)
+        start = float(result.displacement[result.period == loop.period][0]) if loop.Q.size else 0.0
+        out.append(((loop.displacement + start) * units.u, loop.Q))
+    return tuple(out)
+
+
+def _loop_layers(i: Inputs) -> tuple:
+    return loop_curves(i.result, i.units)
 
 
 # --------------------------------------------------------------------------
@@ -532,7 +594,7 @@ def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
         return np.array(fts), np.array(ws)
     for ft, group in table.sort_values(["ft", "w"]).groupby("ft", sort=True):
         w = group["w"].to_numpy(float)
-        ok = (group["regime"] == "shakedown").to_numpy()
+        ok = group["regime"].isin(("shakedown", "cyclic slip")).to_numpy()  # not ratcheting, as the limit search
         if ok.all() or not ok.any():
             continue
         k = int(np.argmin(ok))  # first grid w that did not shake down
@@ -541,7 +603,7 @@ def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
     return np.array(fts), np.array(ws)
 
 
-_MAP_REGIMES = ("shakedown", "ratcheting", "undetermined")
+_MAP_REGIMES = ("shakedown", "cyclic slip", "ratcheting", "undetermined")
 
 
 def _map_specs(label: str = "solver") -> list:
@@ -628,18 +690,24 @@ FIGURES = {
                            "where the contact lets go.",
                    specs=sketch.specs, layers=sketch.layers, inputs=("result", "frame"),
                    result=(core.CycleResult, core.PointContactResult)),
-    "pressure": dict(opts=dict(title="Pressure and μ p_min", **key_opts("top_right")),
+    "pressure": dict(opts=dict(title="Pressure and μ p_min", **key_opts()),
                 caption="What you see: the body's pressure (the cylinder's: Hertz's) moves with the rocking centre xc (at the centre, at the reversals xc = ±W and at the player's step); its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
-    "traction": dict(opts=dict(title="Traction vs closure", **key_opts("top_right")),
+    "traction": dict(opts=dict(title="Traction vs closure", **key_opts()),
                 caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: what each element does at the player's step (stick, slip on ±μ p, hatched, zero traction); at the last step, the final zones against ±μ p_min that the c_sd of the numbers is measured on.", specs=_traction_specs,
                      layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame", "pinned")),
     "states": dict(opts=dict(title="Element states over the run"),
                 caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,
                    layers=_states_layers, inputs=("units", "result", "frame")),
-    "displacement": dict(opts=dict(title="Rigid-body displacement", **key_opts("bottom_right")),
+    "displacement": dict(opts=dict(title="Rigid-body displacement", **key_opts()),
                 caption="What you see: the body's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
+    "loop": dict(opts=dict(title="Fretting loop", legend_position="bottom_right"),
+                 caption="What you see: the tangential force against the rigid-body displacement in the first and "
+                         "the last period; its area is the energy dissipated per period (the cards give it). It is "
+                         "a closed loop in cyclic slip (loading 'tangential'), a horizontal segment under a constant "
+                         "force (rocking: the walk).", specs=_loop_specs, layers=_loop_layers,
+                 inputs=("units", "result")),
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),
                 caption="What you see: how far the body walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result", "pinned")),

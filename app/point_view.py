@@ -49,7 +49,10 @@ ZONE_NAMES = ("never in contact", "released", "stick", "slip +x", "slip −x")
 _ZONE_PALETTE = ("#ffffff", ZONE_COLORS["zero traction"], ZONE_COLORS["stick"], ZONE_COLORS["slip"], _C["purple"])
 _EMPTY = (np.zeros(0), np.zeros(0))
 _NO_IMAGE = (np.zeros((2, 2)), (-1.0, -1.0, 1.0, 1.0))
-_MAP = {"height": 430}  # maps: a little lower than the curves (they have a colour bar)
+#: maps: a little lower than the curves (they have a colour bar); equal scales on x and y (Bokeh widens one of the
+#: ranges to the frame's shape), so that a sphere's circular contact is drawn round
+_MAP = {"height": 430, "backend_opts": {**plots._BASE["backend_opts"], "plot.match_aspect": True,
+                                        "plot.aspect_scale": 1.0}}
 
 #: The figures of point contacts (merged into :data:`app.plots.FIGURES` on import).
 FIGURES: dict = {}
@@ -202,7 +205,7 @@ def _pressure_layers(i):
     return pressure_map(i.units, i.result, i.frame)
 
 
-@_figure("point_traction", "Traction |q| (last turning point up to the step)",
+@_figure("point_traction", "Traction |q| at the last turning point",
          "What you see: the size of the tangential traction at the last stored step (loading end, turning "
          "points, last step) at or before the player's; it stays inside μ p.", ("units", "result", "frame"),
          _traction_specs, **_MAP)
@@ -210,7 +213,7 @@ def _traction_layers(i):
     return traction_map(i.units, i.result, i.frame)
 
 
-@_figure("point_zones", "Stick, slip and released zones (last turning point up to the step)",
+@_figure("point_zones", "Stick, slip, released at the last turning point",
          "What you see: where the contact sticks, slips (+x or −x) or has been released, at the same stored "
          "step as the traction map; at shakedown nothing slips any more.", ("units", "result", "frame"),
          _zone_specs, **_MAP)
@@ -224,7 +227,7 @@ def _zone_layers(i):
 def _cut_specs(units):
     lab = _labels(units)
     kd, vd = hv.Dimension("x", label=lab["x"]), hv.Dimension("q", label=f"q on y = 0, {units.q_label}")
-    zones = [Layer(hv.Rectangles, (kd, vd, "x1", "y1"), (), f"zone: {name}",
+    zones = [Layer(hv.Rectangles, (kd, vd, "x1", "y1"), (), name,
                    dict(color=ZONE_COLORS[name], alpha=0.18, line_alpha=0,
                         hooks=[plots._hatch(ZONE_HATCH[name], ZONE_COLORS[name])]))
              for name in ("stick", "slip", "zero traction")]
@@ -232,9 +235,9 @@ def _cut_specs(units):
     def line(label, color, dash="solid", width=LINE):
         return Layer(hv.Curve, (kd,), (vd,), label, dict(color=color, line_dash=dash, line_width=width))
     return [*zones,
-            line("±μ p (this step)", "#555555", "dashed", 2), line("", "#555555", "dashed", 2),
-            line("±μ p_min (exact bound)", "black", "dotted", 2), line("", "black", "dotted", 2),
-            line("q_y numerical", _C["sky"], width=2), line("q_x numerical", _C["vermillion"]),
+            line("±μ p (step)", "#555555", "dashed", 2), line("", "#555555", "dashed", 2),
+            line("±μ p_min (exact)", "black", "dotted", 2), line("", "black", "dotted", 2),
+            line("q_y", _C["sky"], width=2), line("q_x", _C["vermillion"]),
             *pinned.specs("point_cut", kd, vd)]
 
 
@@ -284,7 +287,7 @@ def _pmin_run(units: Units, result) -> tuple:
 @_figure("point_cut", "Traction on y = 0",
          "What you see: the traction on the line y = 0 at the player's step (stairs: elements) inside ±μ p, and "
          "±μ p_min, the exact bound a shaken-down traction stays within; shaded: what each element does at the player's step (stick, slip, hatched, released); at the last step, the final zones against ±μ p_min that the c_sd (y = 0) of the numbers is measured on.",
-         ("w", "units", "result", "frame", "pinned"), _cut_specs, **plots.key_opts("top_right"))
+         ("w", "units", "result", "frame", "pinned"), _cut_specs, **plots.key_opts())
 def _cut_layers(i):
     *zones, up, down, qy, qx = cut_layers(i.units, i.result, i.frame)
     if i.result is not None and not bodies.is_ellipsoid(i.result.body):
@@ -320,7 +323,7 @@ def displacement_layers(units: Units, result=None, frame=None) -> tuple:
 @_figure("point_displacement", "Displacement along Ft",
          "What you see: the body's rigid-body displacement along Ft over the periods: it levels off (shakedown) "
          "or keeps walking (ratcheting).", ("units", "result", "frame", "pinned"), _displacement_specs,
-         **plots.key_opts("bottom_right"))
+         **plots.key_opts())
 def _displacement_layers(i):
     curve, step = displacement_layers(i.units, i.result, i.frame)
     return (curve, *pinned.layers("point_displacement", i.pinned, i.units), step)
@@ -348,7 +351,7 @@ def increment_layers(units: Units, result=None) -> tuple:
 @_figure("point_increments", "Increment per period",
          "What you see: how far the body walks along Ft in each period (from 1); it falls to zero at shakedown "
          "and settles at a constant step when it ratchets.", ("units", "result", "pinned"), _increments_specs, logy=True,
-         **plots.key_opts("top_right"))
+         **plots.key_opts())
 def _increment_layers(i):
     return (*increment_layers(i.units, i.result), *pinned.layers("point_increments", i.pinned, i.units))
 

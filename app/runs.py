@@ -45,7 +45,8 @@ from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WO
 
 __all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "run_key", "runner", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
-           "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend"]
+           "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend", "warming_seconds",
+           "warmed", "on_warm"]
 
 log = logging.getLogger(__name__)
 
@@ -178,12 +179,15 @@ def _compute(contact, options, cancel=None, time_budget=SOLVE_BUDGET_S):
     return result
 
 
-#: The warm-up runs: one small run per kernel loads (or compiles) all the solver's numba code.
+#: The warm-up runs: one small run per kernel loads (or compiles) all the solver's numba code. The explorer's
+#: first page (the strip kernel, app.state) first: a visitor's first run waits for no other body's compiling.
 _WARM_RUNS = (*(functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, kernel=kernel,
-                                  L_over_a=10.0 if kernel == "strip" else None) for kernel in ("plane", "strip")),
+                                  L_over_a=10.0 if kernel == "strip" else None) for kernel in ("strip", "plane")),
               # the point contacts' compiled 3D loop (about a minute to compile cold): warmed before the server
               # says it is ready, so the first sphere visitor does not freeze the server while numba compiles
               functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, body="sphere"))
+#: Which grid's solver each warm-up run makes ready (a session's solve waits for its own: :func:`on_warm`).
+_WARM_GROUPS = ("line", "line", "point")
 
 
 class _Local:
@@ -198,8 +202,9 @@ class _Local:
         return _compute(contact, options, cancel, time_budget)
 
     def warm(self) -> None:
-        for run in _WARM_RUNS:
+        for group, run in zip(_WARM_GROUPS, _WARM_RUNS):
             run()
+            _warmed(group)
 
     def submit(self, contact, options, cancel, cache) -> Future:
         return self._pool.submit(solve, contact, options, cache, cancel)
@@ -283,8 +288,9 @@ class _Cluster:
         """Warm every worker connected now (a worker that joins later warms itself on its first run)."""
         client = self.client()
         client.wait_for_workers(1, timeout=120)
-        for run in _WARM_RUNS:
+        for group, run in zip(_WARM_GROUPS, _WARM_RUNS):
             client.run(run)
+            _warmed(group)
 
     def submit(self, contact, options, cancel, cache) -> Future:
         out: Future = Future()
@@ -447,6 +453,7 @@ def submit(contact: core.Contact, options: dict, cancel=None, owner=None) -> Fut
 # ---------------------------------------------------------------------- warm-up and readiness
 _READY = threading.Event()
 _STATE = {"stage": "not started", "error": None, "seconds": None}
+_STARTED: list = []  # time.monotonic() when the warm-up started
 _READY_CALLBACKS: list = []
 _WARM_LOCK = threading.Lock()
 
@@ -464,6 +471,10 @@ def _warm_up(also=()):
         _STATE.update(stage="warm-up failed", error=f"{type(e).__name__}: {e}")
         log.exception("warming the solver failed")
         return
+    finally:  # sessions waiting for a solver try their solve now (a failed warm-up: the solve says why)
+        for group in set(_WARM_GROUPS):
+            if not warmed(group):
+                _warmed(group, done=True)
     _STATE.update(stage="ready", seconds=round(time.perf_counter() - t0, 2))
     log.info("solver ready after %.1f s", _STATE["seconds"])
     _READY.set()
@@ -486,6 +497,7 @@ def start_warm_up(also=()) -> None:
         if _STATE["stage"] != "not started":
             return
         _STATE["stage"] = "starting"
+        _STARTED.append(time.monotonic())
     threading.Thread(target=_warm_up, args=(tuple(also),), name="solver-warm-up", daemon=True).start()
 
 
@@ -501,6 +513,55 @@ def on_ready(fn) -> None:
             _READY_CALLBACKS.append(fn)
             return
     fn()
+
+
+_WARM: dict = {}  # group -> threading.Event, set once the warm-up has run the group's runs
+_WARM_CALLBACKS: dict = {}  # group -> callables waiting for it
+
+
+def _event(group: str) -> threading.Event:
+    with _WARM_LOCK:
+        return _WARM.setdefault(group, threading.Event())
+
+
+def _warmed(group: str, done: bool = False) -> None:
+    """One warm-up run of ``group`` is over (``done``: the warm-up ended, or failed: the group is released);
+    after its last one, whoever waits for the group's solver is called."""
+    with _WARM_LOCK:
+        _WARM_COUNTS[group] = _WARM_COUNTS.get(group, 0) + 1
+        if not done and _WARM_COUNTS[group] < _WARM_GROUPS.count(group):
+            return
+        _WARM.setdefault(group, threading.Event()).set()
+        callbacks = _WARM_CALLBACKS.pop(group, [])
+    for fn in callbacks:
+        try:
+            fn()
+        except Exception:  # noqa: BLE001 - e.g. a session that closed meanwhile; the others still get theirs
+            log.exception("a callback waiting for the %s solver failed", group)
+
+
+_WARM_COUNTS: dict = {}  # group -> warm-up runs of it done
+
+
+def warmed(group: str) -> bool:
+    """Whether the solver of ``group`` (``"line"`` or ``"point"``) is compiled (or loaded) by the warm-up; True
+    where no warm-up was started (a notebook, a test: nothing to wait for)."""
+    return not _STARTED or _event(group).is_set()
+
+
+def on_warm(group: str, fn) -> None:
+    """Call ``fn()`` once the solver of ``group`` is warm: now if it is, else from the warm-up thread (also if the
+    warm-up fails: the solve then says why)."""
+    with _WARM_LOCK:
+        if _STARTED and not _WARM.setdefault(group, threading.Event()).is_set():
+            _WARM_CALLBACKS.setdefault(group, []).append(fn)
+            return
+    fn()
+
+
+def warming_seconds() -> float | None:
+    """Seconds since the warm-up started, while the solver is not ready yet (None once it is, or before)."""
+    return None if _READY.is_set() or not _STARTED else time.monotonic() - _STARTED[0]
 
 
 def readiness() -> dict:

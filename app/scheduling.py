@@ -19,7 +19,7 @@ from panel.io.state import set_curdoc
 import core
 from core.convergence import increment_error
 
-from . import bodies
+from . import bodies, runs
 from .runs import RESULTS, run_key, solve, submit
 
 __all__ = ["SolveMixin", "SPINNER_DELAY_MS"]
@@ -88,6 +88,21 @@ class SolveMixin:
         if cached is not None or doc is None or doc.session_context is None:
             # cached, or headless (tests, notebooks without a server): solve here
             self._finish(token, contact, options, cached)
+            return
+        group = self._solver_group()
+        if not runs.warmed(group):
+            # the server's warm-up still compiles this grid's solver (a fresh install): the solve is asked for
+            # once it is ready, so that it neither compiles a second time beside it nor runs out of its time
+            # budget while compiling; meanwhile the page works without it (the analytical layers)
+            self.pending = True
+            if not getattr(self, "_awaiting_solver", False):
+                self._awaiting_solver = True
+
+                def ask():
+                    self._awaiting_solver = False
+                    self._request_solve()
+
+                runs.on_warm(group, lambda: self._in_session(ask))
             return
 
         self.pending = True  # every card and the badge say so at once: no old verdict beside new inputs
@@ -202,6 +217,34 @@ class SolveMixin:
 
     def _show_spinner(self, *_):
         """Show the spinner while this session's solve runs (watches ``solving``)."""
-        self.spinner.param.update(value=self.solving, visible=self.solving)
-        self.status.param.update(object="solving…" if self.solving else "", visible=self.solving)
+        compiling = self._compiling_line()
+        busy = self.solving or compiling is not None
+        self.spinner.param.update(value=busy, visible=busy)
+        self.status.param.update(object=compiling or ("solving…" if self.solving else ""), visible=busy)
+
+    def _solver_group(self) -> str:
+        """Which of the server's warm-up groups (:func:`app.runs.on_warm`) solves the current inputs."""
+        return "point" if self.state.point else "line"
+
+    def _compiling_line(self) -> str | None:
+        """``compiling the solver (first start only), N s`` while the server's warm-up still compiles the solver
+        of the current inputs and this session has no run yet (else None)."""
+        seconds = runs.warming_seconds()
+        if seconds is None or self.result is not None or self.error or runs.warmed(self._solver_group()):
+            return None
+        return f"compiling the solver (first start only), {seconds:.0f} s"
+
+    def _follow_compiling(self) -> None:
+        """Show :meth:`_compiling_line` now and count its seconds up, once a second, until this session's first
+        run arrives (or its inputs turn out invalid)."""
+        self._show_spinner()
+        doc = self._doc
+        holder = {}
+
+        def tick():
+            self._show_spinner()
+            if self._compiling_line() is None and "callback" in holder:
+                doc.remove_periodic_callback(holder.pop("callback"))
+
+        holder["callback"] = doc.add_periodic_callback(tick, 1000)
 

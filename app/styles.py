@@ -1,6 +1,6 @@
 """The explorer's style sheets and page scripts (strings only: no Panel model is made here).
 
-:data:`CSS` styles the badge, the cards and the captions inside their shadow roots; :data:`PAGE_CSS` is
+:data:`CSS` styles the badge (its regimes in :data:`BADGE_COLORS`), the cards and the captions inside their shadow roots; :data:`PAGE_CSS` is
 document-level (presentation mode, narrow screens); :data:`A11Y_JS` labels the widgets for screen readers and
 loads the math fonts; :class:`MathFonts` serves those fonts.
 """
@@ -12,16 +12,23 @@ from typing import ClassVar
 
 from panel.models.katex import KaTeX as KaTeXModel
 
-__all__ = ["CSS", "PAGE_CSS", "KATEX_CSS", "A11Y_JS", "MathFonts"]
+__all__ = ["BADGE_COLORS", "CSS", "PAGE_CSS", "PRESENT_JS", "KATEX_CSS", "A11Y_JS", "MathFonts"]
 
 _ASSETS = Path(__file__).with_name("assets")
+#: Background and text colour of the verdict badge per regime (:data:`CSS`). Okabe and Ito's blue and orange and a
+#: dark vermillion, far apart in lightness (relative luminance 0.15, 0.42, 0.06; pale grey 0.72 with a dashed
+#: border for a run the periods cannot tell yet): they read in greyscale and for colour-blind viewers, and the badge
+#: also says the regime in words. Every text contrast is at least 5:1.
+BADGE_COLORS = {"shakedown": ("#0072B2", "white"), "cyclic slip": ("#E69F00", "black"),
+                "ratcheting": ("#7F2704", "white"), "undetermined": ("#dddddd", "black")}
 CSS = """
 .regime-badge {display: inline-block; padding: 5px 16px; border-radius: 10px; color: white;
-               font-size: 23px; font-weight: 700; letter-spacing: 0.04em;}
-.regime-shakedown {background: #0072B2;} .regime-ratcheting {background: #D55E00;}
-.regime-none, .regime-undetermined {background: #6b6b6b;}
-.regime-note {font-size: 13px; color: #333; margin-top: 4px; line-height: 1.3;}
-.strip {display: flex; flex-wrap: wrap; gap: 2px 18px; font-size: 15px; line-height: 1.35;}
+               font-size: calc(23px * var(--shakedown-text-scale, 1)); font-weight: 700; letter-spacing: 0.04em;}
+.regime-shakedown {background: #0072B2;} .regime-cyclicslip {background: #E69F00; color: black;}
+.regime-ratcheting {background: #7F2704;}
+.regime-none, .regime-undetermined {background: #dddddd; color: black; border: 2px dashed #555; padding: 3px 14px;}
+.regime-note {font-size: calc(13px * var(--shakedown-text-scale, 1)); color: #333; margin-top: 4px; line-height: 1.3;}
+.strip {display: flex; flex-wrap: wrap; gap: 2px 18px; font-size: calc(15px * var(--shakedown-text-scale, 1)); line-height: 1.35;}
 .strip .item {white-space: nowrap;} .strip .more {color: #1f5f99; cursor: pointer; white-space: nowrap;} .strip .k {color: #444;} .strip .v {font-weight: 600;}
 .regime-note details.why {display: inline;} .regime-note details.why[open] {display: block;}
 .regime-note summary {display: inline; cursor: pointer; color: #1f5f99; text-decoration: underline;}
@@ -32,18 +39,36 @@ CSS = """
             padding: 2px 0;}
 .cards .k {color: #444;} .cards .v {font-weight: 600; text-align: right;}
 .cards .pending {color: #6b6b6b; font-style: italic; font-weight: 400;}
-.readout {font-size: 14px; color: #222;}
-.caption {font-size: 14px; color: #333; margin: 0 10px 14px 10px;}
+.readout {font-size: calc(14px * var(--shakedown-text-scale, 1)); color: #222;}
+.caption {font-size: calc(14px * var(--shakedown-text-scale, 1)); color: #333; margin: 0 10px 14px 10px;}
 .caption ul {margin: 2px 0 0 0; padding-left: 20px;}
+"""
+#: The presentation-mode switch (a ``jscallback`` on the header's toggle): the class ``presenting`` on the document
+#: enlarges the badge, the key numbers and the captions (a CSS variable: it reaches into the shadow roots) and
+#: the sidebar is folded with the template's own menu button, so that one click on it brings the loads back.
+#: No CSS zoom: Bokeh measured the zoomed page wrongly and cropped the figures.
+PRESENT_JS = """
+const on = cb_obj.active;
+document.documentElement.classList.toggle('presenting', on);
+const sidebar = document.getElementById('sidebar');
+const menu = document.getElementById('sidebar-toggle');
+if (sidebar && menu && sidebar.classList.contains('show') === on) menu.click();
+setTimeout(() => window.dispatchEvent(new Event('resize')), 400);
 """
 #: Document-level CSS (outside every shadow root). The math fonts are declared here because Chromium
 #: ignores @font-face inside a shadow root, where Panel renders the equations; presentation mode
 #: (sidebar folded, larger type) is a class on the document.
 PAGE_CSS = """
-html.presenting {zoom: 1.25;}
-html.presenting #sidebar {display: none !important;}
+html.presenting {--shakedown-text-scale: 1.2;}
+/* the header: the title gives way (an ellipsis) before the presentation-mode switch does */
+#header {flex-wrap: nowrap;}
+#header .app-header {min-width: 0; flex: 1 1 auto; overflow: hidden;}
+#header .app-header .title {display: block; white-space: nowrap; overflow: hidden; text-overflow: ellipsis;}
+#header-items {flex: 0 0 auto;}
 @media (max-width: 1100px) {  /* the full-size title pushed the busy indicator off a 1024 px screen */
   #header .title {font-size: 1.3em;}
+  /* a narrower sidebar: the three first-screen figures fit in one row beside it, above the fold */
+  html:root {--sidebar-width: 260px;}
 }
 @media (max-width: 700px) {
   #header .title {font-size: 1.05em; white-space: normal; line-height: 1.3em;}

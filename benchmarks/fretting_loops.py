@@ -1,7 +1,7 @@
 """The energy dissipated per cycle against the closed forms of Cattaneo-Mindlin with Masing's rule (issue 30).
 
 Prints, for the cylinder (plane strain, :func:`core.simulate_cycles` with ``history="tangential"``) and the rigid
-sphere on a nu = 0.5 half-space (:func:`core.solver3d.solve_point_schedule` with the same schedule), the energy of
+sphere on a nu = 0.5 half-space (:func:`core.point_runs.solve_point_schedule` with the same schedule), the energy of
 the last period and the area of its fretting loop at several amplitudes and two grids, beside
 :func:`core.fretting_energy`, with the grid error (the difference between the two grids), the verdict and the run
 time. Run: ``PYTHONPATH=. python benchmarks/fretting_loops.py`` (about a minute on a quiet core).
@@ -11,14 +11,13 @@ import time
 
 import core
 from core import histories
-from core.solver3d import solve_point_schedule
+from core.point_runs import solve_point_schedule
 
 PERIODS = 6
-GEOMETRY = {"cylinder": "line", "sphere": "circular"}  # the closed form of each body
 
 
 def row(body, A, dx, r, seconds):
-    exact = float(core.fretting_energy(A, GEOMETRY[body]))
+    exact = float(core.fretting_energy(A, body))
     E = float(r.dissipation_per_period[-1])
     loop = r.fretting_loop().work
     print(f"| {body} | {A:.2f} | a/{1 / dx:.0f} | {E:.6f} | {loop:.6f} | {exact:.6f} | {100 * (E / exact - 1):+.2f} % "
@@ -47,7 +46,7 @@ def main():
         grid_errors.append(("sphere", A, energies[1] - energies[0]))
     print()
     for body, A, d in grid_errors:
-        exact = float(core.fretting_energy(A, GEOMETRY[body]))
+        exact = float(core.fretting_energy(A, body))
         print(f"grid error (fine - coarse) {body} A = {A}: {d:+.2e} ({100 * d / exact:+.2f} % of the closed form)")
 
 

@@ -94,7 +94,7 @@ def timed_cases(quick=False, fine=True):
 
 def mindlin(dx=0.05, fts=(0.3, 0.6)):
     """Mindlin's partial slip against the solver, nu = 0 (exact) and nu = 0.5 (coupled)."""
-    from core.solver3d import mindlin_state
+    from core.point_runs import mindlin_state
 
     print(f"\nMindlin (static, from rest), dx = a/{round(1 / dx)}: c/a exact (1 - ft)^(1/3); displacement "
           "3(2 - nu)/(8(1 - nu)) (1 - (1 - ft)^(2/3)) [mu Fn/(E* a)]")
@@ -200,8 +200,8 @@ def contact_comparison(elements=(20, 40, 60, 80), ft=0.6, w=0.3, periods=10):
 
 
 def normal_solve(dxs=(1 / 20, 1 / 40, 1 / 80)):
-    """The discrete bound's normal solve alone (core.solver3d._pressure, cache cleared): one window of the sphere."""
-    import core.solver3d as s3
+    """The discrete bound's normal solve alone (core.patch._pressure, cache cleared): one window of the sphere."""
+    import core.patch as s3
     from core.point_contact import Ellipsoid
 
     print("\nthe sphere's discrete normal solve on one window (core.normal.solve_normal), best of 3:")

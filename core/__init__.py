@@ -35,18 +35,20 @@ def _load_locked():
         from .bodies import BODIES, Body, Cylinder, LineGrid, Punch, get_body, NORMAL_CHOICES  # noqa: F401
         from .normal import NormalSolution, solve_normal, solve_line, solve_patch  # noqa: F401
         from .melan import ft_limit_numerical  # noqa: F401
+        from .limits import ft_limit, w_limit, fretting_energy  # noqa: F401 (any body's, by name or object: over analytical's eq 35)
         from .cone import Cone  # noqa: F401
         from .heightmap import HeightMap, HeightProfile  # noqa: F401
         from .result import CycleResult, LineResult, StaticResult, SolverError, SolveCancelled  # noqa: F401
         from .engine import run, STEP_SOLVERS  # noqa: F401
-        from .solver import (simulate_cycles, simulate_contact, solve_schedule, strip_options,  # noqa: F401
-                             solve_static, shakedown_state, simulate_point_contact)
+        from .solver import (simulate_cycles, solve_schedule, solve_static, shakedown_state,  # noqa: F401
+                             simulate_point_contact)
+        from .contact import PointContact, simulate_contact, strip_options  # noqa: F401
         from .convergence import ConvergedIncrement, converged_increment, grid_error, increment_error  # noqa: F401
         from .resolution import default_dx  # noqa: F401
-        from .point_contact import Ellipsoid, Sphere, PointContact, POINT_BODIES  # noqa: F401
+        from .point_contact import Ellipsoid, Sphere, POINT_BODIES  # noqa: F401
         from .halfspace import HalfSpaceOperator  # noqa: F401
-        from .solver3d import (solve_point_schedule, mindlin_state,  # noqa: F401
-                               shakedown_state_3d, PointContactResult)
+        from .point_runs import solve_point_schedule, mindlin_state, shakedown_state_3d  # noqa: F401
+        from .result import PointContactResult  # noqa: F401
         from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
         public = {k: v for k, v in locals().items() if k != "analytical"}

@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-__all__ = ["as_float_array", "check_range", "check_scalar", "check_int", "env_int"]
+__all__ = ["read_only", "as_float_array", "check_range", "check_scalar", "check_int", "env_int"]
 
 
 def _describe(lo, hi, lo_closed, hi_closed):
@@ -132,3 +132,9 @@ def env_int(name: str, default: int, lo: int = 1, hi: int | None = None) -> int:
         positive = " (set the environment variable to a positive integer)" if lo >= 1 else ""
         raise ValueError(f"{name} must be an integer in [{lo}, {hi if hi is not None else 'inf'}], "
                          f"got {raw!r:.40}{positive}") from None
+
+
+def read_only(arr):
+    """``arr`` with its write flag cleared (results and grids are shared between sessions of the app)."""
+    arr.setflags(write=False)
+    return arr

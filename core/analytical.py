@@ -42,7 +42,8 @@ __all__ = [
     "shakedown_zones",
     "lowest_pressure",
     "classify_regime",
-    "fretting_energy",
+    "fretting_energy_line",
+    "fretting_energy_sphere",
     "ZONE_NONE",
     "ZONE_STICK",
     "ZONE_SLIP",
@@ -200,7 +201,7 @@ def _segment_area(s):
     return (2.0 / np.pi) * (np.arccos(s) - s * np.sqrt(1.0 - s * s))
 
 
-def ft_limit(w, body=None):
+def ft_limit(w):
     """Exact shakedown limit of the tangential load (eq 35).
 
     As the shaken-down stick zone shrinks to nothing, the whole load is
@@ -212,10 +213,9 @@ def ft_limit(w, body=None):
     ----------
     w : array_like
         ``W / a`` in [0, 1].
-    body : str or body object, optional
-        None: the cylinder (eq 35); a registered name or a body object
-        (``"cylinder"``, ``"sphere"``, ``core.Punch(flat=0.5)``, ...): its own
-        limit, :func:`core.melan.ft_limit` (closed form where it has one).
+
+    The cylinder's; any body's, by name or object: :func:`core.ft_limit`
+    (:func:`core.limits.ft_limit`).
 
     Returns
     -------
@@ -224,18 +224,14 @@ def ft_limit(w, body=None):
 
     Examples
     --------
-    >>> import core
-    >>> round(float(core.ft_limit(0.26)), 4)
+    >>> round(float(ft_limit(0.26)), 4)
     0.6727
     """
-    if body is not None:  # a body given: its own limit (the registry's; Melan's integral), core/melan.py
-        from .melan import ft_limit as melan_ft_limit
-        return melan_ft_limit(w, body=body)
     w = _w(w, upper_closed=True)
     return _segment_area(w)
 
 
-def w_limit(ft, body=None):
+def w_limit(ft):
     """Exact inverse of :func:`ft_limit`: the largest amplitude that shakes down.
 
     Solved numerically (elementwise Chandrupatla root finding, to about
@@ -245,8 +241,8 @@ def w_limit(ft, body=None):
     ----------
     ft : array_like
         ``Ft / (mu Fn)`` in [0, 1].
-    body : str or body object
-        As in :func:`ft_limit` (:func:`core.melan.w_limit`).
+
+    The cylinder's; any body's: :func:`core.w_limit` (:func:`core.limits.w_limit`).
 
     Returns
     -------
@@ -262,9 +258,6 @@ def w_limit(ft, body=None):
     >>> round(float(ft_limit(w_limit(0.3))), 12)
     0.3
     """
-    if body is not None:  # a body given: its own limit (the registry's; Melan's integral), core/melan.py
-        from .melan import w_limit as melan_w_limit
-        return melan_w_limit(ft, body=body)
     ft = _ft(ft, upper_closed=True)
     shape = ft.shape
     flat = ft.ravel()
@@ -510,60 +503,39 @@ def classify_regime(ft, w):
     return str(names) if np.ndim(names) == 0 else names
 
 
-def fretting_energy(amplitude, geometry="line", nu=0.5):
-    """Energy dissipated per cycle by a contact under a constant normal load and an oscillating tangential one.
+def fretting_energy_line(amplitude):
+    """Energy dissipated per cycle by a cylinder (plane strain, per unit length) under a constant normal load and an
+    oscillating tangential one: ``E = (2/pi) [1 - (1 - A)^2 + 2 (1 - A) ln(1 - A)]`` [mu^2 P^2/E*].
 
-    Cattaneo-Mindlin partial slip with Masing's rule: the unloading branch from
-    ``Qmax`` is the monotone curve doubled and scaled by 2, ``d(Q) = d(Qmax) -
-    2 d_m((Qmax - Q)/2)``, so the steady loop depends on the range of ``Q``
-    only, not on its mean. With ``f = Q/(mu P)`` between ``-A`` and ``A``
-    (``A`` the amplitude) its area is ``E = 4 A d_m(A) - 8 int_0^A d_m``:
-
-    * ``"line"``, a Hertz line contact (the cylinder; plane strain, per unit length), from the hysteretic part
-      ``d_m(f) = (1/pi) (1 - f) ln(1 - f) mu P/E*`` of the monotone
-      displacement: ``E = (2/pi) [1 - (1 - A)^2 + 2 (1 - A) ln(1 - A)]``
-      ``mu^2 P^2/E*``;
-    * ``"circular"``, a Hertz circular contact (a rigid sphere) on a half-space of Poisson ratio ``nu`` (Mindlin and
-      Deresiewicz, neglecting the transverse traction), from
-      ``d_m(f) = 3 (2 - nu)/(8 (1 - nu)) [1 - (1 - f)^(2/3)] mu Fn/(E* a)``:
-      ``E = 9 (2 - nu)/(5 (1 - nu)) [1 - (1 - A)^(5/3) - (5A/6) (1 + (1 - A)^(2/3))]``
-      ``mu^2 Fn^2/(E* a)``.
-
-    Parameters
-    ----------
-    amplitude : float or array_like
-        ``A``: the amplitude of ``Q/(mu P)`` (a sphere: ``Q/(mu Fn)``), in [0, 1).
-    geometry : {"line", "circular"}
-        The Hertz contact: a line (the cylinder) or a circle (the sphere).
-    nu : float
-        The half-space's Poisson ratio (the circular contact only), in [0, 0.5].
-
-    Returns
-    -------
-    float or ndarray
-        ``E``, in ``mu^2 P^2/E*`` per unit length (cylinder) or ``mu^2 Fn^2/(E* a)`` (sphere).
-
-    References
-    ----------
-    K.L. Johnson, Contact Mechanics (1985), sections 7.2 and 7.4; R.D. Mindlin and
-    H. Deresiewicz, J. Appl. Mech. 20 (1953) 327-344.
+    Any body's by name: :func:`core.fretting_energy` (the derivation there).
 
     Examples
     --------
-    >>> from core.analytical import fretting_energy
-    >>> round(float(fretting_energy(0.5)), 6), round(float(fretting_energy(0.35, "circular")), 7)
-    (0.036194, 0.0093676)
+    >>> round(float(fretting_energy_line(0.5)), 6)
+    0.036194
     """
     A = check_range("amplitude", amplitude, 0.0, 1.0, hi_closed=False)
-    if geometry == "line":
-        s = 1.0 - A
-        with np.errstate(divide="ignore", invalid="ignore"):
-            log_term = np.where(s > 0, 2.0 * s * np.log(np.where(s > 0, s, 1.0)), 0.0)
-        out = (2.0 / np.pi) * (1.0 - s * s + log_term)
-    elif geometry == "circular":
-        nu = check_range("nu", nu, 0.0, 0.5)
-        s = 1.0 - A
-        out = 9.0 * (2.0 - nu) / (5.0 * (1.0 - nu)) * (1.0 - s ** (5.0 / 3.0) - (5.0 * A / 6.0) * (1.0 + s ** (2.0 / 3.0)))
-    else:
-        raise ValueError(f"geometry must be 'line' or 'circular', got {geometry!r}")
+    s = 1.0 - A
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_term = np.where(s > 0, 2.0 * s * np.log(np.where(s > 0, s, 1.0)), 0.0)
+    out = (2.0 / np.pi) * (1.0 - s * s + log_term)
+    return out[()] if isinstance(out, np.ndarray) else out
+
+
+def fretting_energy_sphere(amplitude, nu=0.5):
+    """Energy dissipated per cycle by a rigid sphere on a half-space of Poisson ratio ``nu`` under a constant normal
+    load and an oscillating tangential one (Mindlin and Deresiewicz, the transverse traction neglected):
+    ``E = 9 (2 - nu)/(5 (1 - nu)) [1 - (1 - A)^(5/3) - (5A/6) (1 + (1 - A)^(2/3))]`` [mu^2 Fn^2/(E* a)].
+
+    Any body's by name: :func:`core.fretting_energy` (the derivation there).
+
+    Examples
+    --------
+    >>> round(float(fretting_energy_sphere(0.35)), 7)
+    0.0093676
+    """
+    A = check_range("amplitude", amplitude, 0.0, 1.0, hi_closed=False)
+    nu = check_range("nu", nu, 0.0, 0.5)
+    s = 1.0 - A
+    out = 9.0 * (2.0 - nu) / (5.0 * (1.0 - nu)) * (1.0 - s ** (5.0 / 3.0) - (5.0 * A / 6.0) * (1.0 + s ** (2.0 / 3.0)))
     return out[()] if isinstance(out, np.ndarray) else out

@@ -25,7 +25,7 @@ from collections import OrderedDict
 
 import numpy as np
 
-from . import analytical
+from . import analytical, melan
 from ._hertz import element_means
 from ._jit import jit
 
@@ -377,14 +377,12 @@ class Body:
 
     # ---- its shakedown limit (Melan, core/melan.py) ---------------------------------
     def ft_limit(self, w):
-        """The exact shakedown limit ``ft_lim(w)`` (:func:`core.melan.ft_limit`)."""
-        from .melan import ft_limit
-        return ft_limit(w, body=self)
+        """The exact shakedown limit ``ft_lim(w)``: Melan's integral (:func:`core.melan.ft_limit`)."""
+        return melan.ft_limit(w, self)
 
     def w_limit(self, ft):
         """Its inverse (:func:`core.melan.w_limit`)."""
-        from .melan import w_limit
-        return w_limit(ft, body=self)
+        return melan.w_limit(ft, self)
 
 
 class LineGrid:
@@ -612,6 +610,12 @@ class Cylinder(Body):
     def w_limit(ft):
         """The inverse of eq 35 (:func:`core.analytical.w_limit`)."""
         return analytical.w_limit(ft)
+
+    @staticmethod
+    def fretting_energy(amplitude, nu=0.5):
+        """Energy dissipated per cycle of an oscillating tangential load of amplitude ``amplitude`` [mu P]
+        (:func:`core.analytical.fretting_energy_line`; plane strain: ``nu`` plays no part)."""
+        return analytical.fretting_energy_line(amplitude)
 
     cattaneo_stick_halfwidth = staticmethod(analytical.cattaneo_stick_halfwidth)  # eq 7
     cattaneo_traction = staticmethod(analytical.cattaneo_traction)        # eqs 8-12

@@ -627,9 +627,10 @@ def _energy_rows(s: dict, contact) -> list[tuple[str, str]]:
 def _cmd_run(args) -> int:
     import pandas as pd
 
-    from .analytical import ft_limit, w_limit
+    from .limits import ft_limit, w_limit
     from .grid import sweep_grid
-    from .solver import simulate_contact, simulate_cycles
+    from .contact import simulate_contact
+    from .solver import simulate_cycles
     from .tables import CSV_FLOAT_FORMAT, atomic_write
 
     options = _solver_options(args)

@@ -306,7 +306,7 @@ class Cone:
         (``y = 0``) and on the unrotated contact line (``x = 0``), covering the
         contact at every angle ``|theta| <= reach_x / r_m``.
         """
-        from .solver3d import MAX_GRID_ELEMENTS
+        from .patch import MAX_GRID_ELEMENTS
         theta = reach_x / self.r_m
         wide = self.r2 * math.sin(theta) + scale * math.sqrt(self.r2 / self.r_m) * 1.01 + h
         long = 0.5 * self.length + h
@@ -380,7 +380,7 @@ class Cone:
         from scipy.optimize import linprog
         from scipy.sparse import coo_matrix, hstack, vstack, csr_matrix
         from .schedule import rocking_schedule
-        from .solver3d import twist_field
+        from .patch import twist_field
 
         xe, ye = self.run_grid(w, 1.0, dx)
         xcs = np.unique(rocking_schedule(0.0, w, periods=1, dW=dW).xc)

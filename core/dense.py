@@ -153,6 +153,8 @@ class DenseSolver:
     """
 
     name = "dense"
+    #: Its main compiled kernel (:data:`core._jit.KERNELS`): a run says once that it compiles it if it is not cached.
+    kernels = ("core._pdas.march", "core._pdas.solve_step")
     #: The operator form :func:`core.solver.solve_schedule` builds for this solver (it needs the matrix).
     form = "dense"
     #: The grid shape it solves (:func:`core.engine.grid_shape`).

@@ -12,7 +12,7 @@ the operator, and the per-step arrays become a frozen
 progress, the periodic detection's stop and the repetition of the last period
 live here once, for every grid and solver. The public entry points
 (:func:`core.simulate_cycles`, :func:`core.simulate_contact`,
-:func:`core.solve_schedule`, :func:`core.solver3d.solve_point_schedule`)
+:func:`core.solve_schedule`, :func:`core.point_runs.solve_point_schedule`)
 build the parts and call it.
 
 The per-step solvers are chosen by name in :data:`STEP_SOLVERS`, the one place
@@ -41,7 +41,7 @@ where a solver is registered: ``"dense"`` and ``"fft"`` for a line,
     a cone's twist centre), merged into ``solver_options``.
 
 A point body object (e.g. :class:`core.point_contact.Ellipsoid`) becomes a
-patch grid through :class:`core.solver3d.PatchGrid`, which asks it for: its
+patch grid through :class:`core.patch.PatchGrid`, which asks it for: its
 run grid (``run_grid(reach_x, scale, h)``; default: the box of its Hertz
 ellipse, ``kappa``), its pressure on the grid at a step
 (``grid_pressure(x_edges, y_edges, xc, scale)``; default: Hertz's, solved on
@@ -83,6 +83,7 @@ import time
 
 import numpy as np
 
+from ._jit import announce_compile
 from .bodies import MAX_ELEMENTS
 from .dense import DenseSolver, Trajectory
 from .matrix_free import FFTSolver
@@ -176,7 +177,7 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     body : object
         A discretised body, a line of elements (:class:`core.bodies.Cylinder`
         on a grid, :class:`core.bodies.LineGrid`) or a patch
-        (:class:`core.solver3d.PatchGrid`): see the protocol in the module docstring.
+        (:class:`core.patch.PatchGrid`): see the protocol in the module docstring.
     operator : object
         Elastic operator on the body's grid (:mod:`core.operators` for a line,
         :func:`make_operator` builds the form the solver needs; the windowed
@@ -208,6 +209,7 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     shape = grid_shape(body)
     cls = select_solver(solver, n, shape)
     maxiter = cls.default_maxiter(n) if maxiter is None else maxiter
+    announce_compile(*getattr(cls, "kernels", ()))  # once per process, before a first run's minute of compiling
     element_size = body.dx if shape == "line" else body.dx * body.dx
     step_solver = cls(operator, element_size=element_size, tol=tol, maxiter=maxiter,
                       **dict(solver_options or {}))

@@ -36,8 +36,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from .contact import Contact
-from .point_contact import PointContact
+from .contact import Contact, PointContact
 from .result import CycleResult
 from .states import STATE_NAMES, ZONE_NAMES
 

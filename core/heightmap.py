@@ -190,7 +190,7 @@ class HeightMap:
     shakedown limit, and its cycles on the 3D solver.
 
     ``core.simulate_cycles(ft, w, periods, body=HeightMap(...))`` runs it on
-    :func:`core.solver3d.solve_point_schedule` on the map's own grid (``dx`` =
+    :func:`core.point_runs.solve_point_schedule` on the map's own grid (``dx`` =
     ``spacing``): the element ``(i, j)`` sits at ``x = (j - nx // 2) spacing``,
     ``y = (i - ny // 2) spacing`` when the body is centred, and the body
     translates by ``xc`` along x. Its pressure is solved once

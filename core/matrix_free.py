@@ -196,6 +196,8 @@ class FFTSolver:
     """
 
     name = "fft"
+    #: Its main compiled kernel (:data:`core._jit.KERNELS`): a run says once that it compiles it if it is not cached.
+    kernels = ("core._pcg.march", "core._pcg.solve_step")
     #: The operator form :func:`core.solver.solve_schedule` builds for this solver.
     form = "fft"
     #: The grid shape it solves (:func:`core.engine.grid_shape`).

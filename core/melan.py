@@ -119,52 +119,48 @@ def ft_limit_numerical(w, body, dx=None, normal="auto"):
     return float(p_min.sum() / p.sum())
 
 
-def _resolve(body):
-    """The body object (:func:`core.registry.resolve`) and whether it has a closed-form limit (``closed_limit``:
-    the cylinder's eq 35, every ellipsoid's ``(1 - w)^2 (2 + w)/2``), which its own ``ft_limit``/``w_limit`` give."""
-    from .registry import resolve
-    spec = resolve(body)
-    return spec, bool(getattr(spec, "closed_limit", False))
-
-
-def ft_limit(w, body="cylinder", *, normal="auto", dx=None):
-    """The exact shakedown limit ``ft_lim(w)`` of a body: closed form where known, Melan's integral otherwise.
+def ft_limit(w, body, *, normal="auto", dx=None):
+    """The exact shakedown limit ``ft_lim(w)`` of a body object: its closed form where it has one, Melan's integral
+    otherwise (:func:`ft_limit_numerical`). By name: :func:`core.ft_limit` (:func:`core.limits.ft_limit`).
 
     Parameters
     ----------
     w : array_like
         ``W / a`` in [0, 1] (numerical bodies: [0, 1)).
-    body : str, core.bodies.Body or core.Ellipsoid
-        ``"cylinder"`` (eq 35), ``"sphere"``/``"ellipsoid"`` or an ellipsoid
-        (``(1 - w)^2 (2 + w)/2``), a name in :data:`core.bodies.BODIES`
-        (default parameters) or a body object (:func:`ft_limit_numerical`).
+    body : core.bodies.Body, core.Ellipsoid or another body object
+        A body with ``closed_limit`` (the cylinder's eq 35, every ellipsoid's ``(1 - w)^2 (2 + w)/2``) gives its
+        own :meth:`ft_limit`; any other is integrated.
     normal, dx :
         For the numerical bodies (see :func:`lowest_pressure`).
 
     Examples
     --------
     >>> import core
-    >>> round(float(core.ft_limit(0.3, body=core.Punch(flat=0.5))), 4)
+    >>> from core.melan import ft_limit
+    >>> round(float(ft_limit(0.3, core.Punch(flat=0.5))), 4)
     0.5527
     """
-    spec, closed = _resolve(body)
-    if closed:
-        return spec.ft_limit(w)
-    return _each(lambda v: ft_limit_numerical(v, spec, dx, normal), w)
+    if isinstance(body, str):
+        raise ValueError(f"body must be a body object here (core.ft_limit takes names), got {body!r:.60}")
+    if getattr(body, "closed_limit", False):
+        return body.ft_limit(w)
+    return _each(lambda v: ft_limit_numerical(v, body, dx, normal), w)
 
 
-def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
+def w_limit(ft, body, *, normal="auto", dx=None):
     """The inverse of :func:`ft_limit`: the largest amplitude that shakes down at ``ft`` (root of ft_lim(w) = ft).
 
     Examples
     --------
     >>> import core
-    >>> round(float(core.w_limit(0.5527, body=core.Punch(flat=0.5))), 3)
+    >>> from core.melan import w_limit
+    >>> round(float(w_limit(0.5527, core.Punch(flat=0.5))), 3)
     0.3
     """
-    spec, closed = _resolve(body)
-    if closed:
-        return spec.w_limit(ft)
+    if isinstance(body, str):
+        raise ValueError(f"body must be a body object here (core.w_limit takes names), got {body!r:.60}")
+    if getattr(body, "closed_limit", False):
+        return body.w_limit(ft)
 
     def one(f):
         f = check_scalar("ft", f, 0.0, 1.0)
@@ -173,9 +169,9 @@ def w_limit(ft, body="cylinder", *, normal="auto", dx=None):
         if f <= 0.0:
             return 1.0
         top = 1.0 - 1e-6
-        if ft_limit_numerical(top, spec, dx, normal) >= f:
+        if ft_limit_numerical(top, body, dx, normal) >= f:
             return top
-        return brentq(lambda v: ft_limit_numerical(v, spec, dx, normal) - f, 0.0, top, xtol=1e-7)
+        return brentq(lambda v: ft_limit_numerical(v, body, dx, normal) - f, 0.0, top, xtol=1e-7)
 
     return _each(one, ft)
 

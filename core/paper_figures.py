@@ -40,9 +40,10 @@ import numpy as np
 from . import approximations
 from ._validate import check_int, check_scalar
 from .analytical import ft_limit, shakedown_stick_halfwidth, shakedown_traction, w_limit
-from .contact import PAPER_SIMULATION
+from .limits import w_limit as body_w_limit
+from .contact import PAPER_SIMULATION, strip_options
 from .kernels import strip_b_coefficient, strip_influence, strip_u0
-from .solver import make_grid, shakedown_state, simulate_cycles, strip_options
+from .solver import make_grid, shakedown_state, simulate_cycles
 from .sweeps import SweepCancelled, numerical_limit_curve
 
 __all__ = ["FIGURES", "FiguresCancelled", "PAPER_W", "COMMAND", "paper_model", "time_in_periods", "stick_halfwidth_curves", "traction_profiles",
@@ -406,7 +407,7 @@ def limit_lines(points: int = 101) -> dict:
     points = check_int("points", points, 2, 10_001)
     ft = np.linspace(0.0, 1.0, points)
     return {"ft": ft, "w_eq35": w_limit(ft), "w_eq36": approximations.w_limit_regression(ft),
-            "w_sphere": w_limit(ft, body="sphere")}
+            "w_sphere": body_w_limit(ft, body="sphere")}
 
 
 # --------------------------------------------------------------------------

@@ -38,7 +38,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
@@ -46,7 +46,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
 from ._validate import check_range, check_scalar
-from .analytical import _ellipse_primitive
+from .analytical import _ellipse_primitive, fretting_energy_sphere
 
 __all__ = ["Ellipsoid", "Sphere", "POINT_BODIES", "axis_ratio", "ft_limit_point",
            "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d", "PointContact"]
@@ -102,6 +102,19 @@ class Ellipsoid:
     def w_limit(ft):
         """Its inverse (:func:`w_limit_point`)."""
         return w_limit_point(ft)
+
+    def fretting_energy(self, amplitude, nu=0.5):
+        """The sphere's energy dissipated per cycle of an oscillating tangential load (Mindlin and Deresiewicz,
+        :func:`core.analytical.fretting_energy_sphere`); an ellipsoid has no closed form here.
+
+        Raises
+        ------
+        ValueError
+            For an ellipsoid (``ratio != 1``).
+        """
+        if self.ratio != 1.0:
+            raise ValueError(f"body {self!r} (an ellipsoid) has no closed-form fretting loop: only the sphere has")
+        return fretting_energy_sphere(amplitude, nu)
 
     def pressure(self, x, y, xc=0.0):
         """Hertz's pressure [p0] at ``(x, y)`` [a] with the centre at ``(xc, 0)`` (:func:`hertz_pressure_3d`)."""
@@ -295,163 +308,3 @@ def w_limit_point(ft):
     """
     ft = check_range("ft", ft, 0.0, 1.0)
     return np.clip(2.0 * np.cos(np.arccos(ft - 1.0) / 3.0 - 2.0 * math.pi / 3.0), 0.0, 1.0)
-
-
-# --------------------------------------------------------------------------
-# physical units
-# --------------------------------------------------------------------------
-def _compliance(E, nu):
-    return 0.0 if math.isinf(E) else (1.0 - nu * nu) / E
-
-
-@dataclass(frozen=True)
-class PointContact:
-    """A sphere or ellipsoid on a substrate, in SI units (m, N, Pa), and its normalised loads.
-
-    Parameters
-    ----------
-    Rx, Ry : float
-        Principal relative radii [m] (x: the rocking direction); ``Ry/Rx`` in [0.05, 20].
-    Fn : float
-        Normal force [N], > 0.
-    mu : float
-        Friction coefficient, in (0, 10].
-    E2, nu2 : float
-        Substrate's Young's modulus [Pa] and Poisson ratio (default 0.5), in [0, 0.5].
-    E1, nu1 : float
-        The body's (default rigid, ``E1 = inf``).
-    Ft : float
-        Tangential force [N], in [0, mu Fn).
-    W : float
-        Rocking amplitude of the contact centre [m], in [0, a).
-    angle : float
-        Angle of ``Ft`` to the rocking direction [rad].
-
-    Examples
-    --------
-    >>> from core.point_contact import PointContact
-    >>> c = PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
-    >>> round(c.ft, 3), round(c.a * 1e3, 3)
-    (0.4, 2.657)
-    """
-
-    Rx: float
-    Ry: float
-    Fn: float
-    mu: float
-    E2: float
-    nu2: float = 0.5
-    E1: float = math.inf
-    nu1: float = 0.3
-    Ft: float = 0.0
-    W: float = 0.0
-    angle: float = 0.0
-
-    def __post_init__(self):
-        for name, lo, hi, inf in (("Rx", 0.0, None, False), ("Ry", 0.0, None, False), ("Fn", 0.0, None, False),
-                                  ("mu", 0.0, 10.0, False), ("E2", 0.0, None, False), ("E1", 0.0, None, True)):
-            object.__setattr__(self, name, check_scalar(name, getattr(self, name), lo, hi, lo_closed=False,
-                                                        allow_inf=inf))
-        for name in ("nu1", "nu2"):
-            object.__setattr__(self, name, check_scalar(name, getattr(self, name), 0.0, 0.5))
-        check_scalar("Ry/Rx", self.Ry / self.Rx, 0.05, 20.0)
-        object.__setattr__(self, "Ft", check_scalar("Ft", self.Ft, 0.0, self.mu * self.Fn, hi_closed=False))
-        object.__setattr__(self, "angle", check_scalar("angle", self.angle, -math.pi, math.pi))
-        object.__setattr__(self, "W", check_scalar("W", self.W, 0.0, self.a, hi_closed=False))
-
-    @property
-    def body(self) -> Ellipsoid:
-        return Ellipsoid(self.Ry / self.Rx)
-
-    @property
-    def E_star(self) -> float:
-        """``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` [Pa]."""
-        return 1.0 / (_compliance(self.E1, self.nu1) + _compliance(self.E2, self.nu2))
-
-    @property
-    def nu(self) -> float:
-        """Poisson ratio of the equivalent rigid-on-substrate Cerruti kernel: ``2 nu/(1 - nu) = E* sum nu_i/G_i``."""
-        g = sum(0.0 if math.isinf(E) else 2.0 * (1.0 + n) * n / E for E, n in ((self.E1, self.nu1), (self.E2, self.nu2)))
-        b = self.E_star * g
-        return b / (2.0 + b)
-
-    @cached_property
-    def a(self) -> float:
-        """Semi-axis of the contact along x [m] (Johnson eqs 4.36-4.41)."""
-        kappa = self.body.kappa
-        major_y = kappa >= 1.0
-        m = kappa if major_y else 1.0 / kappa
-        C_major = 0.5 / (self.Ry if major_y else self.Rx)
-        e2 = 1.0 - 1.0 / (m * m)
-        a_major = (3.0 * self.Fn * _k_minus_e_over_e2(e2) / (2.0 * math.pi * self.E_star * C_major)) ** (1.0 / 3.0)
-        return a_major / kappa if major_y else a_major
-
-    @property
-    def b(self) -> float:
-        """Semi-axis along y [m]."""
-        return self.body.kappa * self.a
-
-    @property
-    def p0(self) -> float:
-        """Peak pressure ``3 Fn / (2 pi a b)`` [Pa]."""
-        return 3.0 * self.Fn / (2.0 * math.pi * self.a * self.b)
-
-    @property
-    def ft(self) -> float:
-        return self.Ft / (self.mu * self.Fn)
-
-    @property
-    def w(self) -> float:
-        return self.W / self.a
-
-    @property
-    def traction_unit(self) -> float:
-        """``mu p0`` [Pa]."""
-        return self.mu * self.p0
-
-    @property
-    def displacement_unit(self) -> float:
-        """``mu Fn / (E* a)`` [m]."""
-        return self.mu * self.Fn / (self.E_star * self.a)
-
-    @property
-    def energy_unit(self) -> float:
-        """``mu^2 Fn^2 / (E* a)`` [J], the unit of the energy dissipated per period
-        (:attr:`core.CycleResult.dissipation_per_period` of a point contact)."""
-        return self.mu * self.Fn * self.displacement_unit
-
-    def replace(self, **changes) -> "PointContact":
-        """A copy with some inputs changed, as :meth:`core.Contact.replace`: the normalised loads ``ft`` and
-        ``w`` stay as they are unless ``ft``/``Ft`` or ``w``/``W`` is given (``ft`` and ``w`` may be given in
-        place of ``Ft`` and ``W``; ``W = w a`` with the new contact's ``a``).
-
-        >>> c = PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
-        >>> d = c.replace(mu=0.8)
-        >>> round(d.ft, 3) == round(c.ft, 3), round(d.Ft, 3)
-        (True, 3.2)
-        """
-        names = {f.name for f in fields(self)}
-        for load, normalised in (("Ft", "ft"), ("W", "w")):
-            if load in changes and normalised in changes:
-                raise ValueError(f"{load}: give {load} or {normalised}, not both")
-        unknown = sorted(set(changes) - names - {"ft", "w"})
-        if unknown:
-            raise ValueError(f"{unknown[0]}: not an input of PointContact (inputs: {', '.join(sorted(names))}, ft, w)")
-        ft, w = changes.pop("ft", self.ft), changes.pop("w", self.w)
-        geometry = PointContact(**{**{n: getattr(self, n) for n in names}, **changes, "Ft": 0.0, "W": 0.0})
-        Ft = changes["Ft"] if "Ft" in changes else ft * geometry.mu * geometry.Fn
-        W = changes["W"] if "W" in changes else w * geometry.a
-        return PointContact(**{**{n: getattr(geometry, n) for n in names}, "Ft": Ft, "W": W})
-
-    def simulate(self, periods=10, dx=None, **options):
-        """Run :func:`core.simulate_point_contact` with this contact's ``ft``, ``w``, body, angle and ``nu``.
-
-        ``options`` are those of :func:`core.simulate_cycles` (``history``, ``amplitude``, ``shape``, ...).
-
-        The result stays normalised: multiply lengths by :attr:`a`, tractions
-        by :attr:`traction_unit` and displacements by :attr:`displacement_unit`.
-        """
-        from .solver import simulate_point_contact
-
-        return simulate_point_contact(self.ft, self.w, periods, dx, body=self.body, angle=self.angle, nu=self.nu,
-                                      **options)

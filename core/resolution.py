@@ -18,7 +18,7 @@ Each grid kind (``"line"``: a line contact's elements on the 1D engine;
 smallest one a run accepts, the KKT tolerance of every step, the periodic
 tolerance and the steps run between checks of the budget. Every entry point
 (:func:`core.simulate_cycles`, :func:`core.solver.solve_schedule`,
-:func:`core.solver3d.solve_point_schedule`, the static solves) reads them here.
+:func:`core.point_runs.solve_point_schedule`, the static solves) reads them here.
 
 This module imports nothing heavy (the command line reads it to print its help).
 """

@@ -22,10 +22,7 @@ STATE_RELEASED, STATE_STICK, STATE_SLIP_FORWARD, STATE_SLIP_BACKWARD = (
     State.RELEASED, State.STICK, State.SLIP_FORWARD, State.SLIP_BACKWARD)
 
 
-def read_only(arr: np.ndarray) -> np.ndarray:
-    """``arr`` with its write flag cleared (results are shared between sessions of the app)."""
-    arr.setflags(write=False)
-    return arr
+from ._validate import read_only  # noqa: E402 (the one definition, below every layer; kept importable from here)
 
 
 #: Margin [mu p0] below the traction bound that counts as sticking in the final state.
@@ -1062,7 +1059,7 @@ class CycleResult(PeriodVerdict):
 
     @cached_property
     def _patch_grid(self):
-        from .solver3d import PatchGrid
+        from .patch import PatchGrid
         return PatchGrid(self.body, self.edges, self.y_edges, self.params.get("normal", "numerical"))
 
     def pressure_at(self, step) -> np.ndarray:

@@ -80,10 +80,9 @@ class Schedule:
 
     @property
     def reach(self) -> float:
-        """Largest distance from 0 that any contact of a cylinder reaches [a] (:meth:`core.bodies.Cylinder.reach`)."""
-        from .bodies import Cylinder
-
-        return Cylinder.reach(self.xc, self.P)
+        """Largest distance from 0 that any contact of a cylinder reaches [a]: ``max |xc| + sqrt(P)`` (Hertz's
+        half-width grows as ``sqrt(P)``; the same as :meth:`core.bodies.Cylinder.reach`)."""
+        return float(np.max(np.abs(self.xc) + np.sqrt(self.P)))
 
     def is_periodic(self) -> bool:
         """True if every period repeats the same steps (so a repeated state repeats the whole period)."""

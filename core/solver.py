@@ -25,15 +25,16 @@ import numpy as np
 
 from .resolution import DEFAULT_DX_LINE, GRID_DEFAULTS, default_dx
 from ._validate import check_int, check_scalar
-from .bodies import BODIES, MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
+from .bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import SolverError, StaticResult, read_only
+from ._jit import announce_compile
 from .engine import check_solver, make_operator, run, select_solver
 from .registry import kind, point_body, resolve
 from . import histories
 from .schedule import Schedule
 
-__all__ = ["simulate_cycles", "simulate_contact", "strip_options", "solve_schedule", "solve_static", "shakedown_state",
+__all__ = ["simulate_cycles", "solve_schedule", "solve_static", "shakedown_state",
            "simulate_point_contact", "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_FFT_ELEMENTS", "MAX_STORED_VALUES",
            "KKT_TOL"]
 
@@ -198,7 +199,7 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None,
     ``body``) is a patch of elements centred on the origin: the same problem
     with vector tractions on Coulomb disks, ``sum q dA = Q Fn`` along ``angle``
     (Mindlin's, or a point contact's shaken-down state), solved by the patch
-    solver (:func:`core.solver3d.solve_static_patch`).
+    solver (:func:`core.point_runs.solve_static_patch`).
 
     Parameters
     ----------
@@ -240,7 +241,7 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None,
     from ._validate import check_range
 
     if np.ndim(bound) == 2 or (body is not None and not _is_line_body(body)):
-        from .solver3d import TOL_3D, solve_static_patch
+        from .point_runs import TOL_3D, solve_static_patch
         return solve_static_patch(bound, Q, dx, body=body, nu=nu, angle=angle, solver=solver,
                                   tol=TOL_3D if tol is None else tol)
     tol = KKT_TOL if tol is None else tol
@@ -259,6 +260,7 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None,
         if edges.shape != (n + 1,) or not np.allclose(np.diff(edges), dx, rtol=1e-9, atol=0.0):
             raise ValueError(f"edges must be {n + 1} edges dx = {dx:g} apart, got shape {edges.shape}")
     step_solver = select_solver(solver, n)
+    announce_compile(*getattr(step_solver, "kernels", ()))  # once per process, before a first solve's compiling
     operator = make_operator(step_solver, n, dx, kernel, **dict(kernel_options or {}))
     step = step_solver(operator, element_size=dx, tol=tol, maxiter=50 + 2 * n).step(bound, target)
     if not step.converged:
@@ -288,7 +290,7 @@ def shakedown_state(ft, w, dx=None, *, kernel="plane", L_over_a=None, nu=0.5, to
         centres a quarter element apart (:meth:`core.bodies.LineGrid.lowest_bound`).
         A point body (``"sphere"``, ``"ellipsoid"`` with ``ratio``, an
         :class:`core.point_contact.Ellipsoid`) runs
-        :func:`core.solver3d.shakedown_state_3d` (``dx`` default 0.05, its grid).
+        :func:`core.point_runs.shakedown_state_3d` (``dx`` default 0.05, its grid).
 
     Returns
     -------
@@ -308,7 +310,7 @@ def shakedown_state(ft, w, dx=None, *, kernel="plane", L_over_a=None, nu=0.5, to
     True
     """
     if not _is_line_body(body):
-        from .solver3d import TOL_3D, shakedown_state_3d
+        from .point_runs import TOL_3D, shakedown_state_3d
         check_solver(solver, "patch", body)
         return shakedown_state_3d(ft, w, 0.05 if dx is None else dx, body, ratio=ratio, nu=nu, angle=angle,
                                   tol=TOL_3D if tol is None else tol)
@@ -387,7 +389,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         line contacts on the 1D engine; the point contacts (``"sphere"``,
         ``"ellipsoid"``, ``core.Ellipsoid``, a :class:`core.heightmap.HeightMap`
         on its own grid) run on a patch of elements through
-        :func:`core.solver3d.simulate_point_contact` (with ``ratio = Ry/Rx`` of
+        :func:`simulate_point_contact` (with ``ratio = Ry/Rx`` of
         an ellipsoid and ``angle`` of Ft to the rocking direction [rad]; ``dx``
         is the element side, ``nu`` the substrate's; ``kernel`` and ``L_over_a``
         are the cylinder's). Both return a :class:`CycleResult` (``is_patch``
@@ -412,7 +414,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         contacts: ``"numerical"`` (and ``"auto"``, the default) bound the
         traction by the discrete normal problem on the run's grid (as CONTACT
         does), ``"exact"`` by the element means of Hertz's pressure (see
-        :func:`core.solver3d.solve_point_schedule`).
+        :func:`core.point_runs.solve_point_schedule`).
     periodic_tol : float, optional
         The patch solver's periodic tolerance [mu p0] (point contacts only; default
         ``core.resolution.GRID_DEFAULTS["patch"].periodic_tol``).
@@ -471,7 +473,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
                   time_budget=time_budget, cancel=cancel, progress=progress, solver=solver, normal=normal)
     if line:
         return solve_schedule(schedule, dx, kernel, kernel_options=options, body=spec, **common)
-    from .solver3d import solve_point_schedule
+    from .point_runs import solve_point_schedule
     if periodic_tol is not None:
         common["periodic_tol"] = periodic_tol
     return solve_point_schedule(schedule, dx, spec, nu=nu, angle=angle, **common)
@@ -515,74 +517,3 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
                            periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget,
                            cancel=cancel, progress=progress, normal=normal, solver=solver, history=history,
                            amplitude=amplitude, phase=phase)
-
-
-def strip_options(contact):
-    """The strip-kernel options of :func:`simulate_cycles` for a physical contact.
-
-    Parameters
-    ----------
-    contact : Contact
-        The contact (SI units).
-
-    Returns
-    -------
-    dict
-        ``L_over_a`` (strip length over half-width) and ``nu``, the Poisson
-        ratio of a substrate under a rigid cylinder with the same strip kernel:
-        ``2 nu / (1 - nu) = E* sum(nu_i / G_i)`` (exact for a rigid cylinder or
-        two equal bodies, an equivalent value otherwise).
-
-    Examples
-    --------
-    >>> import core
-    >>> opts = core.strip_options(core.PAPER_SIMULATION)
-    >>> round(opts["L_over_a"], 1), opts["nu"]
-    (292.6, 0.5)
-    """
-    from .contact import Contact
-
-    if not isinstance(contact, Contact):
-        raise ValueError(f"contact must be a core.Contact, got {type(contact).__name__}")
-    b = contact.E_star * contact.nu / contact.G
-    return {"L_over_a": contact.L / contact.a, "nu": b / (2.0 + b)}  # 2 nu/(1 - nu) = b <=> nu = b/(2 + b)
-
-
-def simulate_contact(contact, periods=10, dx=DEFAULT_DX, dW=None, *, kernel="strip", **options):
-    """Simulate a :class:`~core.contact.Contact` given in physical units.
-
-    Runs :func:`simulate_cycles` with the contact's ``ft``, ``w`` and, for the
-    strip kernel, its ``L / a`` and materials. The result stays normalised;
-    convert with ``contact.a`` [m], ``contact.traction_unit`` (``mu p0``, Pa)
-    and ``contact.displacement_unit`` (``mu P/E*``, m).
-
-    Parameters
-    ----------
-    contact : Contact
-        The contact (``ft`` and ``w`` included).
-    periods, dx, dW : see :func:`simulate_cycles`.
-    kernel : {"strip", "plane"}
-        Default ``"strip"``: the truncated-3D model with the contact's length.
-    **options
-        Further options of :func:`simulate_cycles`.
-
-    Examples
-    --------
-    The paper's numerical case (eq 17) at ``ft = 0.08``, ``w = 0.26``, on a coarse grid:
-
-    >>> from core import PAPER_SIMULATION
-    >>> r = simulate_contact(PAPER_SIMULATION.replace(ft=0.08, w=0.26), periods=4, dx=1 / 20)
-    >>> r.regime, round(float(r.u[-1]), 3)
-    ('shakedown', 0.078)
-    """
-    from .contact import Contact
-
-    if not isinstance(contact, Contact):
-        raise ValueError(f"contact must be a core.Contact, got {type(contact).__name__}")
-    dx = check_scalar("dx", dx, 1e-4, 0.5)
-    if kernel == "strip":
-        for key, value in strip_options(contact).items():
-            options.setdefault(key, value)
-    result = simulate_cycles(contact.ft, contact.w, periods, dx, dW, kernel=kernel, **options)
-    result.params.update({f"contact_{k}": v for k, v in contact.summary().items()})
-    return result

@@ -31,7 +31,7 @@ the KKT condition it cannot meet (:func:`_increment_kernel`).
 
 The traction bound ``g = mu p`` of an element is the pressure of the discrete
 normal problem on the same grid (same elements, collocation and Boussinesq
-coefficients; :func:`_pressure`), as in CONTACT, rather than a sample of
+coefficients; :func:`core.patch._pressure`), as in CONTACT, rather than a sample of
 Hertz's continuous pressure: the increments per period then agree with
 CONTACT's to 0.25 % at 40 elements across the contact
 (``docs/guide/numerics.md``).
@@ -54,9 +54,9 @@ Measured figures and iterations per step: ``benchmarks/solver3d.py``.
 
 In the package this is the per-step solver of a patch of elements,
 :class:`PatchSolver` (``"pcg3d"`` in :data:`core.engine.STEP_SOLVERS`), on a
-point body's grid, :class:`PatchGrid`: :func:`solve_point_schedule` and
-:func:`simulate_point_contact` build them and call :func:`core.engine.run`,
-the one run loop of every body, which returns a :class:`core.CycleResult`.
+point body's grid, :class:`core.patch.PatchGrid`: :func:`core.point_runs.solve_point_schedule`
+builds them and calls :func:`core.engine.run`, the one run loop of every body,
+which returns a :class:`core.CycleResult`.
 
 References
 ----------
@@ -72,23 +72,18 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import ellipe, ellipk
 
-from ._validate import check_int, check_scalar
 from ._jit import jit
 from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
-from .normal import PatchOperator, solve_normal
-from .point_contact import Ellipsoid, hertz_element_means
-from .registry import point_body
+# the point body's grid and bound (core/patch.py), kept importable from here
+from .patch import (MAX_GRID_ELEMENTS, PatchGrid, _centred_edges, _gap_curvatures, _grid,  # noqa: F401
+                    _normal_mode, _pressure, twist_field)
 from .resolution import DEFAULT_DX_POINT, GRID_DEFAULTS
 from .result import PointContactResult, STICK_MARGIN, StaticResult, read_only  # noqa: F401 (the aliases)
-from .schedule import Schedule
 from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
-__all__ = ["solve_increment", "twist_field", "solve_point_schedule", "solve_static_3d",
-           "solve_static_patch", "PatchGrid", "PatchSolver", "PatchTrajectory", "mindlin_state",
-           "shakedown_state_3d", "PointContactResult", "StaticResult3D", "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL",
-           "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
+__all__ = ["solve_increment", "twist_field", "PatchGrid", "PatchSolver", "PatchTrajectory", "PointContactResult",
+           "RESIDUAL_NAMES", "TOL_3D", "PERIODIC_TOL", "DEFAULT_DX_3D", "MAX_GRID_ELEMENTS"]
 
 #: Names of the per-step residuals (see :func:`solve_increment`): the one set of every solver,
 #: :data:`core.states.RESIDUAL_NAMES`.
@@ -104,8 +99,6 @@ PERIODIC_TOL = GRID_DEFAULTS["patch"].periodic_tol
 #: w = 0.6) is 0.1742, 0.1779, 0.1790, 0.1797 at a/5, a/10, a/20, a/40 with the discrete normal bound
 #: (benchmarks/solver3d.py): a/20 is 0.4 % below a/40, at an eighth of its cost.
 DEFAULT_DX_3D = DEFAULT_DX_POINT  # one place for every body's default grid: core/resolution.py
-#: Largest grid (elements) a point-contact run accepts.
-MAX_GRID_ELEMENTS = 200_000
 #: Largest number of stored full-field values (snapshots at the turning points).
 MAX_SNAPSHOT_VALUES = 2e7
 
@@ -662,27 +655,6 @@ def _failure(status, stage, it, maxiter, cg_maxiter, tol, over, wrong, tangent, 
     return f"{why}; unmet: {unmet} (worst violation {max(over, wrong):.3g})"
 
 
-def twist_field(x_edges, y_edges, centre):
-    """The rigid slip ``(-(y - y_c), x - x_c)`` [a] of a unit rotation about the normal through ``centre``.
-
-    At the element centres of the grid ``x_edges``, ``y_edges``: the ``twist``
-    argument of :func:`solve_increment` for a body free to turn about the
-    normal through ``centre = (x_c, y_c)`` [a] (a point on the line of action
-    of the tangential force).
-
-    Returns
-    -------
-    ndarray, shape (2, ny, nx)
-    """
-    xc, yc = (float(v) for v in centre)
-    x = 0.5 * (np.asarray(x_edges[1:], float) + np.asarray(x_edges[:-1], float))
-    y = 0.5 * (np.asarray(y_edges[1:], float) + np.asarray(y_edges[:-1], float))
-    out = np.empty((2, y.size, x.size))
-    out[0] = -(y - yc)[:, None]
-    out[1] = (x - xc)[None, :]
-    return out
-
-
 def _moment_residual(q, twist, target, dA):
     """``|sum twist . q dA - target[2]|`` over the largest arm: the moment balance as a force [mu p0 a^2]."""
     arm = max(float(np.abs(twist).max()), 1e-300)
@@ -1005,6 +977,8 @@ class PatchSolver:
     """
 
     name = "pcg3d"
+    #: Its main compiled kernel (:data:`core._jit.KERNELS`): a run says once that it compiles it if it is not cached.
+    kernels = ("core.solver3d._increment_kernel",)
     #: The operator form it needs: the windowed half-space operator of a patch grid.
     form = "patch"
     #: The grid shape it solves.
@@ -1146,438 +1120,3 @@ class PatchSolver:
         return int(k1), -1, -1
 
 
-# --------------------------------------------------------------------------
-# grids
-# --------------------------------------------------------------------------
-def _centred_edges(reach, h):
-    """Edges of an odd number of elements of side ``h`` centred on 0 (one element at 0) covering ``[-reach, reach]``."""
-    half = math.ceil(reach / h - 0.5 - 1e-9) + 1
-    return h * (np.arange(2 * half + 2) - half - 0.5)
-
-
-# Polonsky-Keer iterations: relative change of the load distribution at which the normal solve stops, and its cap
-_NORMAL_RTOL = 1e-13
-_NORMAL_MAXITER = 2000
-
-
-def _gap_curvatures(kappa):
-    """``(A, B)`` of the gap ``A x^2 + B y^2`` whose Hertz contact has semi-axes 1 (x) and ``kappa`` (y).
-
-    Units: lengths in ``a``, pressure in ``p0``, ``E* = 1`` (the kernel
-    ``1/(pi E*)`` of :func:`_normal_kernel`). Johnson eqs 3.57-3.61: with the
-    semi-axes ``a' >= b'``, ``e^2 = 1 - (b'/a')^2``, ``A' = (b'/a'^2)(K - E)/e^2``
-    along ``a'`` and ``B' = (b'/a'^2)((a'/b')^2 E - K)/e^2``; ``pi/4`` each for
-    the sphere.
-    """
-    if abs(kappa - 1.0) < 1e-9:
-        return 0.25 * math.pi, 0.25 * math.pi
-    major, minor = max(1.0, kappa), min(1.0, kappa)
-    e2 = 1.0 - (minor / major) ** 2
-    K, E = float(ellipk(e2)), float(ellipe(e2))
-    along = minor / major**2 * (K - E) / e2
-    across = minor / major**2 * ((major / minor) ** 2 * E - K) / e2
-    return (along, across) if kappa < 1.0 else (across, along)
-
-
-class _NormalWindow:
-    """The discrete normal problem of a Hertz contact on a window of the grid: :func:`core.normal.solve_normal`.
-
-    Piecewise-constant pressures on the grid's square elements, gaps
-    collocated at their centres, the Boussinesq influence coefficients
-    ``(1/(pi E*)) integral of 1/rho`` over each element (exact,
-    :func:`core.halfspace.rectangle_integrals`, in :class:`core.normal.PatchOperator`),
-    the total load prescribed, solved by the one normal solver of the package
-    (Polonsky-Keer's constrained CG, preconditioned by the inverse continuous
-    symbol). This is CONTACT's normal problem (Kalker; Vollebregt): the traction bound
-    ``mu p`` of an element is then the pressure that the same discrete
-    elasticity gives it, instead of a mean of the continuous Hertz field.
-    """
-
-    def __init__(self, half_y, half_x, h):
-        self.shape = (2 * half_y + 1, 2 * half_x + 1)
-        self.h = h
-        self.op = PatchOperator(*self.shape, h, 1.0 / math.pi)
-
-    def apply(self, p):
-        return self.op.apply(p)
-
-    def solve(self, gap, load, guess):
-        """Pressures >= 0 with ``sum p h^2 = load``, gap + displacement constant where ``p > 0``, >= it elsewhere."""
-        try:
-            return solve_normal(gap, load, self.op, self.h * self.h, tol=_NORMAL_RTOL, maxiter=_NORMAL_MAXITER,
-                                initial=guess).pressure.copy()
-        except ValueError as e:
-            raise RuntimeError(f"the normal problem did not converge: {e}") from e
-
-
-_NORMAL_CACHE = {}
-
-
-def _pressure(x_edges, y_edges, xc, body, scale=1.0, normal="numerical"):
-    """The traction bound's pressure on a point-contact grid at centre ``xc`` and load scale ``scale`` [p0].
-
-    With ``normal="numerical"`` (the default) the pressure of the discrete normal
-    problem on the grid (:class:`_NormalWindow`), as CONTACT computes it: on
-    the sphere at ft 0.6, w 0.3 it moved the increment per period from 1.6 %
-    to 0.3 % below CONTACT's at 40 elements across the contact
-    (``docs/guide/numerics.md``). The gap is the body's quadratic profile, so
-    the pressure is Hertz's up to the discretization; the solve runs on a
-    window around the contact and is cached by the centre's offset from its
-    nearest element (a translate serves every aligned centre) and the scale.
-    With ``normal="exact"``, the element means of Hertz's pressure
-    (:func:`core.point_contact.hertz_element_means`).
-    """
-    if hasattr(body, "grid_pressure"):  # a body that solves its own normal problem (core.heightmap.HeightMap)
-        return body.grid_pressure(x_edges, y_edges, xc, scale)
-    if normal == "exact":
-        return hertz_element_means(x_edges, y_edges, xc, body.kappa, scale)
-    h = float(x_edges[1] - x_edges[0])
-    xs = 0.5 * (x_edges[1:] + x_edges[:-1])
-    i0 = int(np.argmin(np.abs(xs - xc)))
-    offset = float(xc - xs[i0])
-    half_x = math.ceil(scale / h - 0.5) + 1
-    half_y = math.ceil(body.kappa * scale / h - 0.5) + 1
-    key = (round(h, 12), round(offset / h, 9), round(scale, 12), body.kappa)
-    window = _NORMAL_CACHE.get(key)
-    if window is None:
-        if len(_NORMAL_CACHE) >= 64:  # sine schedules and load steps: a few offsets and scales per run
-            _NORMAL_CACHE.clear()
-        solver = _NormalWindow(half_y, half_x, h)
-        X = h * (np.arange(-half_x, half_x + 1) - offset / h)[None, :]
-        Y = h * np.arange(-half_y, half_y + 1)[:, None]
-        A, B = _gap_curvatures(body.kappa)
-        guess = scale * np.sqrt(np.clip(1.0 - (X / scale) ** 2 - (Y / (body.kappa * scale)) ** 2, 0.0, None))
-        p = solver.solve(A * X * X + B * Y * Y, body.total_load * scale**3, guess + 1e-3 * (guess > 0))
-        p = 0.5 * (p + p[::-1])  # exactly mirror-symmetric in y (the window is centred on y = 0)
-        if offset == 0.0:
-            p = 0.5 * (p + p[:, ::-1])
-        window = _NORMAL_CACHE[key] = p
-    out = np.zeros((y_edges.size - 1, x_edges.size - 1))
-    ny = out.shape[0]
-    c = ny // 2
-    rows = slice(max(c - half_y, 0), min(c + half_y + 1, ny))
-    cols = slice(max(i0 - half_x, 0), min(i0 + half_x + 1, out.shape[1]))
-    out[rows, cols] = window[rows.start - (c - half_y):rows.stop - (c - half_y),
-                             cols.start - (i0 - half_x):cols.stop - (i0 - half_x)]
-    total = float(out.sum()) * h * h
-    if total > 0:  # the load that fell off the grid's edge (none where the grid covers the contact)
-        out *= body.total_load * scale**3 / total
-    return out
-
-
-def _normal_mode(normal, body):
-    """``"exact"`` or ``"numerical"`` for ``normal`` (``"auto"``: numerical, the discrete bound on the grid)."""
-    if normal not in ("auto", "exact", "numerical"):
-        raise ValueError(f"normal must be one of ('auto', 'exact', 'numerical'), got {normal!r:.60}")
-    if normal == "exact" and not isinstance(body, Ellipsoid):
-        raise ValueError(f"normal='exact' needs a closed-form pressure (a sphere or an ellipsoid); "
-                         f"{type(body).__name__} has none: use normal='numerical' or 'auto'")
-    return "exact" if normal == "exact" else "numerical"
-
-
-def _grid(body, reach_x, scale, h):
-    xe = _centred_edges(reach_x, h)
-    ye = _centred_edges(body.kappa * scale, h)
-    if (xe.size - 1) * (ye.size - 1) > MAX_GRID_ELEMENTS:
-        raise ValueError(f"dx = {h:g} needs {(xe.size - 1) * (ye.size - 1)} elements (> {MAX_GRID_ELEMENTS}): "
-                         "use a larger dx")
-    return xe, ye
-
-
-class PatchGrid:
-    """A point-contact body on a patch of square elements: what :func:`core.engine.run` asks of it.
-
-    The patch-grid side of the engine's body protocol (see :mod:`core.engine`):
-    ``shape`` ``(ny, nx)``, ``size``, ``dx``, ``edges`` (along x), ``y_edges``;
-    :meth:`bounds` (the traction bound ``mu p`` of each step, one ``(ny, nx)``
-    array a step, cached by centre and load scale: a body that only translates
-    is solved once per offset from the grid, :func:`_pressure`);
-    :meth:`load_target` (``Q`` times the body's total load); ``solver_options``
-    (the body's own options of :class:`PatchSolver`, e.g. a cone's twist
-    centre); ``body_spec`` (the body).
-
-    The body supplies (duck-typed): ``name``, ``total_load`` [p0 a^2],
-    ``kernel_scale`` (the half-space kernel's factor in its units) and either
-    ``kappa`` (an ellipsoid: Hertz's pressure, closed form or solved on the
-    grid) or ``run_grid(reach_x, scale, h)`` and ``grid_pressure(x_edges,
-    y_edges, xc, scale)`` (its own grid and pressure: a height map, a cone);
-    optionally ``load_scale(P)`` (the length scale of its contact under the
-    normal load ``P``, the ``scale`` above; default ``P^(1/3)``),
-    ``default_dx``, ``solver_options`` (a dict of keyword options of
-    :func:`solve_increment`, passed through :class:`PatchSolver` and
-    :meth:`_Window.solve`) and ``twist_centre`` (``(x_c, y_c)`` [a]: the body
-    is free to turn about the normal through it, a cone; its
-    :func:`twist_field` on the grid becomes the ``twist`` option of every
-    :func:`solve_increment`, and the run records the rotation).
-
-    Parameters
-    ----------
-    body : object
-        The body (:class:`core.point_contact.Ellipsoid`, :class:`core.heightmap.HeightMap`, ...).
-    x_edges, y_edges : ndarray
-        Edges of square elements [a]; a row centred on ``y = 0``.
-    normal : {"exact", "numerical"}
-        The Hertz bodies' pressure (see :func:`_pressure`).
-    """
-
-    def __init__(self, body, x_edges, y_edges, normal="numerical"):
-        self.body_spec = body
-        self.name = body.name
-        self.normal = normal
-        self.x_edges = read_only(np.array(x_edges, dtype=float))
-        self.y_edges = read_only(np.array(y_edges, dtype=float))
-        self.edges = self.x_edges
-        self.dx = float(self.x_edges[1] - self.x_edges[0])
-        self.shape = (self.y_edges.size - 1, self.x_edges.size - 1)
-        self.size = self.shape[0] * self.shape[1]
-        self.solver_options = dict(getattr(body, "solver_options", None) or {})
-        centre = getattr(body, "twist_centre", None)  # free to turn about the normal through it (a cone)
-        if centre is not None:
-            self.solver_options["twist"] = twist_field(self.x_edges, self.y_edges, centre)
-        self._cache = {}
-
-    @classmethod
-    def for_history(cls, body, history, dx, normal="numerical"):
-        """The grid covering every contact of ``history``: the body's ``run_grid`` or the ellipse's box."""
-        own = getattr(body, "load_scale", None)
-        scales = np.asarray(own(history.P), dtype=float) if own is not None else np.cbrt(history.P)
-        if hasattr(body, "run_grid"):  # a body with its own grid (a height map)
-            xe, ye = body.run_grid(float(np.max(np.abs(history.xc))), float(scales.max()), dx)
-        else:
-            xe, ye = _grid(body, float(np.max(np.abs(history.xc) + scales)), float(scales.max()), dx)
-        return cls(body, xe, ye, normal)
-
-    def load_scale(self, P):
-        """The contact's length scale under the normal load ``P`` [nominal]: the body's ``load_scale(P)`` if it
-        has one, else ``P^(1/3)`` (Hertz, point contact)."""
-        own = getattr(self.body_spec, "load_scale", None)
-        return np.asarray(own(P), dtype=float) if own is not None else np.cbrt(P)
-
-    def pressure(self, xc, scale=1.0):
-        """Element pressure [p0], shape (ny, nx), with the centre at ``xc`` and the length scale ``scale`` (cached)."""
-        key = (float(xc), float(scale))
-        g = self._cache.get(key)
-        if g is None:
-            g = self._cache[key] = _pressure(self.x_edges, self.y_edges, key[0], self.body_spec, key[1], self.normal)
-        return g
-
-    def bounds(self, xc, P, out=None):
-        """The traction bound ``mu p`` [mu p0] of each step: a list of ``(ny, nx)`` arrays (shared: do not write)."""
-        return [self.pressure(x, s) for x, s in zip(np.asarray(xc, float).tolist(), self.load_scale(P).tolist())]
-
-    def load_target(self, Q):
-        """``sum q dA`` [mu p0 a^2] that carries the tangential load ``Q`` [mu Fn]: ``Q`` times the total load."""
-        return np.asarray(Q, dtype=float) * self.body_spec.total_load
-
-
-# --------------------------------------------------------------------------
-# results
-# --------------------------------------------------------------------------
-# --------------------------------------------------------------------------
-# a run over a schedule
-# --------------------------------------------------------------------------
-def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, detect_periodic=True,
-                         periodic_tol=PERIODIC_TOL, shakedown_rtol=1e-3, params=None, time_budget=None, cancel=None,
-                         progress=None, chunk=GRID_DEFAULTS["patch"].chunk, normal="auto", solver="auto"):
-    """Solve a loading :class:`~core.schedule.Schedule` for a point contact, step by step.
-
-    Parameters
-    ----------
-    schedule : Schedule
-        Steps (``xc`` [a], ``P`` [nominal Fn], ``Q = Ft/(mu Fn0)``, period).
-    dx : float
-        Element side [a], in [0.005, 0.5].
-    body : Ellipsoid or core.heightmap.HeightMap
-        The body (a height map runs on its own grid: ``dx`` its spacing).
-    nu : float
-        Substrate's Poisson ratio, in [0, 0.5].
-    angle : float
-        Angle of Ft to the rocking direction x [rad].
-    tol : float
-        KKT tolerance of every step.
-    detect_periodic : bool
-        When the traction at the end of a period repeats the previous one to
-        ``periodic_tol`` [mu p0], copy the remaining periods (same steps every
-        period only; a shaken-down period repeats exactly, a ratcheting one
-        converges geometrically to its periodic state).
-    shakedown_rtol : float
-        Relative size of the last increment for the shakedown verdict.
-    params : dict, optional
-        Recorded on the result.
-    time_budget, cancel, progress, chunk :
-        As in :func:`core.solver.solve_schedule`.
-    normal : {"auto", "exact", "numerical"}
-        The traction bound's pressure: ``"numerical"`` (and ``"auto"``, the
-        default) the discrete normal problem on the run's grid, solved by
-        :func:`core.normal.solve_normal` (CONTACT's bound); ``"exact"`` the
-        element means of Hertz's closed form. A height map has no closed form:
-        ``"exact"`` is refused for it.
-    solver : {"auto", "pcg3d"}
-        The per-step solver (:data:`core.engine.STEP_SOLVERS`): a patch of
-        elements runs :class:`PatchSolver`; the line solvers are refused.
-
-    Returns
-    -------
-    CycleResult
-        On a patch of elements (``is_patch``).
-
-    Raises
-    ------
-    SolverError
-        If a step does not settle (names the step, ``xc`` and the residual).
-    SolveCancelled
-        On request or when the time budget ran out.
-    """
-    if not isinstance(schedule, Schedule):
-        raise ValueError(f"schedule must be a core.Schedule, got {type(schedule).__name__}")
-    if not (isinstance(body, Ellipsoid) or hasattr(body, "grid_pressure")):
-        raise ValueError(f"body must be a point body: a core.Ellipsoid, a core.heightmap.HeightMap or an object with "
-                         f"run_grid and grid_pressure (the patch protocol of core.engine), got {type(body).__name__}")
-    dx = check_scalar("dx", dx, GRID_DEFAULTS["patch"].min_dx, 0.5)
-    nu = check_scalar("nu", nu, 0.0, 0.5)
-    angle = check_scalar("angle", angle, -math.pi, math.pi)
-    tol = check_scalar("tol", tol, 1e-13, 1e-4)
-    periodic_tol = check_scalar("periodic_tol", periodic_tol, 0.0, 1e-2)
-    chunk = check_int("chunk", chunk, 1, 10**7)
-    normal = _normal_mode(normal, body)
-    params = dict(params or {}, normal=normal)
-    from .engine import check_solver, run
-    check_solver(solver, "patch", body)
-    grid = PatchGrid.for_history(body, schedule, dx, normal)
-    operator = _Window(*grid.shape, dx, nu, body.kernel_scale)
-    return run(grid, operator, schedule, solver=solver, tol=tol, detect_periodic=detect_periodic,
-               shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget, cancel=cancel,
-               progress=progress, chunk=chunk, kernel="halfspace",
-               solver_options=dict(grid.solver_options, angle=angle, periodic_tol=periodic_tol))
-
-
-# --------------------------------------------------------------------------
-# static references: Mindlin and the shaken-down state
-# --------------------------------------------------------------------------
-#: The former name of :class:`core.result.StaticResult` on a patch.
-StaticResult3D = StaticResult
-
-
-def solve_static_patch(bound, ft, dx, *, body=None, nu=0.5, angle=0.0, tol=TOL_3D, solver="auto"):
-    """Static partial slip on a patch of elements centred on the origin: :func:`core.solve_static`'s patch case.
-
-    Parameters
-    ----------
-    bound : array_like, shape (ny, nx)
-        Traction bound [mu p0], >= 0, on square elements of side ``dx`` centred on ``(0, 0)`` (odd counts).
-    ft : float
-        ``Ft / (mu Fn)``, below what the bound carries.
-    dx : float
-        Element side [a], in [0.005, 0.5].
-    body : object, optional
-        The point body (its ``total_load`` and ``kernel_scale``; default the sphere).
-    nu, angle, tol :
-        As in :func:`solve_point_schedule`.
-    solver : {"auto", "pcg3d"}
-        The patch solver; the line solvers are refused.
-
-    Returns
-    -------
-    core.result.StaticResult
-    """
-    from .engine import check_solver
-    from ._validate import check_range
-
-    check_solver(solver, "patch", body)
-    bound = check_range("bound", bound, 0.0, None)
-    if bound.ndim != 2 or bound.shape[0] % 2 == 0 or bound.shape[1] % 2 == 0:
-        raise ValueError(f"bound must be a 2-D array of odd sizes (a patch centred on 0), got shape {bound.shape}")
-    if bound.size > MAX_GRID_ELEMENTS:
-        raise ValueError(f"bound has {bound.size} elements (> {MAX_GRID_ELEMENTS}): use a larger dx")
-    dx = check_scalar("dx", dx, 0.005, 0.5)
-    body = point_body("sphere" if body is None else body)
-    ny, nx = bound.shape
-    return _static_patch(bound, ft, dx * (np.arange(nx + 1) - nx / 2), dx * (np.arange(ny + 1) - ny / 2), body,
-                         nu=nu, angle=angle, tol=tol)
-
-
-def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
-    """Static partial slip under a traction bound on the grid ``x_edges``, ``y_edges`` (see :func:`core.solve_static`).
-
-    With ``bound = mu p`` it is Mindlin's problem; with ``mu p_min`` the
-    shaken-down state of a rocking contact. The former name of the patch case
-    of :func:`core.solve_static`, for a grid given by its edges.
-
-    Parameters
-    ----------
-    bound : ndarray, shape (ny, nx)
-        Traction bound [mu p0], >= 0.
-    ft : float
-        ``Ft / (mu Fn)``, below what the bound carries.
-    x_edges, y_edges : ndarray
-        The grid (square elements).
-    body : Ellipsoid
-    nu, angle, tol :
-        As in :func:`solve_point_schedule`.
-
-    Returns
-    -------
-    core.result.StaticResult
-    """
-    return _static_patch(bound, ft, x_edges, y_edges, body, nu=nu, angle=angle, tol=tol)
-
-
-def _static_patch(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
-    h = float(x_edges[1] - x_edges[0])
-    dA = h * h
-    carried = float(bound.sum()) * dA / body.total_load
-    ft = check_scalar("ft", ft, 0.0, carried, hi_closed=False)
-    op = HalfSpaceOperator(y_edges.size - 1, x_edges.size - 1, h, nu, body.kernel_scale)
-    warm = _WarmStart.empty(bound.shape)
-    target = ft * body.total_load * np.array([math.cos(angle), math.sin(angle)])
-    q, s, lam, info = solve_increment(op, bound, np.zeros((2,) + bound.shape), target, dA, warm, tol)
-    mag = np.hypot(q[0], q[1])
-    state = np.where(bound > 0, np.where(mag < bound - STICK_MARGIN, 1, 2), 0).astype(np.int8)
-    return StaticResult(traction=q, displacement=lam, residuals={name: info[name] for name in RESIDUAL_NAMES},
-                        bound=bound, edges=x_edges, y_edges=y_edges, state=state,
-                        iterations=int(info["iterations"]))
-
-
-def mindlin_state(ft, dx=0.05, body="sphere", *, ratio=None, nu=0.5, angle=0.0, tol=TOL_3D):
-    """Mindlin's partial slip of a point contact loaded from rest to ``ft`` (numerical, on the grid).
-
-    Mindlin's solution (exact for ``nu = 0``) has ``c/a = (1 - ft)^(1/3)``; for
-    ``nu > 0`` the x-y coupling adds a small ``q_y`` and a slightly
-    non-circular stick zone, which this solution contains.
-
-    Returns
-    -------
-    core.result.StaticResult
-    """
-    body = point_body(body, ratio)
-    dx = check_scalar("dx", dx, 0.005, 0.5)
-    xe, ye = _grid(body, 1.0, 1.0, dx)
-    return solve_static_3d(_pressure(xe, ye, 0.0, body), ft, xe, ye, body, nu=nu, angle=angle, tol=tol)
-
-
-def shakedown_state_3d(ft, w, dx=0.05, body="sphere", *, ratio=None, nu=0.5, angle=0.0, tol=TOL_3D):
-    """The shaken-down state of a rocking point contact, computed directly as one static problem.
-
-    The bound is ``mu p_min``, the lowest pressure of a period (that of the
-    farther turning point); below the exact limit
-    (:func:`core.point_contact.ft_limit_point`) the transient's end state
-    equals it (``tests/test_solver3d.py``).
-
-    Returns
-    -------
-    core.result.StaticResult
-    """
-    body = point_body(body, ratio)
-    dx = check_scalar("dx", dx, 0.005, 0.5)
-    w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
-    xe, ye = _grid(body, 1.0 + w, 1.0, dx)
-    pmin = np.minimum(_pressure(xe, ye, -w, body), _pressure(xe, ye, w, body))
-    return solve_static_3d(pmin, ft, xe, ye, body, nu=nu, angle=angle, tol=tol)
-
-
-def __getattr__(name):
-    # simulate_point_contact is the point-body case of core.simulate_cycles, in core.solver (one path for every body)
-    if name == "simulate_point_contact":
-        from .solver import simulate_point_contact
-        return simulate_point_contact
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

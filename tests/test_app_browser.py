@@ -19,7 +19,7 @@ from app.serving import FIND_MODEL_JS, scroll_through
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
-BADGE = "[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"  # a verdict is shown
+BADGE = "[data-regime='shakedown'], [data-regime='cyclic slip'], [data-regime='ratcheting'], [data-regime='undetermined']"  # a verdict is shown
 FT_TITLE = "ft = Ft/(μ Fn)"
 W_TITLE = "w = W/a"
 

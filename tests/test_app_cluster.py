@@ -22,6 +22,16 @@ from app.state import ExplorerState
 pytestmark = pytest.mark.timeout(400)
 
 BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
+#: The titles of the page's ft and w sliders (Bokeh models with a number value), in that order.
+_SLIDERS = """
+() => {
+  const out = [];
+  for (const d of Bokeh.documents) for (const m of d.all_models)
+    if (['ft = Ft/(μ Fn)', 'w = W/a'].includes(m.title) && typeof m.value === 'number' && 'value_throttled' in m)
+      out.push(m.title);
+  return [...new Set(out)].sort();
+}
+"""
 # release the ft slider at a new value; resolve once the run card (text with "el., ... steps") changes
 _RELEASE_FT = """
 async ([value, timeoutMs]) => {
@@ -162,12 +172,14 @@ def _served_app_solves_on_the_cluster(cluster):
 
 
 @pytest.mark.browser
-def test_first_page_says_the_solver_is_being_prepared_then_reloads_into_the_explorer():
-    """Until the solver is warm (here: the cluster has no worker yet) a page says so, then becomes the explorer."""
-    _in_a_thread(_prepared_then_reloaded)
+def test_first_page_is_the_explorer_while_the_solver_is_prepared_then_its_run_arrives():
+    """Until the solver is warm (here: the cluster has no worker yet) the page is the explorer already, with its
+    sliders and the exact limit's prediction, and says the solver is being compiled; the verdict comes in the
+    same page once a worker has joined."""
+    _in_a_thread(_prepared_then_solved)
 
 
-def _prepared_then_reloaded():
+def _prepared_then_solved():
     import os
     import subprocess
     import sys
@@ -184,13 +196,15 @@ def _prepared_then_reloaded():
             assert answer.value.code == 503 and not json.loads(answer.value.read())["ready"]
             page = browser.new_page()
             page.goto(url + "?ft=0.3&w=0.372")
-            page.get_by_text("The solver is being prepared").wait_for(timeout=60_000)
+            page.get_by_text("compiling the solver (first start only)").first.wait_for(timeout=60_000)
+            page.locator(".regime-note", has_text="eq 35 predicts").first.wait_for(timeout=30_000)
+            assert page.evaluate(_SLIDERS) == ["ft = Ft/(μ Fn)", "w = W/a"]
             worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
                                        "--no-nanny", "--no-dashboard", "--host", "127.0.0.1"], cwd=ROOT,
                                       env={**os.environ, "PYTHONPATH": str(ROOT)}, stdout=subprocess.DEVNULL,
                                       stderr=subprocess.DEVNULL)
             try:
-                page.locator(BADGE).first.wait_for(timeout=180_000)  # reloaded by itself, same URL
+                page.locator(BADGE).first.wait_for(timeout=180_000)  # in the same page: no reload
                 assert "w=0.372" in page.url
                 assert json.loads(urllib.request.urlopen(health, timeout=10).read())["ready"]
             finally:

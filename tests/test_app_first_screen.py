@@ -21,7 +21,7 @@ from app.state import BODIES
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 
-VERDICT = "[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"
+VERDICT = "[data-regime='shakedown'], [data-regime='cyclic slip'], [data-regime='ratcheting'], [data-regime='undetermined']"
 SIZES = [(1280, 720), (1024, 768)]
 #: How much of each key figure must be inside the first viewport [px].
 VISIBLE = 150

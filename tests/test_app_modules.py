@@ -80,7 +80,9 @@ def test_the_explorer_is_split_into_modules_of_one_job():
 @pytest.mark.parametrize("name", [m for m in MODULES if m not in ("main", "health")])
 def test_each_app_module_imports_on_its_own(name):
     module = importlib.import_module(f"app.{name}")
-    assert module.__name__ == f"app.{name}"
+    assert module.__doc__, f"app/{name}.py has no module docstring"
+    missing = [n for n in getattr(module, "__all__", ()) if not hasattr(module, n)]
+    assert not missing, f"app.{name}.__all__ names what it does not define: {missing}"
 
 
 def test_no_app_module_runs_the_solver_itself():

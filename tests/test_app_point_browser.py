@@ -80,8 +80,8 @@ def test_a_link_to_a_sphere_shows_its_verdict_and_maps(browser, app_url):
         assert "0.5635" in cards and "0.6238" in cards, cards  # the sphere's and the cylinder's limits
         # the maps: pressure and traction over the contact plane, with values inside the contact
         for title in ("Pressure at the player's step (uncoupled)",
-                      "Traction |q| (last turning point up to the step)",
-                      "Stick, slip and released zones (last turning point up to the step)"):
+                      "Traction |q| at the last turning point",
+                      "Stick, slip, released at the last turning point"):
             page.wait_for_function(f"() => {{ const i = ({_IMAGES})({title!r}); "
                                    "return i !== null && i.length === 1 && i[0].positive > 20; }", timeout=30_000)
         # the body selector shows the sphere; the URL keeps the body

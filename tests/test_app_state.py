@@ -290,22 +290,26 @@ def test_figures_are_drawn_when_the_browser_scrolls_near_them():
     ex.main_area()
     key, grid = ex._key_grid, ex._grid  # the first screen's figures (drawn with the page), the others
     assert sorted(ex._live) == sorted(key_figures("cylinder")) and len(key.objects) == 3
-    assert not any(isinstance(o, WhenShown) for o in key.objects)
-    assert all(isinstance(o, WhenShown) for o in grid.objects)
+    assert not any(isinstance(o.objects[0], WhenShown) for o in key.objects)
+    assert all(isinstance(o.objects[0], WhenShown) for o in grid.objects)
     assert len(key.objects) + len(grid.objects) == len(ex._figures_of("cylinder")) < len(plots.FIGURES)
     assert sorted(Explorer._GRID) == sorted(plots.FIGURES)  # every figure has one place
-    cell = key.objects[0]
+    # each figure has a place in its grid (issue 31: drawing a figure replaces the sentinel in its place, not the
+    # grid's children, so the page keeps its height and the browser its scroll position)
+    places = list(grid.objects)
+    cell = key.objects[0].objects[0]
     assert ex._panes["pressure"] in cell.objects and ex._panes["pressure"].object is ex._live["pressure"].figure
     ex.sentinels["states"].shown = True
     assert "states" in ex._live and "states" in [n for n in ex._grid_names(False)]
-    assert isinstance(grid.objects[0], WhenShown), "the others keep waiting"
+    assert list(grid.objects) == places and ex._cells["states"] in places[1].objects, "drawn in its place"
+    assert isinstance(grid.objects[0].objects[0], WhenShown), "the others keep waiting"
     ex.state.body = "sphere"  # the point contact's first screen is drawn at once, the other places wait
     assert len(key.objects) + len(grid.objects) == len(ex._figures_of("sphere"))
     assert set(key_figures("sphere")) <= set(ex._live) and "point_pressure" not in ex._live
     ex.sentinels["point_pressure"].shown = True
     assert "point_pressure" in ex._live
     ex.state.body = "cylinder"
-    assert key.objects[0] is cell, "a drawn figure keeps its cell"
+    assert key.objects[0].objects[0] is cell, "a drawn figure keeps its cell"
 
 
 def test_explorer_pushes_only_what_changed(scroll_through):
@@ -320,7 +324,7 @@ def test_explorer_pushes_only_what_changed(scroll_through):
     n_traction = len(before["traction"])
     assert not set(point_view.FIGURES) & set(changed)  # the sphere's figures are not drawn beside a cylinder
     assert changed == {"sketch": [], "pressure": [], "traction": [n_traction - 2 - MAX_PINS], "states": [],
-                       "displacement": [], "increments": [], "map": [len(before["map"]) - 1]}
+                       "displacement": [], "loop": [], "increments": [], "map": [len(before["map"]) - 1]}
 
 
 def test_a_new_run_pushes_only_the_layers_of_the_run(scroll_through):

@@ -81,9 +81,11 @@ def test_analytical_api_only_ever_raises_value_error(ft, w):
         assert out is not None
     for f, v in ((core.ft_limit, w), (core.w_limit, ft)):
         try:
-            f(v)
-        except ValueError:
-            pass
+            out = float(f(v))
+        except ValueError as e:  # refused: it names the argument
+            assert ("w" if f is core.ft_limit else "ft") in str(e), str(e)
+        else:  # accepted: a limit in [0, 1] of a finite number in [0, 1]
+            assert isinstance(v, float) and 0.0 <= v <= 1.0 and 0.0 <= out <= 1.0, (v, out)
 
 
 def test_huge_arrays_are_fine_but_huge_grids_are_refused():

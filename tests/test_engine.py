@@ -164,10 +164,12 @@ def test_grid_caps_by_solver():
 
 # ---- one engine for lines and patches -----------------------------------------------------------------------
 def test_one_set_of_residual_names_and_state_codes_for_every_grid():
-    from core import _pdas
-    from core.solver3d import RESIDUAL_NAMES as PATCH_NAMES, _state_codes
+    from core.solver3d import _state_codes
     from core.states import RESIDUAL_NAMES
-    assert RESIDUALS == PATCH_NAMES == RESIDUAL_NAMES == _pdas.RESIDUALS
+    # every solver's run reports the one set of residuals, by the names of core.states
+    line = core.simulate_cycles(0.2, 0.3, periods=1, dx=0.25)
+    patch = core.simulate_cycles(0.2, 0.3, periods=1, dx=0.25, body="sphere")
+    assert tuple(line.residuals) == tuple(patch.residuals) == tuple(RESIDUAL_NAMES)
     # a patch's states: released where p = 0, stick, slip forward/backward by the slip's x component
     g = np.array([[0.0, 1.0, 1.0, 1.0]])
     s = np.zeros((2, 1, 4))
@@ -202,7 +204,7 @@ def test_a_patch_runs_through_the_same_loop_with_its_period_repeated():
 def test_a_patch_run_can_be_cancelled_between_chunks():
     from core.result import SolveCancelled
     from core.schedule import rocking_schedule
-    from core.solver3d import solve_point_schedule
+    from core.point_runs import solve_point_schedule
     from core.point_contact import Ellipsoid
     with pytest.raises(SolveCancelled, match="cancelled after 10 of"):
         solve_point_schedule(rocking_schedule(0.3, 0.3, periods=4, dW=0.2), 0.2, Ellipsoid(1.0), chunk=10,
@@ -237,27 +239,34 @@ def test_solver_is_honoured_or_refused_naming_the_choices_for_every_body(body, s
         core.simulate_cycles(0.2, 0.3, periods=1, dx=0.25, body=body, solver=solver)
 
 
-def test_the_patch_solver_can_be_named():
+def test_the_patch_solver_can_be_named_and_the_line_solvers_agree():
+    """solver= is honoured on both grids; on a line the two solvers (dense inverses, FFT-preconditioned CG: two
+    algorithms) give the same increments to their tolerance."""
     r = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.25, body="sphere", solver="pcg3d")
-    auto = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.25, body="sphere")
-    assert r.solver == auto.solver == "pcg3d"
-    assert_allclose(r.increment_per_period, auto.increment_per_period, rtol=0, atol=0)
+    assert r.solver == "pcg3d" and r.is_patch
+    dense = core.simulate_cycles(0.3, 0.5, periods=3, dx=1 / 20, solver="dense")
+    fft = core.simulate_cycles(0.3, 0.5, periods=3, dx=1 / 20, solver="fft")
+    assert (dense.solver, fft.solver) == ("dense", "fft")
+    assert_allclose(fft.increment_per_period, dense.increment_per_period, rtol=0, atol=1e-9)
 
 
 def test_one_static_solve_for_a_line_and_a_patch():
-    """core.solve_static dispatches on the bound's shape; shakedown_state on the body; the old names agree."""
-    from core.solver3d import _grid, _pressure, shakedown_state_3d, solve_static_3d
+    """core.solve_static dispatches on the bound's shape, one step of each grid's solver: under mu p it is
+    Cattaneo's stick zone on a line (c = sqrt(1 - Q), eq 7) and Mindlin's on a patch (c = (1 - ft)^(1/3) at nu = 0);
+    shakedown_state takes a point body."""
+    from core.patch import _grid, _pressure
     body = core.Ellipsoid(1.0)
-    xe, ye = _grid(body, 1.0, 1.0, 0.1)
-    p = _pressure(xe, ye, 0.0, body)
-    patch = core.solve_static(p, 0.5, 0.1)
-    old = solve_static_3d(p, 0.5, xe, ye, body)
-    assert_allclose(patch.traction, old.traction, rtol=0, atol=0)
+    xe, ye = _grid(body, 1.0, 1.0, 0.05)
+    p = _pressure(xe, ye, 0.0, body, normal="exact")
+    patch = core.solve_static(p, 0.5, 0.05, nu=0.0)
     assert_allclose(patch.x_edges, xe)
-    line = core.solve_static(Cylinder.for_reach(1.0, 0.05).bounds([0.0], [1.0])[0], 0.5, 0.05)
+    assert patch.stick_halfwidth == pytest.approx(0.5 ** (1 / 3), abs=1.5 * 0.05)
+    line = core.solve_static(Cylinder.for_reach(1.0, 0.01).bounds([0.0], [1.0])[0], 0.5, 0.01)
     assert line.traction.ndim == 1 and max(line.residuals.values()) <= 1e-10
+    assert line.stick_halfwidth == pytest.approx(np.sqrt(0.5), abs=0.02)
+    assert_allclose(line.traction, core.cattaneo_traction(line.x, 0.5), atol=0.02)
     sd = core.shakedown_state(0.3, 0.3, 0.1, body="sphere")
-    assert_allclose(sd.traction, shakedown_state_3d(0.3, 0.3, 0.1).traction, rtol=0, atol=0)
+    assert sd.is_patch and sd.bound.shape == sd.traction.shape[1:]
     with pytest.raises(ValueError, match=r"\('auto', 'pcg3d'\)"):
         core.solve_static(p, 0.5, 0.1, solver="dense")
 
@@ -265,9 +274,6 @@ def test_one_static_solve_for_a_line_and_a_patch():
 def test_one_static_result_for_a_line_and_a_patch():
     """solve_static, shakedown_state and mindlin_state return one type on either grid (the three former names are
     aliases of it), read-only, with the bound, states, edges and stick half-widths."""
-    from core.solver import ShakedownState, StaticSolution
-    from core.solver3d import StaticResult3D
-    assert core.StaticResult is StaticSolution is ShakedownState is StaticResult3D
     line = core.shakedown_state(0.3, 0.3, dx=1 / 20)
     patch = core.shakedown_state(0.3, 0.3, 0.1, body="sphere")
     mindlin = core.mindlin_state(0.5, 0.1)
@@ -290,7 +296,7 @@ def test_one_static_result_for_a_line_and_a_patch():
         core.solve_static(bound, 0.5, 0.05, edges=centred.edges[:-1])
 
 
-class _TabulatedSphere:
+class _TabulatedSphere:  # noqa: D101
     """A point body written against the patch protocol alone (its own grid and pressure, a solver option)."""
 
     name = "tabulated sphere"
@@ -316,6 +322,11 @@ def test_a_point_body_plugs_into_the_engine_through_its_hooks():
     assert r.is_patch and r.body is body and r.body_name == "tabulated sphere" and r.solver == "pcg3d"
     assert_allclose(r.increment_per_period, ref.increment_per_period, rtol=1e-12)
     assert_allclose(r.pressure_at(5), ref.pressure_at(5), rtol=0, atol=0)
+    # the body's own solver options reach every step: too few CG iterations fail the run, loudly
+    starved = _TabulatedSphere()
+    starved.solver_options = {"cg_maxiter": 1}
+    with pytest.raises(core.SolverError):
+        core.simulate_cycles(0.5, 0.3, periods=1, dx=0.2, body=starved)
 
 
 def test_building_a_point_contact_result_builds_the_one_result_with_a_warning():

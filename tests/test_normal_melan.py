@@ -32,8 +32,11 @@ def test_convergence_with_dx():
 def test_default_and_names():
     """core.ft_limit keeps its closed form and signature for the cylinder; names and objects both work."""
     assert float(core.ft_limit(0.26)) == pytest.approx(0.6727, abs=1e-4)
-    assert core.ft_limit(0.3, body=core.Cylinder()) == core.ft_limit(0.3)
-    assert core.ft_limit(0.3, body="punch") == core.ft_limit(0.3, body=core.Punch(flat=0.5))
+    # Melan's integral over the numerical normal solve of the cylinder (not its closed form) is eq 35
+    assert ft_limit_numerical(0.3, core.Cylinder(), normal="numerical") == pytest.approx(0.6238377, abs=2e-3)
+    # a punch without a flat is the cylinder: its limit by name and parameter is eq 35's
+    assert float(core.ft_limit(0.3, body=core.registry.make_body("punch", flat=0.0))) == pytest.approx(
+        0.6238377, abs=1e-5)
     ws = np.array([0.1, 0.5])
     assert core.ft_limit(ws, body="punch").shape == (2,)
 

@@ -8,7 +8,7 @@ import pytest
 import core
 from core import histories
 from core.result import classify_energy, combine_verdicts, classify_increments
-from core.solver3d import solve_point_schedule
+from core.point_runs import solve_point_schedule
 
 
 @pytest.fixture(scope="module")
@@ -118,7 +118,7 @@ def test_the_sphere_against_mindlin_deresiewicz(A):
     """Mindlin neglects the transverse traction: a few per cent (measured at A = 0.35 and 0.6: +0.73 % and -0.84 %
     at a/10, -1.59 % and -1.80 % at a/20; loop areas within 2.2 %; at A = 0.2, a/10 is 5.3 % off: the slip annulus
     is a tenth of a wide)."""
-    exact = float(core.fretting_energy(A, "circular"))
+    exact = float(core.fretting_energy(A, "sphere"))
     for dx in (0.1, 0.05):
         r = solve_point_schedule(histories.tangential(0.0, A, periods=4), dx, core.Sphere(), nu=0.5)
         assert r.energy_unit == "mu^2 Fn^2/(E* a)"
@@ -143,13 +143,13 @@ def test_energy_rule_on_sequences():
 
 
 def test_fretting_energy_validates_and_is_zero_without_amplitude():
-    assert core.fretting_energy(0.0) == 0.0 and core.fretting_energy(0.0, "circular") == pytest.approx(0.0, abs=1e-15)
+    assert core.fretting_energy(0.0) == 0.0 and core.fretting_energy(0.0, "sphere") == pytest.approx(0.0, abs=1e-15)
     with pytest.raises(ValueError, match="amplitude"):
         core.fretting_energy(1.0)
-    with pytest.raises(ValueError, match="geometry"):
+    with pytest.raises(ValueError, match="body"):
         core.fretting_energy(0.5, "cone")
     with pytest.raises(ValueError, match="nu"):
-        core.fretting_energy(0.5, "circular", nu=0.6)
+        core.fretting_energy(0.5, "sphere", nu=0.6)
 
 
 def test_the_energy_is_in_the_tables_and_in_physical_units(fretting):
@@ -165,3 +165,27 @@ def test_the_energy_is_in_the_tables_and_in_physical_units(fretting):
     assert parameters(fretting, contact)["mu2P2_Estar_J_per_m"] == pytest.approx(J_per_m, rel=1e-12)
     point = core.PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
     assert point.energy_unit == pytest.approx(0.5 ** 2 * 10.0 ** 2 / (point.E_star * point.a), rel=1e-12)
+
+
+def test_the_badge_and_cards_show_cyclic_slip_and_the_energy(fretting):
+    from app.cards import cylinder_rows
+    from app.explorer import Explorer
+
+    html = Explorer._badge(Explorer, 0.3, 0.3, fretting, "")
+    assert 'data-regime="cyclic slip"' in html and "CYCLIC SLIP" in html and "regime-cyclicslip" in html
+    rows = dict(cylinder_rows(0.3, 0.3, 0.58, core.PAPER_SIMULATION, fretting, None, units="physical"))
+    J_per_m = float(fretting.dissipation_per_period[-1]) * core.PAPER_SIMULATION.replace(mu=0.58).energy_unit
+    assert rows["energy per period (last)"] == f"{J_per_m:.3g} J/m"
+
+
+def test_the_cli_prints_the_regime_and_the_energy(capsys):
+    from core.cli import main
+
+    code = main(["run", "--ft", "0.3", "--w", "0", "--history", "tangential", "--periods", "4", "--dx", "0.05"])
+    out = capsys.readouterr().out
+    assert code == 0 and "cyclic slip" in out
+    row = next(line for line in out.splitlines() if "energy, last period" in line)
+    energy = float(row.split("period")[1].split()[0])
+    A = 0.35  # the CLI's tangential amplitude: (1 - |ft|)/2
+    np.testing.assert_allclose(energy, core.fretting_energy(A), rtol=0.05)  # a/20: +0.6 % at 0.5, +9 % at 0.2
+    assert "E_inf (limit energy)" in out

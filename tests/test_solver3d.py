@@ -7,7 +7,8 @@ import pytest
 
 import core
 from core.point_contact import hertz_element_means, w_limit_point
-from core.solver3d import RESIDUAL_NAMES, mindlin_state, shakedown_state_3d
+from core.point_runs import mindlin_state, shakedown_state_3d
+from core.solver3d import RESIDUAL_NAMES
 
 
 @pytest.mark.parametrize("ft", [0.3, 0.6])

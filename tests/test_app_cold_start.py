@@ -1,0 +1,69 @@
+"""Issue 29, item 4: on a fresh install (numba's cache empty) the first page is the explorer at once.
+
+The server is started as the README says (``panel serve app/main.py --plugins app.health``) with
+``NUMBA_CACHE_DIR`` a new empty directory, so the warm-up compiles the solver. While it compiles
+(``/liveness`` 503) the page already has the ft and w sliders, the exact limit's prediction and the line
+"compiling the solver (first start only), N s"; the verdict comes into the same page when the run is done.
+"""
+
+import json
+import urllib.error
+import urllib.request
+
+import pytest
+
+from app.serving import chromium, served_app
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow, pytest.mark.timeout(1800)]  # a cold compile: minutes
+
+VERDICT = "[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"
+INVALID = "[data-regime='invalid']"
+#: The titles of the page's ft and w sliders (Bokeh models with a number value).
+SLIDERS = """
+() => {
+  const out = [];
+  for (const d of Bokeh.documents) for (const m of d.all_models)
+    if (['ft = Ft/(μ Fn)', 'w = W/a'].includes(m.title) && typeof m.value === 'number' && 'value_throttled' in m)
+      out.push(m.title);
+  return [...new Set(out)].sort();
+}
+"""
+
+
+def _liveness(base):
+    try:
+        with urllib.request.urlopen(base + "/liveness", timeout=10) as r:
+            return json.loads(r.read())
+    except urllib.error.HTTPError as e:
+        return json.loads(e.read())
+
+
+def test_first_page_has_sliders_and_the_exact_limit_while_the_solver_compiles(tmp_path, fresh_thread):
+    fresh_thread(_cold_start, tmp_path)
+
+
+def _cold_start(tmp_path):
+    cache = tmp_path / "numba-cache"
+    cache.mkdir()
+    info = {}
+    with served_app(env={"NUMBA_CACHE_DIR": str(cache)}, wait_ready=False, info=info) as url, chromium() as browser:
+        page = browser.new_page()
+        errors = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(url + "?ft=0.3&w=0.5", timeout=120_000)
+        page.get_by_text("compiling the solver (first start only)").first.wait_for(timeout=120_000)
+        page.locator(".regime-note", has_text="eq 35 predicts shakedown for ft = 0.30, w = 0.50").first.wait_for(
+            timeout=60_000)
+        assert page.evaluate(SLIDERS) == ["ft = Ft/(μ Fn)", "w = W/a"]
+        health = _liveness(info["base"])
+        assert not health["ready"], f"the solver was ready already: the cache was not cold ({health})"
+        shown = page.get_by_text("compiling the solver (first start only)").first.inner_text()
+        assert shown.startswith("compiling the solver (first start only), ") and shown.endswith(" s"), shown
+        # the verdict arrives in the same page (no reload), and the compiling line goes (a solve that failed, e.g.
+        # one cut by its time budget while it compiled, shows the invalid badge: reported at once)
+        page.locator(f"{VERDICT}, {INVALID}").first.wait_for(timeout=1_500_000)
+        assert page.locator(INVALID).count() == 0, page.locator(".regime-note").first.inner_text()
+        assert "w=0.5" in page.url
+        assert page.get_by_text("compiling the solver (first start only)").count() == 0
+        assert errors == []
+        page.close()
