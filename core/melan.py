@@ -145,6 +145,18 @@ def grid_limit(lowest, now, load=1.0):
     return float(np.sum(lowest)) / total * float(load)
 
 
+def _checked(body, name) -> bool:
+    """Whether ``body`` has a closed-form limit; a ValueError naming it if it gives Melan's integral nothing to
+    integrate (no closed form, no pressure)."""
+    if isinstance(body, str):
+        raise ValueError(f"body must be a body object here (core.{name} takes names), got {body!r:.60}")
+    if getattr(body, "closed_limit", False):
+        return True
+    if not (hasattr(body, "normal_mode") or hasattr(body, "grid_pressure") or hasattr(body, "pressure")):
+        raise ValueError(f"body {body!r:.60} has no limit: neither a closed form (closed_limit) nor a pressure")
+    return False
+
+
 def ft_limit(w, body, *, normal="auto", dx=None):
     """The exact shakedown limit ``ft_lim(w)`` of a body object: its closed form where it has one, Melan's integral
     otherwise (:func:`ft_limit_numerical`). By name: :func:`core.ft_limit` (:func:`core.limits.ft_limit`).
@@ -166,9 +178,7 @@ def ft_limit(w, body, *, normal="auto", dx=None):
     >>> round(float(ft_limit(0.3, core.Punch(flat=0.5))), 4)
     0.5527
     """
-    if isinstance(body, str):
-        raise ValueError(f"body must be a body object here (core.ft_limit takes names), got {body!r:.60}")
-    if getattr(body, "closed_limit", False):
+    if _checked(body, "ft_limit"):
         return body.ft_limit(w)
     return _each(lambda v: ft_limit_numerical(v, body, dx, normal), w)
 
@@ -183,9 +193,7 @@ def w_limit(ft, body, *, normal="auto", dx=None):
     >>> round(float(w_limit(0.5527, core.Punch(flat=0.5))), 3)
     0.3
     """
-    if isinstance(body, str):
-        raise ValueError(f"body must be a body object here (core.w_limit takes names), got {body!r:.60}")
-    if getattr(body, "closed_limit", False):
+    if _checked(body, "w_limit"):
         return body.w_limit(ft)
 
     def one(f):

@@ -185,8 +185,8 @@ def kind(body) -> str:
     """
     if body is None or isinstance(body, str):
         name = "cylinder" if body is None else body
-        if name not in REGISTRY:
-            raise ValueError(f"body must be one of {', '.join(sorted(REGISTRY))}, got {name!r:.60}")
+        if name not in REGISTRY:  # the registry's order: the paper's cylinder first
+            raise ValueError(f"body must be one of {', '.join(REGISTRY)}, got {name!r:.60}")
         return REGISTRY[name].kind
     return "line" if getattr(body, "dim", None) == 1 else "point"
 
