@@ -71,25 +71,25 @@ class MapMixin:
                 opts.update(core.strip_options(self.contact))
         return opts
 
-    def _map_history(self) -> tuple[dict | None, float, str]:
-        """The loading history of a map sweep: ``(options, largest ft, note for the label)``; options None (and the
-        note says why) for the tangential loading, whose plane is not (ft, w).
+    def _map_history(self) -> tuple[dict, float, str]:
+        """The loading history of a map sweep: ``(options, largest ft, note for the label)``.
 
         The (ft, w) map takes the rocking histories: under the normal loading at the current amplitude A and
-        phase, up to ``ft = 0.98 (1 - A)`` (beyond, the lowest normal force reaches gross sliding)."""
+        phase, up to ``ft = 0.98 (1 - A)`` (beyond, the lowest normal force reaches gross sliding). Under the
+        tangential loading (a fixed centre: w plays no part) the plane is (mean ft, amplitude A): the options
+        carry no amplitude, :meth:`compute_map` makes it the sweep's second axis."""
         options = self.state.history_options()
         if not options:
             return {}, 0.95, ""
         if options["history"] == "tangential":
-            return None, 0.0, ("no (ft, w) map for the tangential loading (a fixed centre: w plays no part); below "
-                               "gross sliding, |ft| + amplitude < 1, it is cyclic slip at any amplitude > 0 "
-                               "(user guide: the three regimes)")
+            return ({"history": "tangential"}, 0.95,
+                    ", tangential loading: the (mean ft, amplitude) plane, gross sliding beyond |ft| + A = 1")
         A = float(options["amplitude"])
         return options, min(0.95, 0.98 * (1.0 - A)), (f", normal force ±{100 * A:.0f} %, phase "
                                                       f"{self.state.phase:.0f}°")
 
     def compute_map(self) -> None:
-        """Sweep the (ft, w) plane with the current solver settings, off the UI thread, and overlay it on the map."""
+        """Sweep the (ft, w) plane (the tangential loading: (mean ft, amplitude)) with the current solver settings, off the UI thread, and overlay it on the map."""
         if self.map_running:
             return
         if not runs.MAP_SLOT.acquire(blocking=False):
@@ -97,12 +97,10 @@ class MapMixin:
             return
         n = int(self.map_points.value)
         history, ft_max, note = self._map_history()
-        if history is None:
-            runs.MAP_SLOT.release()
-            self.map_status = note
-            return
         grid = np.linspace(0.02, 0.95, n)
         ft_grid = np.linspace(0.02, ft_max, n)
+        if history.get("history") == "tangential":  # the amplitude is the plane's second axis, at a fixed centre;
+            history, grid = {**history, "amplitude": grid}, [0.0]  # beyond |ft| + A = 1 the runs are error rows
         opts = {**self._map_options(), **history}
         self._map_cancel = cancel = threading.Event()
         headless = self._doc is None or self._doc.session_context is None

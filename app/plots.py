@@ -614,6 +614,13 @@ def grid_boundary(table) -> tuple[np.ndarray, np.ndarray]:
 
 
 _MAP_REGIMES = ("shakedown", "cyclic slip", "ratcheting", "undetermined")
+#: The fretting map's gross-sliding boundary |ft| + A = 1 (|Q| reaches μ P) in the (mean ft, amplitude) plane.
+GROSS_SLIDING = (np.array([0.0, 1.0]), np.array([1.0, 0.0]))
+
+
+def is_tangential(table) -> bool:
+    """Whether a sweep table is of the tangential loading: its plane is (mean ft, amplitude), not (ft, w)."""
+    return table is not None and "history" in table.columns and bool((table["history"] == "tangential").any())
 
 
 def _map_specs(label: str = "solver") -> list:
@@ -625,6 +632,8 @@ def _map_specs(label: str = "solver") -> list:
         # the grid resolves the limit to half a grid step: markers, not a line that would look like a staircase
         Layer(hv.Points, kd, (), "numerical limit ±½ step",
               dict(color="black", fill_color="white", marker="diamond", size=11, line_width=2)),
+        Layer(hv.Curve, kd[:1], kd[1:], "gross sliding |ft| + A = 1 (tangential)",
+              dict(color="black", line_width=LINE + 1, line_dash="dashed")),
         *map_base(),
         Layer(hv.Curve, kd[:1], kd[1:], "this body's exact limit (Melan)",
               dict(color=_C["green"], line_width=LINE + 1, line_dash="solid")),
@@ -636,17 +645,20 @@ _NUMERICAL_MEMO: list = [None, None]  # (table, its layers): the map's numerical
 
 
 def map_numerical(table) -> tuple:
-    """Sweep results in the (ft, w) plane: the runs that shook down, those that ratcheted, and the grid's
-    boundary between them (:func:`grid_boundary`)."""
+    """Sweep results in the (ft, w) plane: each regime's runs and the grid's boundary between shakedown and
+    ratcheting (:func:`grid_boundary`); a tangential loading's table in the (mean ft, amplitude) plane, with the
+    gross-sliding boundary |ft| + A = 1 instead."""
     table_seen, layers = _NUMERICAL_MEMO
     if table_seen is table and layers is not None:
         return layers
     n = 1 if table is None else max(1.0, np.sqrt(len(table)))
     size = float(np.clip(260.0 / n, 6.0, 24.0))  # a small map's markers fill their grid cells
+    tangential = is_tangential(table)
+    y = "amplitude" if tangential else "w"
     runs = [Styled(_EMPTY if table is None else tuple(table.loc[table["regime"] == regime, c].to_numpy(float)
-                                                     for c in ("ft", "w")), {"size": size})
+                                                     for c in ("ft", y)), {"size": size})
             for regime in _MAP_REGIMES]
-    layers = (*runs, grid_boundary(table))
+    layers = (*runs, _EMPTY if tangential else grid_boundary(table), GROSS_SLIDING if tangential else _EMPTY)
     _NUMERICAL_MEMO[:] = [table, layers]
     return layers
 
@@ -673,7 +685,13 @@ def _map_layers(i: Inputs) -> tuple:
     regime = None if i.result is None else i.result.regime
     # a sweep of another body than the run's is not drawn (the cylinder's shipped map beside a sphere's run)
     table = i.table if i.result is None or _body_of(i.result) == _body_of(i.table) else None
-    return (*map_numerical(table), *[None] * len(map_base()), body_limit(i.result), map_point(i.ft, i.w, regime))
+    tangential = i.result is not None and i.result.params.get("history") == "tangential"
+    if tangential != is_tangential(table):  # a (ft, w) map beside a tangential run, or the other way round
+        table = None
+    # the current point: (mean ft, amplitude) under the tangential loading
+    y = float(i.result.params.get("amplitude", 0.0)) if tangential else i.w
+    return (*map_numerical(table), *[None] * len(map_base()), _EMPTY if tangential else body_limit(i.result),
+            map_point(i.ft, y, regime))
 
 
 def body_limit(result) -> tuple:
@@ -722,8 +740,9 @@ FIGURES = {
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),
                 caption="What you see: how far the body walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result", "pinned")),
-    "map": dict(opts=dict(title="Shakedown map in the (ft, w) plane", xlim=(0, 1), ylim=(0, 1)),
-                caption="What you see: below the black curve (eq 35, the cylinder), the purple one (sphere, ellipsoid) or the green one (the run's body, Melan's exact limit) the contact shakes down; the big marker is the current run (circle: shakedown, triangle: ratcheting).",
+    "map": dict(opts=dict(title="Regime map: (ft, w); tangential loading: (mean ft, amplitude A)", xlim=(0, 1),
+                          ylim=(0, 1)),
+                caption="What you see: below the black curve (eq 35, the cylinder), the purple one (sphere, ellipsoid) or the green one (the run's body, Melan's exact limit) the contact shakes down; the big marker is the current run (circle: shakedown, hexagon: cyclic slip, triangle: ratcheting). Under the tangential loading the computed map is the plane of the mean ft and the amplitude A (read the vertical axis as A): cyclic slip below the dashed gross-sliding line |ft| + A = 1, no run beyond it; the rocking limits do not apply there.",
                 specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table"),
                 result=(core.CycleResult, core.PointContactResult)),
 }

@@ -192,8 +192,8 @@ def test_the_cli_prints_the_regime_and_the_energy(capsys):
 
 
 def test_the_explorer_map_takes_the_loading_history():
-    """Under the normal loading the computed (ft, w) map runs that history (up to ft = 0.98 (1 - A)); the
-    tangential loading has no (ft, w) map and says why."""
+    """Under the normal loading the computed (ft, w) map runs that history (up to ft = 0.98 (1 - A)); under the
+    tangential loading it is the (mean ft, amplitude) plane (test below)."""
     from app.explorer import Explorer
     from app.state import ExplorerState
 
@@ -205,9 +205,49 @@ def test_the_explorer_map_takes_the_loading_history():
     assert len(table) == 9 and set(table["history"]) == {"normal"} and set(table["amplitude"]) == {0.4}
     assert table["ft"].max() == pytest.approx(0.98 * 0.6) and "normal force ±40 %, phase 90°" in ex.map_label
     assert set(table["regime"]) <= {"shakedown", "ratcheting", "undetermined"}  # constant Ft: no cyclic slip
-    ex.state.loading = "tangential"
-    ex.compute_map()
-    assert "no (ft, w) map for the tangential loading" in ex.map_status and ex.map_table is table
     ex.state.loading = "rocking"
     ex.compute_map()  # the map's slot was given back
     assert len(ex.map_table) == 9 and "history" not in ex.map_table.columns and not ex.map_running
+
+
+def test_the_explorer_map_of_the_tangential_loading():
+    """The tangential loading's map: (mean ft, amplitude) from real runs through core.sweep, each run's regime
+    drawn where it was run, no run beyond |ft| + A = 1 (gross sliding, an error row), and that line drawn."""
+    import holoviews as hv
+
+    from app import plots
+    from app.explorer import Explorer
+    from app.state import ExplorerState
+
+    ex = Explorer(ExplorerState(periods=3, kernel="plane", loading="tangential", amplitude=0.5))
+    ex.map_scheduler = "serial"
+    ex.map_points.value = 3
+    ex.compute_map()
+    table = ex.map_table
+    assert len(table) == 9 and set(table["history"]) == {"tangential"} and set(table["w"]) == {0.0}, ex.map_status
+    A, ft = table["amplitude"].to_numpy(), table["ft"].to_numpy()
+    below = np.abs(ft) + A < 1
+    assert below.sum() >= 3 and set(table.loc[~below, "regime"]) <= {"error"}  # gross sliding: not run
+    regimes = set(table.loc[below, "regime"])
+    # Q oscillates: it slips every period, but at A = 0.02 the slip band (about A a / 2 at each edge) is thinner than
+    # an element (a/40), and the grid reports shakedown: the map shows what the runs give
+    assert regimes <= {"shakedown", "cyclic slip", "undetermined"} and "cyclic slip" in regimes, regimes
+    assert set(table.loc[table["regime"] == "shakedown", "amplitude"]) <= {0.02}
+    assert "(mean ft, amplitude) plane" in ex.map_label
+    # the figure's data: each regime's markers at (ft, A) of its runs, no (ft, w) limit markers, the boundary line
+    inputs = ex._inputs()._replace(table=table)
+    layers = plots.layers("map", inputs)
+    specs = plots.specs("map", inputs.units)
+    labels = [getattr(s, "label", None) for s in specs]
+    for regime in plots._MAP_REGIMES:
+        x, y = layers[labels.index(f"{regime}, solver")].data
+        rows = table[table["regime"] == regime]
+        np.testing.assert_allclose(np.sort(x), np.sort(rows["ft"]), err_msg=regime)
+        np.testing.assert_allclose(np.sort(y), np.sort(rows["amplitude"]), err_msg=regime)
+    assert np.size(layers[labels.index("numerical limit ±½ step")][0]) == 0
+    x, y = layers[labels.index("gross sliding |ft| + A = 1 (tangential)")]
+    np.testing.assert_allclose(np.abs(x) + y, 1.0, atol=1e-12)
+    fig = hv.render(plots.figure("map", inputs))
+    legend = [item.label["value"] for item in fig.legend[0].items]
+    assert "gross sliding |ft| + A = 1 (tangential)" in legend and "cyclic slip, solver" in legend
+    assert fig.legend[0] in fig.below  # the legend under the plane, not over the data
