@@ -206,7 +206,7 @@ async ([title, value, printed]) => {
   const t0 = performance.now();
   slider.value = value; slider.value_throttled = value;
   while (performance.now() - t0 < 120000) {
-    if (badges().some((b) => /data-regime="(shakedown|ratcheting|undetermined|cyclic slip)"/.test(b.text)
+    if (badges().some((b) => /data-regime=(&quot;|")(shakedown|ratcheting|undetermined|cyclic slip)/.test(b.text)
                              && b.text.includes('ft = ' + printed))) return performance.now() - t0;
     await new Promise((r) => setTimeout(r, 5));
   }
