@@ -71,6 +71,23 @@ class MapMixin:
                 opts.update(core.strip_options(self.contact))
         return opts
 
+    def _map_history(self) -> tuple[dict | None, float, str]:
+        """The loading history of a map sweep: ``(options, largest ft, note for the label)``; options None (and the
+        note says why) for the tangential loading, whose plane is not (ft, w).
+
+        The (ft, w) map takes the rocking histories: under the normal loading at the current amplitude A and
+        phase, up to ``ft = 0.98 (1 - A)`` (beyond, the lowest normal force reaches gross sliding)."""
+        options = self.state.history_options()
+        if not options:
+            return {}, 0.95, ""
+        if options["history"] == "tangential":
+            return None, 0.0, ("no (ft, w) map for the tangential loading (a fixed centre: w plays no part); below "
+                               "gross sliding, |ft| + amplitude < 1, it is cyclic slip at any amplitude > 0 "
+                               "(user guide: the three regimes)")
+        A = float(options["amplitude"])
+        return options, min(0.95, 0.98 * (1.0 - A)), (f", normal force ±{100 * A:.0f} %, phase "
+                                                      f"{self.state.phase:.0f}°")
+
     def compute_map(self) -> None:
         """Sweep the (ft, w) plane with the current solver settings, off the UI thread, and overlay it on the map."""
         if self.map_running:
@@ -79,8 +96,14 @@ class MapMixin:
             self.map_status = "another numerical map is being computed on this server; try again shortly."
             return
         n = int(self.map_points.value)
+        history, ft_max, note = self._map_history()
+        if history is None:
+            runs.MAP_SLOT.release()
+            self.map_status = note
+            return
         grid = np.linspace(0.02, 0.95, n)
-        opts = self._map_options()
+        ft_grid = np.linspace(0.02, ft_max, n)
+        opts = {**self._map_options(), **history}
         self._map_cancel = cancel = threading.Event()
         headless = self._doc is None or self._doc.session_context is None
 
@@ -89,13 +112,13 @@ class MapMixin:
 
         def work():
             try:
-                return core.sweep(grid, grid, self.map_scheduler, max_workers=runs.MAP_WORKERS, progress=progress,
+                return core.sweep(ft_grid, grid, self.map_scheduler, max_workers=runs.MAP_WORKERS, progress=progress,
                                   cancel=cancel, timeout=runs.MAP_BUDGET_S, **opts)
             finally:
                 runs.MAP_SLOT.release()
 
         label = (f"computed {n}×{n}, {opts['body']}, {opts['periods']} periods" if "body" in opts
-                 else f"computed {n}×{n}, {opts['kernel']} kernel, {opts['periods']} periods")
+                 else f"computed {n}×{n}, {opts['kernel']} kernel, {opts['periods']} periods") + note
 
         def done(table=None, error=None):
             if table is not None:

@@ -129,7 +129,7 @@ class LimitResult:
 
 def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
     """Bracket and bisect the regime change in ``w`` for one ``ft`` (runs in a worker)."""
-    from .analytical import w_limit as w_limit_eq35
+    from .limits import w_limit as w_limit_eq35
 
     runs: list[dict] = []
     columns = input_columns([{"ft": ft, "w": 0.0, **options}]) + list(RESULT_COLUMNS)
@@ -328,7 +328,7 @@ def numerical_limit_curve(ft_values, tol=1e-3, scheduler=None, *, workers=None, 
         [s]) and ``message``. ``table.attrs["results"]`` holds the
         :class:`LimitResult` objects.
     """
-    from .analytical import w_limit as w_limit_eq35
+    from .limits import w_limit as w_limit_eq35
 
     ft_list = axis("ft", ft_values, 0.0, 1.0, lo_closed=False)
     cap = default_max_runs()

@@ -37,7 +37,7 @@ from scipy.optimize import brentq
 
 from ._validate import check_scalar
 
-__all__ = ["ft_limit", "w_limit", "ft_limit_numerical", "lowest_pressure", "MELAN_DX"]
+__all__ = ["ft_limit", "w_limit", "ft_limit_numerical", "lowest_pressure", "grid_limit", "MELAN_DX"]
 
 #: Default sampling step [a] of the numerical limit: the pressure's points for a closed form, the normal
 #: solve's elements otherwise (the limit converges about as dx^1.5: 1e-5 at 1/4000, ``tests/test_melan.py``).
@@ -117,6 +117,32 @@ def ft_limit_numerical(w, body, dx=None, normal="auto"):
         return float(p_min.sum() / p.sum())
     _, p, p_min = lowest_pressure(body, w, dx, normal)
     return float(p_min.sum() / p.sum())
+
+
+def grid_limit(lowest, now, load=1.0):
+    """Melan's limit of a discrete problem with no moment to balance: ``load * sum(p_min) / sum(p)`` [the unit of Q].
+
+    The run shakes down if and only if a fixed traction within ``mu p_min``
+    (``lowest``: each element's lowest pressure over the period) carries the
+    tangential load; with tractions along the load that is the sum of ``mu
+    p_min dA``, over the total ``sum(mu p dA)`` of the pressure ``now`` that
+    carries the normal load ``load``. Any grid (a line or a patch of equal
+    elements).
+
+    Returns
+    -------
+    float or None
+        None where ``now`` carries no load.
+
+    Examples
+    --------
+    >>> grid_limit([0.0, 0.5, 0.5, 0.0], [0.5, 1.0, 1.0, 0.5])
+    0.3333333333333333
+    """
+    total = float(np.sum(now))
+    if total <= 0:
+        return None
+    return float(np.sum(lowest)) / total * float(load)
 
 
 def ft_limit(w, body, *, normal="auto", dx=None):

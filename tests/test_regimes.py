@@ -189,3 +189,25 @@ def test_the_cli_prints_the_regime_and_the_energy(capsys):
     A = 0.35  # the CLI's tangential amplitude: (1 - |ft|)/2
     np.testing.assert_allclose(energy, core.fretting_energy(A), rtol=0.05)  # a/20: +0.6 % at 0.5, +9 % at 0.2
     assert "E_inf (limit energy)" in out
+
+
+def test_the_explorer_map_takes_the_loading_history():
+    """Under the normal loading the computed (ft, w) map runs that history (up to ft = 0.98 (1 - A)); the
+    tangential loading has no (ft, w) map and says why."""
+    from app.explorer import Explorer
+    from app.state import ExplorerState
+
+    ex = Explorer(ExplorerState(periods=2, kernel="plane", loading="normal", amplitude=0.4, phase=90.0))
+    ex.map_scheduler = "serial"
+    ex.map_points.value = 3
+    ex.compute_map()
+    table = ex.map_table
+    assert len(table) == 9 and set(table["history"]) == {"normal"} and set(table["amplitude"]) == {0.4}
+    assert table["ft"].max() == pytest.approx(0.98 * 0.6) and "normal force ±40 %, phase 90°" in ex.map_label
+    assert set(table["regime"]) <= {"shakedown", "ratcheting", "undetermined"}  # constant Ft: no cyclic slip
+    ex.state.loading = "tangential"
+    ex.compute_map()
+    assert "no (ft, w) map for the tangential loading" in ex.map_status and ex.map_table is table
+    ex.state.loading = "rocking"
+    ex.compute_map()  # the map's slot was given back
+    assert len(ex.map_table) == 9 and "history" not in ex.map_table.columns and not ex.map_running
