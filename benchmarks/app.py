@@ -206,7 +206,7 @@ async ([title, value, printed]) => {
   const t0 = performance.now();
   slider.value = value; slider.value_throttled = value;
   while (performance.now() - t0 < 120000) {
-    if (badges().some((b) => /data-regime="(shakedown|ratcheting|undetermined|cyclic slip)"/.test(b.text)
+    if (badges().some((b) => /data-regime=(&quot;|")(shakedown|ratcheting|undetermined|cyclic slip)/.test(b.text)
                              && b.text.includes('ft = ' + printed))) return performance.now() - t0;
     await new Promise((r) => setTimeout(r, 5));
   }
@@ -215,7 +215,7 @@ async ([title, value, printed]) => {
 """
 
 
-def measure_bodies(n: int = 3):
+def measure_bodies(n: int = 3, only=None):
     """Every body's response to a released ft slider (ms, ``n`` releases at fts never solved before), each body's
     page at its default grid, and the solver's own time for the first of those runs: yields
     ``(body, times, solver)`` as each body is measured."""
@@ -224,7 +224,7 @@ def measure_bodies(n: int = 3):
 
     fts = [0.32 + 0.02 * i for i in range(n)]
     with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "120"}) as url, chromium() as browser:
-        for body in app_bodies.BODIES:
+        for body in (only or app_bodies.BODIES):
             state = ExplorerState(body=body)
             try:
                 if not app_bodies.runs_cycles(body, state.body_object()):
@@ -233,8 +233,7 @@ def measure_bodies(n: int = 3):
                 continue
             page = browser.new_page(viewport={"width": 1280, "height": 720})
             page.goto(f"{url}?body={body}&ft=0.3", timeout=180_000)
-            page.locator("[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"
-                         ).first.wait_for(timeout=180_000)
+            page.locator("[data-regime]:not([data-regime='pending'])").first.wait_for(timeout=180_000)
             times = [page.evaluate(_RELEASE, [FT_TITLE, ft, f"{ft:.2f}"]) for ft in fts]
             page.close()
             s = ExplorerState(body=body, ft=fts[0])
@@ -283,11 +282,12 @@ def main(argv=None) -> int:
     ap.add_argument("--figures", choices=["live", "dynamicmap", "both"], default="live")
     ap.add_argument("--bodies", action="store_true",
                     help="only every body's response to a released slider (issue 31), with --repeats releases each")
+    ap.add_argument("--body", action="append", help="with --bodies: only this body (repeatable)")
     args = ap.parse_args(argv)
     if args.bodies:
         print("released ft slider -> the verdict of the new run, every body at its default grid (1280x720):",
               flush=True)
-        for measured in measure_bodies(args.repeats):
+        for measured in measure_bodies(args.repeats, args.body):
             print(report_body(*measured), flush=True)
         return 0
     print(__doc__.split("Targets")[0].strip().split("\n\n", 1)[1])
