@@ -42,7 +42,9 @@ _CELL_STYLE = {"flex": "1 1 560px", "min-width": "min(300px, 100%)"}
 #: A first-screen figure's cell: three in a row from 3 x 220 px (a 1024 px screen beside the sidebar), two (and
 #: one) in a row below.
 _KEY_STYLE = {"flex": "1 1 220px", "min-width": "min(220px, 100%)"}
-_PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None}
+#: The contact maps: no padding (a padding of 10 % on y only made their equal axis scales unequal by 10 %).
+_PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None,
+            **dict.fromkeys(("point_pressure", "point_traction", "point_zones"), (0.0, 0.0))}
 
 
 class FiguresMixin:

@@ -3,11 +3,13 @@
 Loaded by ``panel serve`` as a plugin (its :data:`ROUTES` are added to the
 server), so it runs once per server process, before the first session:
 
-* it starts warming the solver (:func:`app.runs.start_warm_up`): numba loads
-  the compiled code from its disk cache, or compiles it on a fresh install
-  (about 20 s), in a thread, while the server already answers; then it
-  imports the explorer's modules and renders the figures' templates, which
-  the first session would otherwise do in the event loop, and sets the
+* it starts warming the solver (:func:`app.runs.start_warm_up`), in a thread,
+  while the server already answers: it imports the explorer's modules first
+  (the page, served at once, needs them and no solver), then numba loads the
+  compiled code from its disk cache, or compiles it on a fresh install
+  (minutes on a busy machine; sessions' first runs wait for it, their pages
+  do not), then it renders the figures' templates, which the first session
+  would otherwise do in the event loop, and sets the
   start-up objects aside from the garbage collector (then each session's,
   :mod:`app.heap`);
 * ``GET /liveness`` answers 503 until that is done and 200 after, with a JSON
@@ -228,4 +230,5 @@ def _freeze_the_heap():
     gc.set_threshold(*GC_THRESHOLDS)
 
 
-runs.start_warm_up(also=(_import_the_explorer, _draw_the_figures, _freeze_the_heap))
+# the explorer's modules first: its page needs no solver, and is served while the solver compiles (app/main.py)
+runs.start_warm_up(first=(_import_the_explorer,), also=(_draw_the_figures, _freeze_the_heap))

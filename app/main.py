@@ -51,12 +51,18 @@ def _sync_url(explorer: Explorer) -> None:
 
     location.sync(explorer.state, {p: p for p in URL_PARAMETERS}, on_error=rejected)
     # a link's noisy number (w=0.45000000000000007) is held rounded (ExplorerState.__setattr__); the address bar
-    # shows the value held, so that a link copied from it is clean too
-    state, query = explorer.state, location.query_params
-    clean = {k: json.dumps(getattr(state, k)) for k, v in query.items()
-             if k in URL_PARAMETERS and isinstance(v, float) and v != getattr(state, k) == round(v, 6)}
-    if clean:
-        location.update_query(**clean)
+    # shows the value held, so that a link copied from it is clean too. (Checked whenever the address changes:
+    # the browser sends its own address, the link's, once the page has connected.)
+    state = explorer.state
+
+    def clean(*_):
+        noisy = {k: json.dumps(getattr(state, k)) for k, v in location.query_params.items()
+                 if k in URL_PARAMETERS and isinstance(v, float) and v != getattr(state, k) == round(v, 6)}
+        if noisy:
+            location.update_query(**noisy)
+
+    clean()
+    location.param.watch(clean, "search")
 
 
 runs.start_warm_up()  # already running when served with --plugins app.health

@@ -739,7 +739,7 @@ FIGURES = {
     "displacement": dict(opts=dict(title="Rigid-body displacement", **key_opts()),
                 caption="What you see: the body's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
-    "loop": dict(opts=dict(title="Fretting loop", legend_position="bottom_right"),
+    "loop": dict(opts=dict(title="Fretting loop"),  # its legend under the plot (a loop fills its corners)
                  caption="What you see: the tangential force against the rigid-body displacement in the first and "
                          "the last period, sheared by the last loop's secant so that its thin hysteresis shows (the "
                          "shear keeps the area); its area is the energy dissipated per period (the cards give it). It is "

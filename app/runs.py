@@ -458,11 +458,15 @@ _READY_CALLBACKS: list = []
 _WARM_LOCK = threading.Lock()
 
 
-def _warm_up(also=()):
-    """Load (or, on a fresh install, compile) the solver for both kernels, here or on the cluster; then ``also``."""
+def _warm_up(also=(), first=()):
+    """``first``; then load (or, on a fresh install, compile) the solver for both kernels, here or on the cluster;
+    then ``also``."""
     t0 = time.perf_counter()
-    _STATE["stage"] = f"preparing the solver ({_BACKEND.name})"
     try:
+        for step in first:
+            _STATE["stage"] = getattr(step, "__doc__", None) or step.__name__
+            step()
+        _STATE["stage"] = f"preparing the solver ({_BACKEND.name})"
         _BACKEND.warm()
         for step in also:
             _STATE["stage"] = getattr(step, "__doc__", None) or step.__name__
@@ -487,18 +491,21 @@ def _warm_up(also=()):
             log.exception("a callback waiting for the solver failed")
 
 
-def start_warm_up(also=()) -> None:
+def start_warm_up(also=(), first=()) -> None:
     """Start warming the solver in a thread of its own (once per process; later calls do nothing).
 
-    ``also``: further callables run in that thread once the solver is warm
-    and before :func:`ready` turns True (e.g. importing the explorer's modules).
+    ``first``: callables run in that thread before the solver is warmed (what
+    the first page needs and the solver does not: importing the explorer's
+    modules, seconds, which the first session would otherwise pay for in the
+    event loop while the solver compiles). ``also``: further callables run
+    once the solver is warm and before :func:`ready` turns True.
     """
     with _WARM_LOCK:
         if _STATE["stage"] != "not started":
             return
         _STATE["stage"] = "starting"
         _STARTED.append(time.monotonic())
-    threading.Thread(target=_warm_up, args=(tuple(also),), name="solver-warm-up", daemon=True).start()
+    threading.Thread(target=_warm_up, args=(tuple(also), tuple(first)), name="solver-warm-up", daemon=True).start()
 
 
 def ready() -> bool:

@@ -60,11 +60,6 @@ setTimeout(() => window.dispatchEvent(new Event('resize')), 400);
 #: (sidebar folded, larger type) is a class on the document.
 PAGE_CSS = """
 html.presenting {--shakedown-text-scale: 1.2;}
-/* the header: the title gives way (an ellipsis) before the presentation-mode switch does */
-#header {flex-wrap: nowrap;}
-#header .app-header {min-width: 0; flex: 1 1 auto; overflow: hidden;}
-#header .app-header .title {display: block; white-space: nowrap; overflow: hidden; text-overflow: ellipsis;}
-#header-items {flex: 0 0 auto;}
 @media (max-width: 1100px) {  /* the full-size title pushed the busy indicator off a 1024 px screen */
   #header .title {font-size: 1.3em;}
   /* a narrower sidebar: the three first-screen figures fit in one row beside it, above the fold */

@@ -40,6 +40,8 @@ app/main.py --liveness`` on loopback, both on this machine):
   ratio (issue 12: at most 2). Also for pages scrolled through (every figure
   drawn).
 * the latencies below are taken on a 1600x1000 page scrolled through.
+* every body (``--bodies``, issue 31): each body's page at its default grid, the ft slider released at
+  fts never solved before, until the verdict's badge names the new run; the solver's own time beside.
 
 ``--figures`` picks how the figures follow the inputs: ``live`` (the
 explorer's :class:`app.live.LiveFigure`: rendered once, then only the changed
@@ -194,6 +196,57 @@ def measure(n: int, figures: str = "live") -> dict:
     return out
 
 
+#: Release the ft slider at ``value`` and wait until the verdict's badge shows the run of that ft (its note names
+#: it, no longer 'solving'); returns the elapsed ms (NaN after 120 s).
+_RELEASE = """
+async ([title, value, printed]) => {
+  const all = []; for (const d of Bokeh.documents) for (const m of d.all_models) all.push(m);
+  const slider = all.find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
+  const badges = () => all.filter((m) => typeof m.text === 'string' && m.text.includes('regime-badge'));
+  const t0 = performance.now();
+  slider.value = value; slider.value_throttled = value;
+  while (performance.now() - t0 < 120000) {
+    if (badges().some((b) => /data-regime=(&quot;|")(shakedown|ratcheting|undetermined|cyclic slip)/.test(b.text)
+                             && b.text.includes('ft = ' + printed))) return performance.now() - t0;
+    await new Promise((r) => setTimeout(r, 5));
+  }
+  return NaN;
+}
+"""
+
+
+def measure_bodies(n: int = 3, only=None):
+    """Every body's response to a released ft slider (ms, ``n`` releases at fts never solved before), each body's
+    page at its default grid, and the solver's own time for the first of those runs: yields
+    ``(body, times, solver)`` as each body is measured."""
+    from app import bodies as app_bodies
+    from app.runs import runner
+
+    fts = [0.32 + 0.02 * i for i in range(n)]
+    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "120"}) as url, chromium() as browser:
+        for body in (only or app_bodies.BODIES):
+            state = ExplorerState(body=body)
+            try:
+                if not app_bodies.runs_cycles(body, state.body_object()):
+                    continue
+            except ValueError:
+                continue
+            page = browser.new_page(viewport={"width": 1280, "height": 720})
+            page.goto(f"{url}?body={body}&ft=0.3", timeout=180_000)
+            page.locator("[data-regime]:not([data-regime='pending'])").first.wait_for(timeout=180_000)
+            times = [page.evaluate(_RELEASE, [FT_TITLE, ft, f"{ft:.2f}"]) for ft in fts]
+            page.close()
+            s = ExplorerState(body=body, ft=fts[0])
+            options = s.solver_options()
+            yield body, times, runner(s.contact(), options)(**options).runtime * 1e3
+
+
+def report_body(body: str, times: list, solver: float) -> str:
+    """One line of :func:`measure_bodies`."""
+    return (f"  {body:10s}: {_stats(times)}; max {max(times):7.1f} ms; the solver alone (first run) "
+            f"{solver:7.1f} ms")
+
+
 def report(r: dict) -> str:
     state = ExplorerState()
     c = state.contact()
@@ -227,7 +280,16 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=15)
     ap.add_argument("--figures", choices=["live", "dynamicmap", "both"], default="live")
+    ap.add_argument("--bodies", action="store_true",
+                    help="only every body's response to a released slider (issue 31), with --repeats releases each")
+    ap.add_argument("--body", action="append", help="with --bodies: only this body (repeatable)")
     args = ap.parse_args(argv)
+    if args.bodies:
+        print("released ft slider -> the verdict of the new run, every body at its default grid (1280x720):",
+              flush=True)
+        for measured in measure_bodies(args.repeats, args.body):
+            print(report_body(*measured), flush=True)
+        return 0
     print(__doc__.split("Targets")[0].strip().split("\n\n", 1)[1])
     for figures in (["live", "dynamicmap"] if args.figures == "both" else [args.figures]):
         print()

@@ -37,7 +37,7 @@ from scipy.optimize import brentq
 
 from ._validate import check_scalar
 
-__all__ = ["ft_limit", "w_limit", "ft_limit_numerical", "lowest_pressure", "MELAN_DX"]
+__all__ = ["ft_limit", "w_limit", "ft_limit_numerical", "lowest_pressure", "grid_limit", "MELAN_DX"]
 
 #: Default sampling step [a] of the numerical limit: the pressure's points for a closed form, the normal
 #: solve's elements otherwise (the limit converges about as dx^1.5: 1e-5 at 1/4000, ``tests/test_melan.py``).
@@ -119,6 +119,44 @@ def ft_limit_numerical(w, body, dx=None, normal="auto"):
     return float(p_min.sum() / p.sum())
 
 
+def grid_limit(lowest, now, load=1.0):
+    """Melan's limit of a discrete problem with no moment to balance: ``load * sum(p_min) / sum(p)`` [the unit of Q].
+
+    The run shakes down if and only if a fixed traction within ``mu p_min``
+    (``lowest``: each element's lowest pressure over the period) carries the
+    tangential load; with tractions along the load that is the sum of ``mu
+    p_min dA``, over the total ``sum(mu p dA)`` of the pressure ``now`` that
+    carries the normal load ``load``. Any grid (a line or a patch of equal
+    elements).
+
+    Returns
+    -------
+    float or None
+        None where ``now`` carries no load.
+
+    Examples
+    --------
+    >>> grid_limit([0.0, 0.5, 0.5, 0.0], [0.5, 1.0, 1.0, 0.5])
+    0.3333333333333333
+    """
+    total = float(np.sum(now))
+    if total <= 0:
+        return None
+    return float(np.sum(lowest)) / total * float(load)
+
+
+def _checked(body, name) -> bool:
+    """Whether ``body`` has a closed-form limit; a ValueError naming it if it gives Melan's integral nothing to
+    integrate (no closed form, no pressure)."""
+    if isinstance(body, str):
+        raise ValueError(f"body must be a body object here (core.{name} takes names), got {body!r:.60}")
+    if getattr(body, "closed_limit", False):
+        return True
+    if not (hasattr(body, "normal_mode") or hasattr(body, "grid_pressure") or hasattr(body, "pressure")):
+        raise ValueError(f"body {body!r:.60} has no limit: neither a closed form (closed_limit) nor a pressure")
+    return False
+
+
 def ft_limit(w, body, *, normal="auto", dx=None):
     """The exact shakedown limit ``ft_lim(w)`` of a body object: its closed form where it has one, Melan's integral
     otherwise (:func:`ft_limit_numerical`). By name: :func:`core.ft_limit` (:func:`core.limits.ft_limit`).
@@ -140,9 +178,7 @@ def ft_limit(w, body, *, normal="auto", dx=None):
     >>> round(float(ft_limit(0.3, core.Punch(flat=0.5))), 4)
     0.5527
     """
-    if isinstance(body, str):
-        raise ValueError(f"body must be a body object here (core.ft_limit takes names), got {body!r:.60}")
-    if getattr(body, "closed_limit", False):
+    if _checked(body, "ft_limit"):
         return body.ft_limit(w)
     return _each(lambda v: ft_limit_numerical(v, body, dx, normal), w)
 
@@ -157,9 +193,7 @@ def w_limit(ft, body, *, normal="auto", dx=None):
     >>> round(float(w_limit(0.5527, core.Punch(flat=0.5))), 3)
     0.3
     """
-    if isinstance(body, str):
-        raise ValueError(f"body must be a body object here (core.w_limit takes names), got {body!r:.60}")
-    if getattr(body, "closed_limit", False):
+    if _checked(body, "w_limit"):
         return body.w_limit(ft)
 
     def one(f):

@@ -17,11 +17,10 @@ import math
 import threading
 
 import numpy as np
-from scipy.special import ellipe, ellipk
 
 from ._validate import read_only
 from .normal import PatchOperator, solve_normal
-from .point_contact import Ellipsoid, hertz_element_means
+from .point_contact import Ellipsoid, gap_curvatures as _gap_curvatures, hertz_element_means
 
 __all__ = ["PatchGrid", "twist_field", "MAX_GRID_ELEMENTS"]
 
@@ -60,25 +59,6 @@ def _centred_edges(reach, h):
 # Polonsky-Keer iterations: relative change of the load distribution at which the normal solve stops, and its cap
 _NORMAL_RTOL = 1e-13
 _NORMAL_MAXITER = 2000
-
-
-def _gap_curvatures(kappa):
-    """``(A, B)`` of the gap ``A x^2 + B y^2`` whose Hertz contact has semi-axes 1 (x) and ``kappa`` (y).
-
-    Units: lengths in ``a``, pressure in ``p0``, ``E* = 1`` (the kernel
-    ``1/(pi E*)`` of :func:`_normal_kernel`). Johnson eqs 3.57-3.61: with the
-    semi-axes ``a' >= b'``, ``e^2 = 1 - (b'/a')^2``, ``A' = (b'/a'^2)(K - E)/e^2``
-    along ``a'`` and ``B' = (b'/a'^2)((a'/b')^2 E - K)/e^2``; ``pi/4`` each for
-    the sphere.
-    """
-    if abs(kappa - 1.0) < 1e-9:
-        return 0.25 * math.pi, 0.25 * math.pi
-    major, minor = max(1.0, kappa), min(1.0, kappa)
-    e2 = 1.0 - (minor / major) ** 2
-    K, E = float(ellipk(e2)), float(ellipe(e2))
-    along = minor / major**2 * (K - E) / e2
-    across = minor / major**2 * ((major / minor) ** 2 * E - K) / e2
-    return (along, across) if kappa < 1.0 else (across, along)
 
 
 class _NormalWindow:

@@ -48,7 +48,7 @@ from scipy.special import ellipe, ellipk
 from ._validate import check_range, check_scalar
 from .analytical import _ellipse_primitive, fretting_energy_sphere
 
-__all__ = ["Ellipsoid", "Sphere", "POINT_BODIES", "axis_ratio", "ft_limit_point",
+__all__ = ["Ellipsoid", "Sphere", "POINT_BODIES", "gap_curvatures", "axis_ratio", "ft_limit_point",
            "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d", "PointContact"]
 
 #: Body names of the point contacts.
@@ -137,19 +137,30 @@ class Ellipsoid:
 
     def profile(self, x, y):
         """The gap ``A x^2 + B y^2`` [Fn/(E* a)] whose Hertz solution is this body's contact (Johnson ch. 3:
-        the displacement under ``p0 sqrt(1 - x^2 - (y/kappa)^2)``); the sphere's is ``(3/8) r^2``."""
+        the displacement under ``p0 sqrt(1 - x^2 - (y/kappa)^2)``; :func:`gap_curvatures`); the sphere's is
+        ``(3/8) r^2``."""
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-        k = self.kappa
-        if abs(k - 1.0) < 1e-9:
-            A = B = 0.25 * math.pi
-        else:
-            major, minor = max(k, 1.0), min(k, 1.0)
-            m = 1.0 - (minor / major) ** 2
-            K, E = ellipk(m), ellipe(m)
-            along_major = minor / (m * major**2) * (K - E)
-            along_minor = minor / (m * major**2) * ((major / minor) ** 2 * E - K)
-            A, B = (along_minor, along_major) if k > 1.0 else (along_major, along_minor)
+        A, B = gap_curvatures(self.kappa)
         return (A * x * x + B * y * y) / self.total_load
+
+
+def gap_curvatures(kappa):
+    """``(A, B)`` of the gap ``A x^2 + B y^2`` whose Hertz contact has semi-axes 1 (x) and ``kappa`` (y).
+
+    Units: lengths in ``a``, pressure in ``p0``, ``E* = 1`` (the kernel
+    ``1/(pi E*)`` of the half-space). Johnson eqs 3.57-3.61: with the
+    semi-axes ``a' >= b'``, ``e^2 = 1 - (b'/a')^2``, ``A' = (b'/a'^2)(K - E)/e^2``
+    along ``a'`` and ``B' = (b'/a'^2)((a'/b')^2 E - K)/e^2``; ``pi/4`` each for
+    the sphere.
+    """
+    if abs(kappa - 1.0) < 1e-9:
+        return 0.25 * math.pi, 0.25 * math.pi
+    major, minor = max(1.0, kappa), min(1.0, kappa)
+    e2 = 1.0 - (minor / major) ** 2
+    K, E = float(ellipk(e2)), float(ellipe(e2))
+    along = minor / major**2 * (K - E) / e2
+    across = minor / major**2 * ((major / minor) ** 2 * E - K) / e2
+    return (along, across) if kappa < 1.0 else (across, along)
 
 
 def Sphere() -> Ellipsoid:

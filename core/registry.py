@@ -185,8 +185,8 @@ def kind(body) -> str:
     """
     if body is None or isinstance(body, str):
         name = "cylinder" if body is None else body
-        if name not in REGISTRY:
-            raise ValueError(f"body must be one of {', '.join(sorted(REGISTRY))}, got {name!r:.60}")
+        if name not in REGISTRY:  # the registry's order: the paper's cylinder first
+            raise ValueError(f"body must be one of {', '.join(REGISTRY)}, got {name!r:.60}")
         return REGISTRY[name].kind
     return "line" if getattr(body, "dim", None) == 1 else "point"
 
@@ -194,8 +194,8 @@ def kind(body) -> str:
 def point_body(body, ratio=None):
     """A point body object from a registered name or an object, with ``ratio = Ry/Rx`` for a body that takes it.
 
-    A name whose entry has a ``ratio`` parameter takes ``ratio`` (its default when None); ``ratio`` for another
-    body is refused unless it is the body's own (the sphere's 1).
+    A name whose entry has a ``ratio`` parameter needs ``ratio``; ``ratio`` for another body is refused unless it
+    is the body's own (the sphere's 1).
 
     Raises
     ------
@@ -211,8 +211,10 @@ def point_body(body, ratio=None):
             raise ValueError(f"ratio = {ratio!r} contradicts body = {body!r}" if own is not None else
                              f"ratio is the ellipsoid's, not a {type(body).__name__}'s: got ratio={ratio!r}")
         return body
-    takes_ratio = any(p.name == "ratio" for p in REGISTRY[body].parameters)
-    if ratio is None or takes_ratio:
+    takes_ratio = {p.name: p for p in REGISTRY[body].parameters}.get("ratio")
+    if takes_ratio is not None and ratio is None:  # its shape: no default taken silently
+        raise ValueError(f"body={body!r} needs ratio = Ry/Rx in [{takes_ratio.lo:g}, {takes_ratio.hi:g}]")
+    if ratio is None or takes_ratio is not None:
         return make_body(body, **({} if ratio is None else {"ratio": ratio}))
     made = make_body(body)
     if float(ratio) != getattr(made, "ratio", None):

@@ -296,13 +296,14 @@ def test_figures_are_drawn_when_the_browser_scrolls_near_them():
     assert sorted(Explorer._GRID) == sorted(plots.FIGURES)  # every figure has one place
     # each figure has a place in its grid (issue 31: drawing a figure replaces the sentinel in its place, not the
     # grid's children, so the page keeps its height and the browser its scroll position)
-    places = list(grid.objects)
+    places = dict(zip(ex._grid_names(False), grid.objects))
     cell = key.objects[0].objects[0]
     assert ex._panes["pressure"] in cell.objects and ex._panes["pressure"].object is ex._live["pressure"].figure
     ex.sentinels["states"].shown = True
     assert "states" in ex._live and "states" in [n for n in ex._grid_names(False)]
-    assert list(grid.objects) == places and ex._cells["states"] in places[1].objects, "drawn in its place"
-    assert isinstance(grid.objects[0].objects[0], WhenShown), "the others keep waiting"
+    assert list(grid.objects) == list(places.values()), "the grid keeps its places"
+    assert ex._cells["states"] in places["states"].objects, "drawn in its place"
+    assert isinstance(places["sketch"].objects[0], WhenShown), "the others keep waiting"
     ex.state.body = "sphere"  # the point contact's first screen is drawn at once, the other places wait
     assert len(key.objects) + len(grid.objects) == len(ex._figures_of("sphere"))
     assert set(key_figures("sphere")) <= set(ex._live) and "point_pressure" not in ex._live

@@ -91,3 +91,140 @@ def test_closing_a_tab_mid_update_leaves_no_traceback_in_the_server_log(browser,
     text = log.read_text()
     assert "Task exception was never retrieved" not in text, text[-3000:]
     assert "WebSocketClosedError" not in text and "Traceback" not in text, text[-3000:]
+
+
+@pytest.fixture(scope="module")
+def app_url():
+    """The served app, with room for point-contact runs on a busy machine (2 cores shared by several test runs)."""
+    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "180"}) as url:
+        yield url
+
+
+def _strip_csd(page) -> float:
+    """The strip's c_sd [a] (the cylinder's 'c_sd', a point contact's 'c_sd (y = 0)')."""
+    text = page.locator(".strip").first.inner_text()
+    return float(re.search(r"c_sd(?: \(y = 0\))?\s+([-\d.e]+) a", text).group(1))
+
+
+# ---------------------------------------------------------------- item 3: shading agrees with curve and numbers
+@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
+@pytest.mark.parametrize("query, title", [("?ft=0.74&w=0.8", "Traction vs closure"),
+                                          ("?body=sphere&ft=0.35", "Traction on y = 0"),
+                                          ("?body=sphere", "Traction on y = 0")],
+                         ids=["cylinder-ratcheting", "sphere-ratcheting", "sphere-default"])
+def test_the_shading_at_the_last_step_agrees_with_the_curve_and_the_strip(browser, app_url, query, title, size):
+    page = _open(browser, app_url + query, size)
+    try:
+        shading = wait_until(lambda: (d := page.evaluate(_SHADING, title)) and d["curve"] and len(d["curve"][0]) > 10
+                             and d, 120, message=f"the figure {title!r} drawn")
+        x, q = shading["curve"]
+        zero = shading["zones"].get("zero traction", [])
+        loaded = [(xi, qi) for xi, qi in zip(x, q) if abs(qi) > core.result.ZERO_TRACTION]
+        crossing = [(xi, qi) for xi, qi in loaded for lo, hi in zero if lo < xi < hi]
+        assert not crossing, f"'zero traction' shaded under traction: {crossing[:5]}"
+        stick = shading["zones"].get("stick", [])
+        csd = _strip_csd(page)
+        central = [(lo, hi) for lo, hi in stick if lo <= 0.0 <= hi]
+        width = 0.5 * (central[0][1] - central[0][0]) if central else 0.0
+        assert abs(width - csd) <= 0.01, f"stick shaded over ±{width:.3f} a, the strip says c_sd = {csd} a"
+        assert page.problems == [], page.problems
+    finally:
+        page.close()
+
+
+# ---------------------------------------------------------------- item 4: digits that keep their side
+@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
+def test_ft_near_the_limit_reads_on_its_side_of_it(browser, app_url, size):
+    page = _open(browser, app_url + "?ft=0.206&w=0.678", size)
+    try:
+        assert float(core.ft_limit(0.678)) == pytest.approx(0.2084, abs=5e-5)
+        note = page.locator(".regime-note").first.inner_text()
+        assert "ft = 0.206" in note and "ft = 0.21," not in note, note
+        slider = page.locator(".bk-slider-title", has_text="ft = Ft/(μ Fn)").first.inner_text()
+        assert "0.206" in slider, slider
+        assert page.evaluate(_VALUE, "ft = Ft/(μ Fn)") == 0.206
+    finally:
+        page.close()
+
+
+# ---------------------------------------------------------------- item 6: clean URLs
+def test_noisy_links_open_rounded_and_sliders_leave_clean_urls(browser, app_url):
+    page = _open(browser, app_url + "?w=0.45000000000000007&ft=0.3")
+    try:
+        assert page.evaluate(_VALUE, "w = W/a") == 0.45
+        wait_until(lambda: "w=0.45&" in page.evaluate("() => window.location.search") + "&", 30,
+                   message="the address bar rounded")
+        assert "0.4500000" not in page.evaluate("() => window.location.search")
+        assert page.evaluate(_SET, ["ft = Ft/(μ Fn)", 0.23000000000000004])  # what a slider's steps give
+        wait_until(lambda: "ft=0.23&" in page.evaluate("() => window.location.search") + "&", 30,
+                   message="ft in the URL")
+        search = page.evaluate("() => window.location.search")
+        assert not re.search(r"=\d+\.\d{7,}", search), search
+        assert page.evaluate(_VALUE, "ft = Ft/(μ Fn)") == 0.23
+    finally:
+        page.close()
+
+
+# ---------------------------------------------------------------- item 9: user words
+_TEXTS = "() => {" + FIND_MODEL_JS + """
+  const out = [];
+  for (const doc of Bokeh.documents) for (const m of doc.all_models) {
+    for (const k of ['title', 'label', 'description', 'text']) {
+      const v = m[k];
+      if (typeof v === 'string') out.push(v);
+      else if (v != null && typeof v.text === 'string') out.push(v.text);  // a Tooltip's content
+    }
+    if (m.type === 'TooltipIcon' || (m.description == null && typeof m.value === 'string' && m.value.length < 400
+                                       && m.constructor.name === 'TooltipIcon')) out.push(m.value);
+  }
+  return out;
+}"""
+
+
+@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
+def test_the_cone_s_inputs_and_the_body_tooltip_speak_a_users_words(browser, app_url, size):
+    page = _open(browser, app_url + "?body=cone&periods=2", size)
+    try:
+        page.locator(".body-inputs").first.wait_for(timeout=60_000)
+        texts = " | ".join(page.evaluate(_TEXTS)) + page.locator("body").inner_text()
+        for word in ("load_at (cone)", "core/cone.py", "core.registry", "(core/", "SHAKEDOWN_MAX"):
+            assert word not in texts, word
+        assert "Where Ft acts (0 inner end, 1 outer end)" in texts
+        # the body selector's tooltip: one short sentence (it listed the registry's bodies with their docs, ran
+        # off the screen over the player and the tabs)
+        tip = page.evaluate("() => {" + FIND_MODEL_JS + """
+          const m = find((m) => (m.css_classes ?? []).includes('body-select'));
+          const t = m && m.tooltip;  // Panel's description becomes a Bokeh Tooltip on the button group
+          const c = t && t.content;
+          return c == null ? null : (typeof c === 'string' ? c : (c.text ?? JSON.stringify(c)));
+        }""")
+        assert tip is not None and len(tip) < 80 and "core" not in tip, tip
+    finally:
+        page.close()
+
+
+# ---------------------------------------------------------------- item 10: typed geometry
+@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
+def test_a_typed_length_below_the_contact_is_named_in_mm_and_no_run_stays(browser, app_url, size):
+    page = _open(browser, app_url + "?ft=0.25&w=0.37", size)
+    try:
+        page.get_by_text("Geometry and materials").first.click()
+        wait_until(lambda: page.evaluate(_VALUE, "L [mm]") is not None, 30, message="the geometry's boxes")
+        assert page.evaluate(_SET, ["R [mm]", 0.5])  # beyond the old slider range: taken, solved
+        wait_until(lambda: "R=0.5" in page.evaluate("() => window.location.search"), 60, message="R taken")
+        page.locator(VERDICT).first.wait_for(timeout=120_000)
+        assert page.evaluate(_SET, ["R [mm]", 40.0])
+        assert page.evaluate(_SET, ["L [mm]", 3.0])
+        page.locator("[data-regime='invalid']").first.wait_for(timeout=60_000)
+        note = page.locator(".regime-note").first.inner_text()
+        assert re.search(r"L must exceed the contact width 2a = [\d.]+ mm, got 3 mm", note), note
+        title = "Rigid-body displacement"
+        wait_until(lambda: not any(len(c[1] or []) > 0 for c in [page.evaluate(_SHADING, "Traction vs closure")["curve"]
+                                                                  or [[], []]]), 30,
+                   message="the old run's traction gone")
+        assert page.evaluate(_SET, ["L [mm]", 500.0])
+        page.locator(VERDICT).first.wait_for(timeout=120_000)
+        assert title  # the displacement figure's title, for a reader of this test
+        assert page.problems == [], page.problems
+    finally:
+        page.close()
