@@ -573,15 +573,16 @@ def _increments_layers(i: Inputs) -> tuple:
 # the shakedown map
 # --------------------------------------------------------------------------
 _CSD_LEVELS = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
-_MAP_DIMS = (hv.Dimension("ft", label="ft = Ft / (μ Fn)"), hv.Dimension("w", label="w = W / a"))
+#: Axis labels that read for both planes: (ft, w) of the rocking loadings, (mean ft, A) of the tangential one
+_MAP_X, _MAP_Y = "ft = Ft / (μ Fn) (tangential: its mean)", "w = W / a (tangential: amplitude A)"
+_MAP_DIMS = (hv.Dimension("ft", label=_MAP_X), hv.Dimension("w", label=_MAP_Y))
 
 
 @lru_cache(maxsize=1)
 def map_base() -> hv.Overlay:
     """The (ft, w) plane: exact limits (the cylinder's eq 35, the sphere's and ellipsoid's
     ``(1 - w)^2 (2 + w)/2``, the paper's Fig 14), the paper's regression (eq 36) and c_sd/a contours of the closure."""
-    kd = [hv.Dimension("ft", label="ft = Ft / (μ Fn)", range=(0, 1)),
-          hv.Dimension("w", label="w = W / a", range=(0, 1))]
+    kd = [hv.Dimension("ft", label=_MAP_X, range=(0, 1)), hv.Dimension("w", label=_MAP_Y, range=(0, 1))]
     ft = np.linspace(0.0, 1.0, 401)
     n = 161
     g = (np.arange(n) + 0.5) / n
