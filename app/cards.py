@@ -77,6 +77,24 @@ def prediction(ft: float, w: float, body) -> tuple[str, str]:
     return ("shakedown" if ft <= lim else "ratcheting"), limit_name(body)
 
 
+def tangential_note(history: dict, body) -> str | None:
+    """What applies under the tangential loading (a fixed centre, ``Q/(mu P) = ft + A sin``) in place of the
+    rocking limit's prediction, with the closed-form energy per cycle (:func:`core.fretting_energy`) of a body
+    that has it; None under the other loadings (``history``: :meth:`app.state.ExplorerState.history_options`)."""
+    if history.get("history") != "tangential":
+        return None
+    A = float(history["amplitude"])
+    note = (f"tangential loading at a fixed centre, amplitude A = {A:.3g}: the rocking limit does not apply; "
+            f"below gross sliding (|ft| + A < 1) it slips every period, cyclic slip, for any A > 0")
+    try:
+        E = float(core.fretting_energy(A, body=body))
+    except (ValueError, TypeError, NotImplementedError):  # no closed-form loop for this body
+        return note
+    point = bodies.kind(body) == "point" if isinstance(body, str) else not isinstance(body, core.Body)
+    unit = "μ² Fn²/(E* a)" if point else "μ² P²/E* per unit length"
+    return note + f"; closed-form energy per cycle (Cattaneo-Mindlin, Masing) {E:.4g} {unit}"
+
+
 def fmt(v, unit="", digits=4) -> str:
     """``v`` to ``digits`` significant digits with its unit; '–' for None and non-finite values."""
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
@@ -326,6 +344,8 @@ class CardsMixin:
     def _badge(self, ft, w, result, error, pending=False):
         spec = CardsMixin._body_spec(self)  # self may be the class (headless tests)
         predicted, rule = prediction(ft, w, spec)
+        state = getattr(self, "state", None)
+        instead = tangential_note(state.history_options() if state is not None else {}, spec)
         if error.startswith("limit only"):  # a body whose cycles the explorer cannot run yet: its limit only
             return ('<span class="regime-badge regime-none" data-regime="limit-only">LIMIT ONLY</span>'
                     f'<div class="regime-note">{html.escape(rule)} predicts {html.escape(predicted)} for '
@@ -336,8 +356,9 @@ class CardsMixin:
         point = getattr(getattr(self, "state", None), "point", None)
         if pending or not self._shows(result, ft, w, point):
             what = "SOLVING…" if pending or result is None else "RELEASE TO SOLVE"
+            text = html.escape(instead) if instead else f"{rule} predicts {predicted} for {inputs_text(ft, w, spec)}"
             return (f'<span class="regime-badge regime-none" data-regime="pending">{what}</span>'
-                    f'<div class="regime-note">{rule} predicts {predicted} for {inputs_text(ft, w, spec)}</div>')
+                    f'<div class="regime-note">{text}</div>')
         regime = str(result.regime)
         note = f"solver, {result.periods} periods"
         if result.shakedown_period is not None:
@@ -346,7 +367,8 @@ class CardsMixin:
             note += f" <details class='why'><summary>why undetermined</summary>{html.escape(str(result.regime_reason))}</details>"
         else:
             note += "<br>"
-        note += f"{html.escape(rule)} predicts {html.escape(str(predicted))} for {inputs_text(ft, w, spec)}"
+        note += (html.escape(instead) if instead else
+                 f"{html.escape(rule)} predicts {html.escape(str(predicted))} for {inputs_text(ft, w, spec)}")
         css = re.sub(r"[^a-z]", "", regime.lower()) or "none"
         return (f'<span class="regime-badge regime-{css}" data-regime="{html.escape(regime)}">'
                 f'{html.escape(regime.upper())}</span><div class="regime-note">{note}</div>')

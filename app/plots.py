@@ -229,7 +229,15 @@ def pressure_step(units: Units, result: core.CycleResult | None = None, frame: i
     return (x * units.x, units.p * core.hertz_pressure(x, xc))
 
 
+def _tangential(result) -> bool:
+    """Whether ``result`` is a run of the tangential loading (a fixed centre: no reversal points, no eq 34/35)."""
+    return result is not None and result.params.get("history") == "tangential"
+
+
 def _pressure_layers(i: Inputs) -> tuple:
+    if _tangential(i.result):  # a fixed centre: its Hertz pressure is the lowest; no reversal points ±W
+        centre, _, _, low = pressure_curves(0.0, i.units, line_body(i.result))
+        return centre, _EMPTY, _EMPTY, low, pressure_step(i.units, i.result, i.frame)
     return (*pressure_curves(i.w, i.units, line_body(i.result)), pressure_step(i.units, i.result, i.frame))
 
 
@@ -465,7 +473,8 @@ def displacement_curves(result: core.CycleResult | None, units: Units) -> tuple:
         return _EMPTY, []
     usd = []
     ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
-    if line_body(result) is None and result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w)):
+    if (line_body(result) is None and result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w))
+            and not _tangential(result)):  # eq 34 is the rocking cylinder's
         usd = [float(approx.shakedown_displacement_approx(ft, w)) * result.u0 * units.u]
     return (time_axis(result), result.displacement * units.u), usd
 
@@ -564,15 +573,16 @@ def _increments_layers(i: Inputs) -> tuple:
 # the shakedown map
 # --------------------------------------------------------------------------
 _CSD_LEVELS = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
-_MAP_DIMS = (hv.Dimension("ft", label="ft = Ft / (μ Fn)"), hv.Dimension("w", label="w = W / a"))
+#: Axis labels that read for both planes: (ft, w) of the rocking loadings, (mean ft, A) of the tangential one
+_MAP_X, _MAP_Y = "ft = Ft / (μ Fn) (tangential: its mean)", "w = W / a (tangential: amplitude A)"
+_MAP_DIMS = (hv.Dimension("ft", label=_MAP_X), hv.Dimension("w", label=_MAP_Y))
 
 
 @lru_cache(maxsize=1)
 def map_base() -> hv.Overlay:
     """The (ft, w) plane: exact limits (the cylinder's eq 35, the sphere's and ellipsoid's
     ``(1 - w)^2 (2 + w)/2``, the paper's Fig 14), the paper's regression (eq 36) and c_sd/a contours of the closure."""
-    kd = [hv.Dimension("ft", label="ft = Ft / (μ Fn)", range=(0, 1)),
-          hv.Dimension("w", label="w = W / a", range=(0, 1))]
+    kd = [hv.Dimension("ft", label=_MAP_X, range=(0, 1)), hv.Dimension("w", label=_MAP_Y, range=(0, 1))]
     ft = np.linspace(0.0, 1.0, 401)
     n = 161
     g = (np.arange(n) + 0.5) / n

@@ -251,3 +251,31 @@ def test_the_explorer_map_of_the_tangential_loading():
     legend = [item.label["value"] for item in fig.legend[0].items]
     assert "gross sliding |ft| + A = 1 (tangential)" in legend and "cyclic slip, solver" in legend
     assert fig.legend[0] in fig.below  # the legend under the plane, not over the data
+
+
+def test_the_explorer_shows_no_rocking_things_under_the_tangential_loading():
+    """A fixed centre has no reversal points, no eq 34 and no rocking limit: the pressure figure draws the centre's
+    Hertz pressure (= the lowest over the cycle) only, the displacement no u_sd line, and the badge says what
+    applies, with the closed-form energy per cycle, instead of "eq 35 predicts"; the rocking loading keeps them."""
+    from app import plots
+    from app.explorer import Explorer
+    from app.state import ExplorerState
+
+    ex = Explorer(ExplorerState(loading="tangential", amplitude=0.5, ft=0.3, w=0.5, periods=3))  # strip: u0, eq 34
+    assert ex.result.params["history"] == "tangential"
+    inputs = ex._inputs()
+    centre, plus, minus, low, _ = plots.layers("pressure", inputs)
+    assert np.size(plus[0]) == 0 and np.size(minus[0]) == 0
+    np.testing.assert_allclose(low[1] / np.max(low[1]), centre[1] / np.max(centre[1]), atol=1e-12)
+    _, usd = plots.layers("displacement", inputs)[:2]
+    assert len(usd) == 0
+    badge = ex._badge(ex.state.ft, ex.state.w, ex.result, "")
+    A = 0.5 * (1 - 0.3)  # the explorer's amplitude is a share of the headroom 1 - |ft|
+    assert "predicts" not in badge and "rocking limit does not apply" in badge, badge
+    assert f"{float(core.fretting_energy(A)):.4g} μ² P²/E*" in badge, badge
+    # the rocking loading: the reversal points, eq 34 (below the limit) and eq 35's prediction are back
+    ex.state.param.update(loading="rocking", ft=0.2)
+    ex.solve_now()
+    inputs = ex._inputs()
+    assert np.size(plots.layers("pressure", inputs)[1][0]) > 0 and len(plots.layers("displacement", inputs)[1]) == 1
+    assert "predicts" in ex._badge(ex.state.ft, ex.state.w, ex.result, "")
