@@ -39,11 +39,15 @@ def test_each_parameter_is_an_input_with_the_registrys_default_range_and_doc(bod
         name = bodies.state_name(body, p.name)
         assert name in URL_PARAMETERS, name
         spec = ExplorerState.param[name]
-        assert p.doc[1:] in spec.doc and body in spec.doc, spec.doc
+        # the registry's doc, in a user's words: the tooltip sits beside the body's own inputs, shown under that
+        # body only, so it names no body ('; body = punch' was a developer's notation, removed in issue 31)
+        assert p.doc[1:] in spec.doc and "body =" not in spec.doc, spec.doc
+        assert bodies.label(body, p.name) == spec.label and "_" not in spec.label, spec.label
         if p.path:
             assert ExplorerState().param[name].default == "demo"
             continue
         assert spec.default == p.default and spec.bounds == (p.lo, p.hi), name
+        assert f"in [{float(p.lo):g}, {float(p.hi):g}{']' if p.hi_closed else ')'}" in spec.doc, spec.doc
         assert spec.inclusive_bounds == (True, p.hi_closed), name
 
 
