@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -95,7 +96,10 @@ def test_every_body_runs_with_its_figures_verdict_and_limit(explorer):
     assert lim == pytest.approx(float(core.ft_limit(0.5, body=spec if body != "cylinder" else "cylinder")))
     rows = dict(ex._card_rows(0.3, 0.5, ex.state.mu, ex.contact, ex.result)[0])
     key = "ft_lim(w) (eq 35)" if body == "cylinder" else f"ft_lim(w), {body} (exact)"
-    assert rows[key] == f"{lim:.4g}", rows
+    # the limit to 4 decimals at least, and as many more as keep it on its side of ft (issue 31, item 4)
+    shown = rows[key]
+    assert re.fullmatch(r"\d\.\d{4,6}", shown) and float(shown) == pytest.approx(lim, abs=5e-5), rows
+    assert (float(shown) - 0.3) * (lim - 0.3) > 0, rows
     # and the limit of the run's own grid, which its verdict is checked against (Melan on its lowest pressure)
     lo, hi = ex.result.melan_limit
     grid = rows["ft_lim on this grid (Melan)"]
