@@ -198,7 +198,7 @@ def test_the_panel_inputs_are_built_from_the_registry():
     ex = Explorer(query=f"body=punch&{QUICK}")
     page = pn.Column(*__import__("app.point_view", fromlist=["x"]).body_inputs(ex.state))
     sliders = [w for w in page.select(pn.widgets.FloatSlider)]
-    flat = [s for s in sliders if s.label.startswith("flat")]
+    flat = [s for s in sliders if s.label == "Flat part b/a"]  # the registry's flat in a user's words
     assert len(flat) == 1 and flat[0].start == 0.0 and flat[0].end < 1.0 and flat[0].value == 0.5
     tips = [t.value for t in page.select(pn.widgets.TooltipIcon)]
     assert any("b/a" in t for t in tips)  # the registry's doc as the tooltip
