@@ -251,17 +251,18 @@ def test_a_body_registered_in_core_appears_and_runs_and_one_that_cannot_run_show
 def test_the_map_draws_a_sweep_only_beside_runs_of_its_body_and_parameters():
     """The shipped map is the cylinder's: not drawn beside a punch run; a map computed for the punch (its object,
     with its flat) is, and not beside another flat."""
+    regimes = len(plots._MAP_REGIMES)  # the runs' layers, one per regime (issue 30 added cyclic slip: four)
     ex = Explorer(query="body=punch&flat=0.8&ft=0.3&w=0.5&periods=1&kernel=plane")
     shown = plots.layers("map", ex._inputs())
-    assert all(len(layer.data[0]) == 0 for layer in shown[:3])  # the shipped cylinder map is not drawn
+    assert all(len(layer.data[0]) == 0 for layer in shown[:regimes])  # the shipped cylinder map is not drawn
     ex.map_points.value = 3
     ex.compute_map()
     assert ex.map_table is not None and set(ex.map_table["body"]) == {"Punch(flat=0.8)"}, ex.map_status
     shown = plots.layers("map", ex._inputs())
-    assert sum(len(layer.data[0]) for layer in shown[:3]) == 9
+    assert sum(len(layer.data[0]) for layer in shown[:regimes]) == 9
     ex.state.flat = 0.5
     shown = plots.layers("map", ex._inputs())
-    assert all(len(layer.data[0]) == 0 for layer in shown[:3])
+    assert all(len(layer.data[0]) == 0 for layer in shown[:regimes])
 
 
 def test_uploading_a_file_in_the_page_opens_it_and_a_bad_one_is_reported(tmp_path):
