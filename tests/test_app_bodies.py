@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -39,11 +40,15 @@ def test_each_parameter_is_an_input_with_the_registrys_default_range_and_doc(bod
         name = bodies.state_name(body, p.name)
         assert name in URL_PARAMETERS, name
         spec = ExplorerState.param[name]
-        assert p.doc[1:] in spec.doc and body in spec.doc, spec.doc
+        # the registry's doc, in a user's words: the tooltip sits beside the body's own inputs, shown under that
+        # body only, so it names no body ('; body = punch' was a developer's notation, removed in issue 31)
+        assert p.doc[1:] in spec.doc and "body =" not in spec.doc, spec.doc
+        assert bodies.label(body, p.name) == spec.label and "_" not in spec.label, spec.label
         if p.path:
             assert ExplorerState().param[name].default == "demo"
             continue
         assert spec.default == p.default and spec.bounds == (p.lo, p.hi), name
+        assert f"in [{float(p.lo):g}, {float(p.hi):g}{']' if p.hi_closed else ')'}" in spec.doc, spec.doc
         assert spec.inclusive_bounds == (True, p.hi_closed), name
 
 
@@ -91,7 +96,10 @@ def test_every_body_runs_with_its_figures_verdict_and_limit(explorer):
     assert lim == pytest.approx(float(core.ft_limit(0.5, body=spec if body != "cylinder" else "cylinder")))
     rows = dict(ex._card_rows(0.3, 0.5, ex.state.mu, ex.contact, ex.result)[0])
     key = "ft_lim(w) (eq 35)" if body == "cylinder" else f"ft_lim(w), {body} (exact)"
-    assert rows[key] == f"{lim:.4g}", rows
+    # the limit to 4 decimals at least, and as many more as keep it on its side of ft (issue 31, item 4)
+    shown = rows[key]
+    assert re.fullmatch(r"\d\.\d{4,6}", shown) and float(shown) == pytest.approx(lim, abs=5e-5), rows
+    assert (float(shown) - 0.3) * (lim - 0.3) > 0, rows
     # and the limit of the run's own grid, which its verdict is checked against (Melan on its lowest pressure)
     lo, hi = ex.result.melan_limit
     grid = rows["ft_lim on this grid (Melan)"]
@@ -190,7 +198,7 @@ def test_the_panel_inputs_are_built_from_the_registry():
     ex = Explorer(query=f"body=punch&{QUICK}")
     page = pn.Column(*__import__("app.point_view", fromlist=["x"]).body_inputs(ex.state))
     sliders = [w for w in page.select(pn.widgets.FloatSlider)]
-    flat = [s for s in sliders if s.label.startswith("flat")]
+    flat = [s for s in sliders if s.label == "Flat part b/a"]  # the registry's flat in a user's words
     assert len(flat) == 1 and flat[0].start == 0.0 and flat[0].end < 1.0 and flat[0].value == 0.5
     tips = [t.value for t in page.select(pn.widgets.TooltipIcon)]
     assert any("b/a" in t for t in tips)  # the registry's doc as the tooltip
@@ -243,17 +251,18 @@ def test_a_body_registered_in_core_appears_and_runs_and_one_that_cannot_run_show
 def test_the_map_draws_a_sweep_only_beside_runs_of_its_body_and_parameters():
     """The shipped map is the cylinder's: not drawn beside a punch run; a map computed for the punch (its object,
     with its flat) is, and not beside another flat."""
+    regimes = len(plots._MAP_REGIMES)  # the runs' layers, one per regime (issue 30 added cyclic slip: four)
     ex = Explorer(query="body=punch&flat=0.8&ft=0.3&w=0.5&periods=1&kernel=plane")
     shown = plots.layers("map", ex._inputs())
-    assert all(len(layer.data[0]) == 0 for layer in shown[:3])  # the shipped cylinder map is not drawn
+    assert all(len(layer.data[0]) == 0 for layer in shown[:regimes])  # the shipped cylinder map is not drawn
     ex.map_points.value = 3
     ex.compute_map()
     assert ex.map_table is not None and set(ex.map_table["body"]) == {"Punch(flat=0.8)"}, ex.map_status
     shown = plots.layers("map", ex._inputs())
-    assert sum(len(layer.data[0]) for layer in shown[:3]) == 9
+    assert sum(len(layer.data[0]) for layer in shown[:regimes]) == 9
     ex.state.flat = 0.5
     shown = plots.layers("map", ex._inputs())
-    assert all(len(layer.data[0]) == 0 for layer in shown[:3])
+    assert all(len(layer.data[0]) == 0 for layer in shown[:regimes])
 
 
 def test_uploading_a_file_in_the_page_opens_it_and_a_bad_one_is_reported(tmp_path):
