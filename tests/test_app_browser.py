@@ -52,8 +52,7 @@ _SET_PLAYER = "(value) => {" + _FIND + """
 _AXIS_LABEL = "(label) => {" + _FIND + """
   return find((m) => m.axis_label === label) !== null;
 }"""
-_MAP_POINT = "() => {" + _FIND + """
-  const fig = find((m) => m.title != null && m.title.text === 'Shakedown map in the (ft, w) plane');
+_MAP_POINT = "() => {" + _FIND + "\n  const fig = find((m) => m.title != null && m.title.text === " + repr(FIGURES["map"]["opts"]["title"]) + """);
   // the current point is the map's last layer (a run layer of the shipped map may hold one point too)
   for (const r of [...fig.renderers].reverse()) {
     const d = r.data_source == null ? null : r.data_source.data;
