@@ -750,7 +750,7 @@ FIGURES = {
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),
                 caption="What you see: how far the body walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result", "pinned")),
-    "map": dict(opts=dict(title="Regime map: (ft, w); tangential loading: (mean ft, amplitude A)", xlim=(0, 1),
+    "map": dict(opts=dict(title="Regime map: (ft, w) or (ft, A)", xlim=(0, 1),
                           ylim=(0, 1)),
                 caption="What you see: below the black curve (eq 35, the cylinder), the purple one (sphere, ellipsoid) or the green one (the run's body, Melan's exact limit) the contact shakes down; the big marker is the current run (circle: shakedown, hexagon: cyclic slip, triangle: ratcheting). Under the tangential loading the computed map is the plane of the mean ft and the amplitude A (read the vertical axis as A): cyclic slip below the dashed gross-sliding line |ft| + A = 1, no run beyond it; the rocking limits do not apply there.",
                 specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table"),
