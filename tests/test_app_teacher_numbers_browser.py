@@ -30,15 +30,19 @@ _SHADING = "(title) => {" + FIND_MODEL_JS + """
   const fig = find((m) => m.title != null && m.title.text === title);
   if (fig === null) return null;
   const out = {zones: {}, curve: null};
-  const legend = fig.center.find((c) => c.items !== undefined);
+  // the legend sits in or beside the plot (under it since the layout work of issue 31)
+  const panels = [...fig.center, ...(fig.below ?? []), ...(fig.right ?? []), ...(fig.above ?? [])];
+  const legend = panels.find((c) => c.items !== undefined);
+  const ZONES = ['stick', 'slip', 'zero traction'];
   for (const item of legend ? legend.items : []) {
-    const label = item.label && (item.label.value ?? item.label);
+    let label = item.label && (item.label.value ?? item.label);
+    if (typeof label === 'string' && label.startsWith('zone: ')) label = label.slice(6);
     for (const r of item.renderers) {
       const d = r.data_source.data;
-      if (typeof label === 'string' && label.startsWith('zone: ')) {
+      if (ZONES.includes(label)) {
         const left = d.left ?? d.x0, right = d.right ?? d.x1;
-        out.zones[label.slice(6)] = Array.from(left ?? []).map((l, i) => [l, right[i]]);
-      } else if (label === 'numerical' || label === 'q_x numerical') {
+        out.zones[label] = Array.from(left ?? []).map((l, i) => [l, right[i]]);
+      } else if (label === 'numerical' || label === 'q_x numerical' || label === 'q_x') {
         out.curve = [Array.from(d.x ?? []), Array.from(d.y ?? [])];
       }
     }
