@@ -116,7 +116,6 @@ def test_simulate_cycles_takes_the_named_histories_and_arrays():
     (dict(history="rocking", amplitude=0.1), "amplitude"),
     (dict(history="tangential", amplitude=0.8), "amplitude"),
     (dict(history="normal", phase=np.inf), "phase"),
-    (dict(history="normal", body="sphere"), "history"),
 ])
 def test_simulate_cycles_history_errors_name_the_parameter(options, name):
     with pytest.raises(ValueError, match=name):
