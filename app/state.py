@@ -125,7 +125,10 @@ class ExplorerState(param.Parameterized):
         rounded afterwards left the URL, which is written by a later watcher of the same event, with the
         unrounded value."""
         if name in _ROUNDED and isinstance(value, float) and math.isfinite(value):
-            value = round(value, 6)
+            rounded = round(value, 6)
+            spec = type(self).param[name]
+            if _within(spec, rounded) == _within(spec, value):  # rounding never carries a value across a bound
+                value = rounded
         super().__setattr__(name, value)
 
     # ---- derived ------------------------------------------------------------
@@ -295,6 +298,14 @@ PRESET_NOTES: dict[str, str] = {
 _BODY_INPUTS = bodies.state_parameters()
 for _name, _p in _BODY_INPUTS.items():
     ExplorerState.param.add_parameter(_name, _p)
+def _within(spec: param.Number, value: float) -> bool:
+    """Whether ``value`` lies in the bounds of the number parameter ``spec`` (open or closed ends as declared)."""
+    lo, hi = spec.bounds or (None, None)
+    lo_closed, hi_closed = spec.inclusive_bounds
+    return ((lo is None or value > lo or (lo_closed and value == lo))
+            and (hi is None or value < hi or (hi_closed and value == hi)))
+
+
 #: The inputs whose values are rounded to 1e-6 (see :meth:`ExplorerState.__setattr__`).
 _ROUNDED = ("ft", "w", "mu", *(n for n, p in _BODY_INPUTS.items() if isinstance(p, param.Number)))
 

@@ -232,3 +232,16 @@ def test_a_refined_run_that_runs_out_of_time_goes_back_with_a_notice(monkeypatch
     ex.refine_grid()
     assert ex.state.point_resolution == 10 and ex.error == "" and ex.result is coarse
     assert any("a/20 did not finish in time" in n and "back to a/10" in n for n in ex.notices), ex.notices
+
+
+def test_rounding_to_1e6_never_carries_a_value_across_a_bound():
+    """A link's -1.7e-17 is below ft's range and stays refused (rounded, it would read 0); 0.9999997 is in it and stays
+    accepted (rounded, it would read 1, outside)."""
+    from app.state import parse_query
+
+    updates, errors, _ = parse_query({"ft": "-1.7e-17", "w": "0.9999997"})
+    assert "ft" not in updates and len(errors) == 1 and errors[0].startswith("ft must be in")
+    assert updates["w"] == 0.9999997
+    s = ExplorerState()
+    s.w = 0.45000000000000007
+    assert s.w == 0.45
