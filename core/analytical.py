@@ -515,10 +515,8 @@ def fretting_energy_line(amplitude):
     0.036194
     """
     A = check_range("amplitude", amplitude, 0.0, 1.0, hi_closed=False)
-    s = 1.0 - A
-    with np.errstate(divide="ignore", invalid="ignore"):
-        log_term = np.where(s > 0, 2.0 * s * np.log(np.where(s > 0, s, 1.0)), 0.0)
-    out = (2.0 / np.pi) * (1.0 - s * s + log_term)
+    s = 1.0 - A  # > 0: A < 1
+    out = (2.0 / np.pi) * (1.0 - s * s + 2.0 * s * np.log(s))
     return out[()] if isinstance(out, np.ndarray) else out
 
 

@@ -339,12 +339,9 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
     scale = float(np.abs(inc).max())
     tolerance = max(shakedown_rtol * scale, float(floor))
     trend = fit_trend(inc, floor)
-    small = np.abs(inc) <= tolerance
-    if small[-1]:
-        k = inc.size - 1
-        while k > 0 and small[k - 1]:
-            k -= 1
-        return Verdict(int(k), "shakedown", (f"the increment per period fell to <= {shakedown_rtol:g} of its largest "
+    k = _zero_from(inc, tolerance)
+    if k is not None:
+        return Verdict(k, "shakedown", (f"the increment per period fell to <= {shakedown_rtol:g} of its largest "
                                              f"from period {k}"), trend, None)
     last = float(inc[-1])
     if periodic_from is not None:
@@ -403,6 +400,14 @@ def classify_increments(increments, shakedown_rtol, periodic_from=None, *, floor
                                           f"D_inf +- {VERDICT_SIGMAS:g} errors straddles the shakedown tolerance "
                                           f"{tolerance:.2g} {unit}, so it may still shake down or ratchet; "
                                           f"{advice}{melan.aside}"), trend, more)
+
+
+def _zero_from(values: np.ndarray, tolerance: float) -> int | None:
+    """The first period from which every value is at most ``tolerance`` in size; None if the last is above it."""
+    above = np.flatnonzero(np.abs(values) > tolerance)
+    if above.size and above[-1] == values.size - 1:
+        return None
+    return int(above[-1] + 1) if above.size else 0
 
 
 #: The regimes a run can end in (:attr:`CycleResult.regime`): after Klarbring, Ciavarella and Barber (2007) and
@@ -474,11 +479,8 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
     scale = float(np.abs(e).max())
     tolerance = max(rtol * scale, float(floor))
     trend = fit_trend(e, floor)
-    small = np.abs(e) <= tolerance
-    if small[-1]:
-        k = e.size - 1
-        while k > 0 and small[k - 1]:
-            k -= 1
+    k = _zero_from(e, tolerance)
+    if k is not None:
         return EnergyVerdict("zero", f"the energy dissipated per period fell to <= {rtol:g} of its largest from "
                                      f"period {k}", trend)
     last = float(e[-1])
