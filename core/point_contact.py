@@ -49,7 +49,7 @@ from ._validate import check_range, check_scalar
 from .analytical import _ellipse_primitive, fretting_energy_sphere
 
 __all__ = ["Ellipsoid", "Sphere", "POINT_BODIES", "gap_curvatures", "axis_ratio", "ft_limit_point",
-           "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d", "PointContact"]
+           "w_limit_point", "hertz_pressure_3d", "hertz_element_means", "lowest_pressure_3d"]
 
 #: Body names of the point contacts.
 POINT_BODIES = ("sphere", "ellipsoid")

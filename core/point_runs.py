@@ -21,7 +21,7 @@ from .patch import MAX_GRID_ELEMENTS, PatchGrid, _grid, _normal_mode, _pressure
 from .point_contact import Ellipsoid
 from .registry import point_body
 from .resolution import GRID_DEFAULTS
-from .result import STICK_MARGIN, StaticResult
+from .result import StaticResult
 from .schedule import Schedule
 from .solver3d import PERIODIC_TOL, TOL_3D, _Window, _WarmStart, solve_increment
 from .states import RESIDUAL_NAMES
@@ -181,10 +181,8 @@ def _static_patch(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=T
     warm = _WarmStart.empty(bound.shape)
     target = ft * body.total_load * np.array([math.cos(angle), math.sin(angle)])
     q, s, lam, info = solve_increment(op, bound, np.zeros((2,) + bound.shape), target, dA, warm, tol)
-    mag = np.hypot(q[0], q[1])
-    state = np.where(bound > 0, np.where(mag < bound - STICK_MARGIN, 1, 2), 0).astype(np.int8)
     return StaticResult(traction=q, displacement=lam, residuals={name: info[name] for name in RESIDUAL_NAMES},
-                        bound=bound, edges=x_edges, y_edges=y_edges, state=state,
+                        bound=bound, edges=x_edges, y_edges=y_edges,  # its states from the bound (StaticResult)
                         iterations=int(info["iterations"]))
 
 

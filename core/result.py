@@ -13,10 +13,8 @@ import numpy as np
 from . import melan
 from .states import STATE_NAMES, State, Zone
 # the verdict's functions and constants (core/verdict.py), kept importable from here
-from .verdict import (FIT_WINDOWS, MIN_FIT_PERIODS, RATIO_RANGE, REGIMES, SETTLED_FRACTION,  # noqa: F401
-                      STEADY_FRACTION, VERDICT_SIGMAS, EnergyVerdict, Trend, Verdict, _aitken, _fit_window,
-                      _MelanSide, _periods_to_decide, classify_energy, classify_increments, combine_verdicts,
-                      fit_trend)
+from .verdict import (MIN_FIT_PERIODS, REGIMES, SETTLED_FRACTION, VERDICT_SIGMAS, EnergyVerdict,  # noqa: F401
+                      Trend, Verdict, classify_energy, classify_increments, combine_verdicts, fit_trend)
 
 __all__ = ["CycleResult", "PointContactResult", "LineResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
            "STATE_NAMES", "SolverError", "SolveCancelled", "read_only", "classify_increments", "fit_trend", "Trend",

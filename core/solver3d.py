@@ -76,10 +76,9 @@ import numpy as np
 from ._jit import jit
 from .halfspace import HalfSpaceOperator, convolve, convolve_mirror
 # the point body's grid and bound (core/patch.py), kept importable from here
-from .patch import (MAX_GRID_ELEMENTS, PatchGrid, _centred_edges, _gap_curvatures, _grid,  # noqa: F401
-                    _normal_mode, _pressure, twist_field)
+from .patch import MAX_GRID_ELEMENTS, PatchGrid, twist_field  # noqa: F401
 from .resolution import DEFAULT_DX_POINT, GRID_DEFAULTS
-from .result import PointContactResult, STICK_MARGIN, StaticResult, read_only  # noqa: F401 (the aliases)
+from .result import PointContactResult  # noqa: F401 (kept importable from here)
 from .states import RESIDUAL_NAMES as _RESIDUAL_NAMES, State
 
 __all__ = ["solve_increment", "twist_field", "PatchGrid", "PatchSolver", "PatchTrajectory", "PointContactResult",

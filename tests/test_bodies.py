@@ -7,7 +7,7 @@ from scipy.integrate import quad
 
 import core
 import core.export
-from core.bodies import BODIES, MAX_ELEMENTS, Cylinder, get_body
+from core.bodies import MAX_ELEMENTS, Cylinder, get_body
 from core.states import STATE_NAMES, ZONE_NAMES, State, Zone
 
 

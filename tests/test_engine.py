@@ -307,11 +307,11 @@ class _TabulatedSphere:  # noqa: D101
         self.total_load, self.kernel_scale = self.sphere.total_load, self.sphere.kernel_scale
 
     def run_grid(self, reach_x, scale, h):
-        from core.solver3d import _grid
+        from core.patch import _grid
         return _grid(self.sphere, reach_x + scale, scale, h)
 
     def grid_pressure(self, x_edges, y_edges, xc, scale):
-        from core.solver3d import _pressure
+        from core.patch import _pressure
         return _pressure(x_edges, y_edges, xc, self.sphere, scale)
 
 

@@ -10,7 +10,6 @@ import asyncio
 import gc
 import importlib.util
 import json
-import time
 import urllib.error
 import urllib.request
 import weakref

@@ -203,7 +203,7 @@ def test_discrete_normal_pressure(ratio):
     """The traction bound's pressure (the discrete normal problem on the grid): the body's gap, the exact load,
     symmetric, a translate for aligned centres, Hertz's up to the discretization (peak -> p0, means off by a few %
     only in the edge elements)."""
-    from core.solver3d import _gap_curvatures, _grid, _pressure
+    from core.patch import _gap_curvatures, _grid, _pressure
 
     body = core.Ellipsoid(ratio)
     A, B = _gap_curvatures(body.kappa)
