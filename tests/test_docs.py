@@ -123,6 +123,15 @@ def test_readme_is_short_and_its_links_resolve():
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     assert len(readme.splitlines()) < 150
     assert "bash scripts/test.sh" in readme and "panel serve app/main.py" in readme
+    # exactly two set-up commands, each a shell block of its own: run the app, run the tests (the Python
+    # examples are fenced blocks, run by test_python_blocks_of_the_pages_run)
+    fenced, shell = False, []
+    for line in readme.splitlines():
+        fenced ^= line.startswith("```")
+        if not fenced and line.startswith("    ") and line.strip():
+            shell.append(line.strip())
+    assert len(shell) == 2 and shell[0].startswith("pip install -e . && panel serve app/main.py"), shell
+    assert shell[1] == "bash scripts/test.sh", shell
     links = re.findall(r"\]\(([^)#]+)\)", readme)
     assert links and not [link for link in links if not (ROOT / link).exists()]
 
