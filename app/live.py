@@ -67,8 +67,8 @@ import numpy as np
 import param
 from panel.reactive import ReactiveHTML
 from bokeh.core.has_props import HasProps
-from bokeh.core.property.descriptors import PropertyDescriptor
-from bokeh.core.property.validation import validate
+from bokeh.core.property.descriptors import (DataSpecPropertyDescriptor, PropertyDescriptor,
+                                              UnitsSpecPropertyDescriptor)
 from bokeh.core.property.wrappers import PropertyValueContainer
 from bokeh.core.serialization import Deserializer, Serializer
 from bokeh.models import AllIndices, ColumnDataSource, DataRange1d, GlyphRenderer, UnionRenderers
@@ -235,9 +235,8 @@ class _Render:
                 return [renamed(v) for v in x]
             return x
 
-        with validate(False):  # the template's values, validated when it was rendered
-            decoder = _Copier()
-            figure = decoder.deserialize(renamed(self._rep))
+        decoder = _Copier()
+        figure = decoder.deserialize(renamed(self._rep))
         by_new = decoder._references  # every model of the copy, by id (no walk of its graph)
         models = {old: by_new[n] for old, n in new.items()}
         for source, columns in self._columns.items():
@@ -250,7 +249,7 @@ class _Copier(Deserializer):
 
     Bokeh's own decoder sets each property as a change: it first reads the old value, which builds the
     property's default (a new model for some), and notifies; a copy that no one watches yet needs neither (a
-    third of a figure's copy). Data specs keep Bokeh's own path (it keeps their format).
+    third of a figure's copy). Data specs keep the format Bokeh's own path gives them (a value, a field, a dict).
     """
 
     def _decode_object_ref(self, obj):
@@ -267,8 +266,20 @@ class _Copier(Deserializer):
             value = self._decode(rep)
             descriptor = cls.lookup(key)
             if type(descriptor) is PropertyDescriptor:
-                values[key] = descriptor.property.prepare_value(instance, key, value)
+                values[key] = _valid(descriptor.property, value)
                 defaults.pop(key, None)  # (as Bokeh's setter: a value set, not a default)
+            elif isinstance(descriptor, DataSpecPropertyDescriptor):  # its set_from_json, minus the validation
+                if isinstance(descriptor, UnitsSpecPropertyDescriptor):
+                    value = descriptor._extract_units(instance, value)
+                old = descriptor._get(instance)
+                if isinstance(value, dict) and old is not None:  # keeps the spec's format (value, field, dict)
+                    try:
+                        descriptor.property.value_type.validate(old, False)
+                        value = value.get("value", value)
+                    except ValueError:
+                        if isinstance(old, str) and "field" in value:
+                            value = value["field"]
+                descriptor._set(instance, old, _valid(descriptor.property, value))
             else:
                 descriptor.set_from_json(instance, value)
         for key in _unstable_keys(cls):  # the others' mutable defaults, as HasProps.__init__
@@ -276,6 +287,17 @@ class _Copier(Deserializer):
                 cls.lookup(key)._get(instance)
         instance._initialized = True
         return instance
+
+
+def _valid(prop, value):
+    """Bokeh's ``Property.prepare_value`` for a value validated already (the template's, when it was rendered):
+    its transform and its container, without validating it again (a third of a figure's copy).
+
+    Not Bokeh's ``validate(False)``: that switch is the process's, and a thread that builds models meanwhile
+    (a session's page while the warm-up copies a figure) would skip validation too, with it the conversions
+    that validation drives: a HoloViews figure got its title as a ``str`` instead of a ``Title`` and failed.
+    """
+    return prop.wrap(prop.transform(value))
 
 
 _UNSTABLE_KEYS: dict = {}

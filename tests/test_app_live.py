@@ -73,3 +73,31 @@ def test_importing_the_app_leaves_bokeh_as_it_is_and_the_served_app_installs_the
                          env={**__import__("os").environ, "PYTHONPATH": str(root)})
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.split()[-2:] == ["False", "True"], out.stdout
+
+
+def test_copying_a_figure_leaves_bokehs_validation_on_for_other_threads():
+    """A figure's copy skips validating the template's values itself, never through Bokeh's process-wide switch:
+    a session built in another thread meanwhile would skip it too, and with it the conversions it drives (a
+    HoloViews figure then kept its title as a str and failed: seen in CI as the served app's first page)."""
+    import bokeh.core.property.bases as bases
+
+    from app import live
+
+    explorer = Explorer()
+    explorer.figures()
+    render = explorer._live["pressure"]._render
+    seen = []
+    decode = live._Copier._decode_object_ref
+
+    def watched(self, obj):
+        seen.append(bases.validation_on())
+        return decode(self, obj)
+
+    live._Copier._decode_object_ref = watched
+    try:
+        figure, models = render.copy()
+    finally:
+        live._Copier._decode_object_ref = decode
+    assert seen and all(seen), f"validation was off during {seen.count(False)} of {len(seen)} model decodes"
+    assert type(figure.title).__name__ == "Title" and figure.title.text == render.copy()[0].title.text
+    assert len(models) == len(render.model_ids)
