@@ -378,7 +378,12 @@ class CardsMixin:
         """The cards' rows and why the run's numbers are not shown (None when they are)."""
         point = self.state.point
         fresh = not pending and self._shows(result, ft, w, point)
-        wait = None if fresh else ("solving…" if pending or result is None else "release the slider")
+        if fresh:
+            wait = None
+        elif result is None and not pending and self.error:
+            wait = "no run"  # the inputs were refused: nothing is being solved (the badge says why)
+        else:
+            wait = "solving…" if pending or result is None else "release the slider"
         if isinstance(contact, core.PointContact) or point:
             error = grid_error if (grid_error is not None and fresh and grid_error.result is result) else None
             return point_rows(ft, w, mu, contact, result, wait, units, cycles, self._body_spec(), error), wait
