@@ -84,15 +84,18 @@ def tangential_note(history: dict, body) -> str | None:
     if history.get("history") != "tangential":
         return None
     A = float(history["amplitude"])
-    note = (f"tangential loading at a fixed centre, amplitude A = {A:.3g}: the rocking limit does not apply; "
-            f"below gross sliding (|ft| + A < 1) it slips every period, cyclic slip, for any A > 0")
+    # short: the note sits under the badge, above the first screen's figures (five lines pushed the sphere's
+    # figures 17 px past the bottom of a 1280x720 screen)
+    note = (f"tangential loading, fixed centre, A = {A:.3g}: the rocking limit does not apply; cyclic slip below "
+            f"gross sliding (|ft| + A < 1)")
     try:
         E = float(core.fretting_energy(A, body=body))
     except (ValueError, TypeError, NotImplementedError):  # no closed-form loop for this body
         return note
     point = bodies.kind(body) == "point" if isinstance(body, str) else not isinstance(body, core.Body)
-    unit = "μ² Fn²/(E* a)" if point else "μ² P²/E* per unit length"
-    return note + f"; closed-form energy per cycle (Cattaneo-Mindlin, Masing) {E:.4g} {unit}"
+    unit, source = (("μ² Fn²/(E* a)", "Mindlin-Deresiewicz") if point
+                    else ("μ² P²/E* per unit length", "Cattaneo-Mindlin"))
+    return note + f"; energy per cycle, closed form ({source}): {E:.4g} {unit}"
 
 
 def fmt(v, unit="", digits=4) -> str:
@@ -378,7 +381,12 @@ class CardsMixin:
         """The cards' rows and why the run's numbers are not shown (None when they are)."""
         point = self.state.point
         fresh = not pending and self._shows(result, ft, w, point)
-        wait = None if fresh else ("solving…" if pending or result is None else "release the slider")
+        if fresh:
+            wait = None
+        elif result is None and not pending and self.error:
+            wait = "no run"  # the inputs were refused: nothing is being solved (the badge says why)
+        else:
+            wait = "solving…" if pending or result is None else "release the slider"
         if isinstance(contact, core.PointContact) or point:
             error = grid_error if (grid_error is not None and fresh and grid_error.result is result) else None
             return point_rows(ft, w, mu, contact, result, wait, units, cycles, self._body_spec(), error), wait

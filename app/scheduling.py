@@ -108,7 +108,8 @@ class SolveMixin:
         self.pending = True  # every card and the badge say so at once: no old verdict beside new inputs
 
         def show_spinner():  # only if the solve is not over in a blink (saves two page updates)
-            if self._generation.is_current(token) and self.result_token != token:
+            # nor failed in a blink: a refusal that came before the delay left the spinner on for good
+            if self._generation.is_current(token) and self.result_token != token and self.pending:
                 self.solving = True
 
         doc.add_timeout_callback(show_spinner, SPINNER_DELAY_MS)
@@ -150,7 +151,7 @@ class SolveMixin:
                 result = solve(contact, options)
             except (core.SolverError, core.SolveCancelled, ValueError) as e:
                 if not self._back_from_refine(str(e)):
-                    self.error = f"solver: {e}"
+                    self.param.update(error=f"solver: {e}", solving=False, pending=False)
                 return
         if not self._generation.is_current(token):
             return  # a newer request is pending: never overwrite it with this stale run

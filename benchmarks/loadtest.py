@@ -309,6 +309,17 @@ def model_changed(model_id: str, changes: dict):
     return patch_doc(patch_doc.create_header(), {}, {"events": events})
 
 
+def document_ready():
+    """The PATCH-DOC message BokehJS sends once it has rendered the page: a ``document_ready`` event
+    (``bokeh.events.DocumentReady``, as ``MessageSentEvent.to_serializable`` writes it). Panel marks the
+    session connected on it (``panel.io.state._on_load``)."""
+    from bokeh.protocol.messages.patch_doc import patch_doc
+
+    event = {"type": "event", "name": "document_ready", "values": {"type": "map", "entries": []}}
+    events = [{"kind": "MessageSent", "msg_type": "bokeh_event", "msg_data": event}]
+    return patch_doc(patch_doc.create_header(), {}, {"events": events})
+
+
 class Session:
     """One session of a served page, driven through Bokeh's websocket protocol without Bokeh models.
 
@@ -376,6 +387,12 @@ class Session:
         self._reader = asyncio.create_task(self._read())
         if not await self.wait_until(lambda: self.doc is not None, OPEN_TIMEOUT_S):
             raise ConnectionError("the socket closed before the document came")
+        # a browser says when it has rendered the page, and only then does Panel (1.9) count the session as
+        # connected: before, it drops the model changes made under a hold (panel.io.document.hold), and it holds
+        # the document around every browser event; a session that never said so was never sent the figure
+        # drawn when its sentinel reported (the heap test's sessions waited 180 s for it)
+        await document_ready().send(self.socket)
+        self.sent += 1
 
     async def _message(self):
         """The next whole message from the server, or None when the socket closed."""
@@ -691,7 +708,7 @@ def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0,
         ``client_cpu_yardstick_s`` (this process's CPU per session),
         ``cpu_class_s`` and ``client_cpu_class_s`` (server and this process
         over the class phase), ``patches_sent`` and ``patches_answered``
-        (slider messages, and the server's OK or ERROR replies to them), ``loop_lag_*_ms``
+        (slider messages and each page's ready, and the server's OK or ERROR replies to them), ``loop_lag_*_ms``
         and ``loop_callback_*_ms`` (per phase: ``cpu``, ``burst``, ``class``),
         ``rss_before_mb``, ``rss_after_mb``, ``cache_mb``, ``cluster_tasks``
         (solves the Dask cluster ran) and the server's ``returncode``.
@@ -759,7 +776,7 @@ def report(stats: dict) -> str:
         f"opening {_summary([x * 1e3 for x in stats['loads']])}",
         f"  then sliders for {stats['seconds']:.0f} s: {len(stats['latencies'])} solve round trips, "
         f"{_summary(stats['latencies'])}; the server answered {stats['patches_answered']} of the "
-        f"{stats['patches_sent']} slider messages (OK or ERROR)",
+        f"{stats['patches_sent']} messages (the page's ready, the sliders'; OK or ERROR)",
         f"  /liveness meanwhile: {len(stats['liveness'])} checks, {_summary(stats['liveness'])}",
         f"  CPU over the whole phase: server {stats['cpu_class_s']:.1f} s, load generator (this process) "
         f"{stats['client_cpu_class_s']:.1f} s, in {stats['wall_s']:.0f} s of wall time",

@@ -303,21 +303,22 @@ class HeightMap:
         return p
 
     def run_grid(self, reach_x, scale, h):
-        """The edges ``(x_edges, y_edges)`` [a] of a point-contact run whose centre reaches ``|xc| <= reach_x``:
-        the map's elements that carry pressure, one more around them, and ``reach_x`` more along x.
+        """The edges ``(x_edges, y_edges)`` [a] of a point-contact run whose centre reaches ``|xc| <= reach_x``
+        and whose largest load has the length scale ``scale`` (``(P / P_nominal)^(1/3)``): the map's elements that
+        carry pressure under that load, one more around them, and ``reach_x`` more along x.
 
         Raises
         ------
         ValueError
-            If ``h`` is not the map's spacing.
+            If ``h`` is not the map's spacing, or the contact under the largest load reaches the map's edge.
         """
         if not math.isclose(h, self.spacing, rel_tol=1e-9):
             raise ValueError(f"dx must be the height map's spacing {self.spacing:g} for a run on it, got {h:g}")
-        rows, cols = np.nonzero(self.solve().contact)
+        # the contact at the largest load of the run (a normal load above the nominal one widens it)
+        contact = self.solve().contact if scale <= 1.0 + 1e-12 else self._pressure_at(0.0, scale) > 0
+        rows, cols = np.nonzero(contact)
         ny, nx = self.heights.shape
         half_y = int(max(ny // 2 - rows.min(), rows.max() - ny // 2)) + 1
-        if scale > 1.0 + 1e-12:
-            raise ValueError(f"a height map runs at loads up to its nominal one, got a load scale {scale:g}")
         half_x = int(max(nx // 2 - cols.min(), cols.max() - nx // 2)) + 1 + math.ceil(reach_x / h - 1e-9)
         return h * (np.arange(2 * half_x + 2) - half_x - 0.5), h * (np.arange(2 * half_y + 2) - half_y - 0.5)
 

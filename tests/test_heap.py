@@ -111,7 +111,6 @@ def _liveness(base):
 
 @pytest.mark.slow
 @pytest.mark.timeout(600)
-@pytest.mark.xfail(strict=False, reason="open defect (2026-11-27): the new 'Fretting loop' figure was not drawn within 180 s in this test's sessions; see the closing note")
 def test_the_server_reclaims_the_objects_of_sessions_that_ended(fresh_thread):
     """Served as documented, with short session lifetimes: two pages opened through Bokeh's protocol are
     frozen; once their websockets close and Bokeh discards them, reclaims collect their objects (some 20 000

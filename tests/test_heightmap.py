@@ -206,3 +206,21 @@ def test_read_topography_from_memory_and_its_errors(tmp_path):
         read_topography(tmp_path / "nope.nc")
     with pytest.raises(ValueError, match="^the upload is in no format that can be read; the readable formats: "):
         read_topography(io.BytesIO(b"\x00\x01 nothing"), name="the upload")
+
+
+def test_height_map_runs_under_the_normal_history():
+    """Under an oscillating normal force the contact grows beyond its nominal size: the run's grid covers the
+    contact under the largest load (it refused any load above the nominal one, so the explorer's height map under
+    the 'normal' loading showed INVALID INPUT at its default amplitude). The sphere's gap sampled at a/10 runs as
+    the sphere under the same history, each step's bound carrying that step's load."""
+    m = _map(lambda r2, X, Y: 0.375 * r2, n=31)
+    r = core.simulate_cycles(0.3, 0.3, periods=2, body=m, history="normal", amplitude=0.5)
+    s = core.simulate_cycles(0.3, 0.3, periods=2, dx=0.1, body="sphere", history="normal", amplitude=0.5)
+    nominal = core.simulate_cycles(0.3, 0.3, periods=2, body=m)
+    assert r.y_edges.size > nominal.y_edges.size, "the grid grows with the largest load"
+    np.testing.assert_allclose(r.increment_per_period, s.increment_per_period, rtol=1e-5, atol=1e-9)
+    carried = np.array([r.pressure_at(k).sum() * r.dx**2 for k in range(r.xc.size)])
+    np.testing.assert_allclose(carried, r.P * r.body.total_load, rtol=1e-6, err_msg="load of every step")
+    with pytest.raises(ValueError, match="edge"):  # a load whose contact leaves the map is refused by name
+        core.simulate_cycles(0.05, 0.3, periods=2, body=_map(lambda r2, X, Y: 0.375 * r2, n=25), history="normal",
+                             amplitude=0.9)
