@@ -20,7 +20,10 @@ import urllib.error
 import urllib.request
 from pathlib import Path
 
-__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "wait_until", "free_port", "served_app",
+from core.verdict import REGIMES
+
+__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "VERDICT_SELECTOR", "SLIDER_TITLES_JS", "open_page",
+           "wait_until", "free_port", "served_app",
            "chromium", "dask_cluster", "tasks_done", "scroll_through", "ServerExited"]
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -36,6 +39,35 @@ SERVE_OPTIONS = ("--plugins", "app.health", "--unused-session-lifetime", "120000
 CHROMIUM = os.environ.get("SHAKEDOWN_CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+
+#: A verdict badge of any regime (``app.cards`` writes ``data-regime``): the page's run has its verdict.
+VERDICT_SELECTOR = ", ".join(f"[data-regime='{regime}']" for regime in REGIMES)
+
+#: JavaScript for ``page.evaluate``: the titles of the page's ft and w sliders (Bokeh models with a number value),
+#: sorted.
+SLIDER_TITLES_JS = """
+() => {
+  const out = [];
+  for (const d of Bokeh.documents) for (const m of d.all_models)
+    if (['ft = Ft/(μ Fn)', 'w = W/a'].includes(m.title) && typeof m.value === 'number' && 'value_throttled' in m)
+      out.push(m.title);
+  return [...new Set(out)].sort();
+}
+"""
+
+
+def open_page(browser, url: str, size: tuple[int, int] = (1280, 720), *, ready: str = VERDICT_SELECTOR,
+              timeout_ms: int = 180_000):
+    """A new page of ``browser`` at ``size`` on ``url``, returned once ``ready`` (a selector) is shown; the console's
+    errors and the page's uncaught errors are recorded in ``page.problems``."""
+    page = browser.new_page(viewport={"width": size[0], "height": size[1]})
+    page.problems = []
+    page.on("console", lambda m: page.problems.append(f"console: {m.text}") if m.type == "error" else None)
+    page.on("pageerror", lambda e: page.problems.append(f"page error: {e}"))
+    page.goto(url, timeout=timeout_ms)
+    page.locator(ready).first.wait_for(timeout=timeout_ms)
+    return page
 
 
 #: JavaScript for ``page.evaluate``: ``find(pred)``, the first Bokeh model of the page for which ``pred`` holds

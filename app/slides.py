@@ -15,7 +15,7 @@ import panel as pn
 
 from . import plots
 
-__all__ = ["VIEWS_JS", "FIGURE_VIEWS_JS", "SVG_JS", "stem", "figure_titles", "save_svg"]
+__all__ = ["VIEWS_JS", "FIGURE_VIEWS_JS", "FIGURE_BOX_JS", "SVG_JS", "stem", "figure_titles", "save_svg"]
 
 #: JavaScript: ``all_views()``, every Bokeh view of the page (Panel nests them in layouts, in shadow DOM).
 VIEWS_JS = """
@@ -38,6 +38,15 @@ const all_views = () => {
 FIGURE_VIEWS_JS = VIEWS_JS + """
 const figure_views = () => all_views().filter((v) => v.model && v.canvas_view && typeof v.export === 'function');
 """
+
+#: JavaScript for ``page.evaluate(FIGURE_BOX_JS, title)``: the viewport box (x, y, width, height) of the figure
+#: titled ``title`` once drawn, null before.
+FIGURE_BOX_JS = "(title) => {" + FIGURE_VIEWS_JS + """
+  const v = figure_views().find((v) => v.model.title && v.model.title.text === title);
+  if (!v) return null;
+  const r = v.el.getBoundingClientRect();
+  return {x: r.x, y: r.y, width: r.width, height: r.height};
+}"""
 
 #: Finds the figure view titled ``select.value`` in the page and downloads it as SVG, named
 #: ``shakedown_<names[title]>`` and SUFFIX, a JavaScript expression (:func:`save_svg` puts the run's values there).

@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 
 import core
-from app.serving import FIND_MODEL_JS, wait_until
+from app.serving import FIND_MODEL_JS, open_page, wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
 
@@ -54,13 +54,7 @@ def app_url():
 
 
 def _open(browser, url):
-    page = browser.new_page(viewport={"width": 1400, "height": 1000})
-    page.problems = []
-    page.on("console", lambda m: page.problems.append(f"console: {m.text}") if m.type == "error" else None)
-    page.on("pageerror", lambda e: page.problems.append(f"page error: {e}"))
-    page.goto(url, timeout=180_000)
-    page.locator(VERDICT).first.wait_for(timeout=180_000)
-    return page
+    return open_page(browser, url, (1400, 1000), ready=VERDICT)
 
 
 def _pick(page, body):

@@ -16,22 +16,12 @@ import pytest
 
 import core
 from app import limits, runs
-from app.serving import chromium, dask_cluster, served_app, tasks_done, wait_until
+from app.serving import SLIDER_TITLES_JS, chromium, dask_cluster, served_app, tasks_done, wait_until
 from app.state import ExplorerState
 
 pytestmark = pytest.mark.timeout(400)
 
 BADGE = "[data-regime='shakedown'], [data-regime='ratcheting']"
-#: The titles of the page's ft and w sliders (Bokeh models with a number value), in that order.
-_SLIDERS = """
-() => {
-  const out = [];
-  for (const d of Bokeh.documents) for (const m of d.all_models)
-    if (['ft = Ft/(μ Fn)', 'w = W/a'].includes(m.title) && typeof m.value === 'number' && 'value_throttled' in m)
-      out.push(m.title);
-  return [...new Set(out)].sort();
-}
-"""
 # release the ft slider at a new value; resolve once the run card (text with "el., ... steps") changes
 _RELEASE_FT = """
 async ([value, timeoutMs]) => {
@@ -214,7 +204,7 @@ def _prepared_then_solved():
             page.goto(url + "?ft=0.3&w=0.372", timeout=180_000)  # the first session may pay for imports
             page.get_by_text("compiling the solver (first start only)").first.wait_for(timeout=60_000)
             page.locator(".regime-note", has_text="eq 35 predicts").first.wait_for(timeout=30_000)
-            assert page.evaluate(_SLIDERS) == ["ft = Ft/(μ Fn)", "w = W/a"]
+            assert page.evaluate(SLIDER_TITLES_JS) == ["ft = Ft/(μ Fn)", "w = W/a"]
             worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
                                        "--no-nanny", "--no-dashboard", "--host", "127.0.0.1"], cwd=ROOT,
                                       env={**os.environ, "PYTHONPATH": str(ROOT)}, stdout=subprocess.DEVNULL,

@@ -12,22 +12,12 @@ import urllib.request
 
 import pytest
 
-from app.serving import chromium, served_app
+from app.serving import SLIDER_TITLES_JS, chromium, served_app
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow, pytest.mark.timeout(1800)]  # a cold compile: minutes
 
 VERDICT = "[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"
 INVALID = "[data-regime='invalid']"
-#: The titles of the page's ft and w sliders (Bokeh models with a number value).
-SLIDERS = """
-() => {
-  const out = [];
-  for (const d of Bokeh.documents) for (const m of d.all_models)
-    if (['ft = Ft/(μ Fn)', 'w = W/a'].includes(m.title) && typeof m.value === 'number' && 'value_throttled' in m)
-      out.push(m.title);
-  return [...new Set(out)].sort();
-}
-"""
 
 
 def _liveness(base):
@@ -54,7 +44,7 @@ def _cold_start(tmp_path):
         page.get_by_text("compiling the solver (first start only)").first.wait_for(timeout=120_000)
         page.locator(".regime-note", has_text="eq 35 predicts shakedown for ft = 0.30, w = 0.50").first.wait_for(
             timeout=60_000)
-        assert page.evaluate(SLIDERS) == ["ft = Ft/(μ Fn)", "w = W/a"]
+        assert page.evaluate(SLIDER_TITLES_JS) == ["ft = Ft/(μ Fn)", "w = W/a"]
         health = _liveness(info["base"])
         assert not health["ready"], f"the solver was ready already: the cache was not cold ({health})"
         shown = page.get_by_text("compiling the solver (first start only)").first.inner_text()

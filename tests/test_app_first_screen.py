@@ -14,8 +14,8 @@ import pytest
 
 from app.figures import key_figures
 from app.plots import FIGURES
-from app.serving import wait_until
-from app.slides import FIGURE_VIEWS_JS
+from app.serving import open_page, wait_until
+from app.slides import FIGURE_BOX_JS, FIGURE_VIEWS_JS
 from app import bodies
 from app.state import BODIES
 
@@ -25,13 +25,6 @@ VERDICT = "[data-regime='shakedown'], [data-regime='cyclic slip'], [data-regime=
 SIZES = [(1280, 720), (1024, 768)]
 #: How much of each key figure must be inside the first viewport [px].
 VISIBLE = 150
-#: The page's box of the figure titled ``title`` once drawn (null before).
-_BOX = "(title) => {" + FIGURE_VIEWS_JS + """
-  const v = figure_views().find((v) => v.model.title && v.model.title.text === title);
-  if (!v) return null;
-  const r = v.el.getBoundingClientRect();
-  return {x: r.x, y: r.y, width: r.width, height: r.height};
-}"""
 #: The data objects of the figure titled ``title``'s sources (to see them replaced).
 _DATA_IDS = "(title) => {" + FIGURE_VIEWS_JS + """
   const v = figure_views().find((v) => v.model.title && v.model.title.text === title);
@@ -73,13 +66,7 @@ def app_url():
 
 
 def _open(browser, url, size, query):
-    page = browser.new_page(viewport={"width": size[0], "height": size[1]})
-    page.problems = []
-    page.on("console", lambda m: page.problems.append(f"console: {m.text}") if m.type == "error" else None)
-    page.on("pageerror", lambda e: page.problems.append(f"page error: {e}"))
-    page.goto(url + query, timeout=180_000)
-    page.locator(VERDICT).first.wait_for(timeout=180_000)
-    return page
+    return open_page(browser, url + query, size, ready=VERDICT)
 
 
 def _titles(body):
@@ -97,10 +84,10 @@ def test_the_first_screen_shows_the_verdict_and_three_live_figures(browser, app_
             page.set_viewport_size({"width": width, "height": height})
             page.evaluate("() => { for (const el of document.querySelectorAll('*')) if (el.scrollTop) el.scrollTop = 0;"
                           " window.scrollTo(0, 0); }")
-            boxes = wait_until(lambda: (lambda b: b if all(b) else None)([page.evaluate(_BOX, t) for t in titles]),
+            boxes = wait_until(lambda: (lambda b: b if all(b) else None)([page.evaluate(FIGURE_BOX_JS, t) for t in titles]),
                                60, message=f"the key figures of the {body} drawn")
             page.wait_for_timeout(500)  # the layout settles after the resize
-            boxes = [page.evaluate(_BOX, t) for t in titles]
+            boxes = [page.evaluate(FIGURE_BOX_JS, t) for t in titles]
             badge = page.locator("[data-regime]").first.bounding_box()
             assert badge is not None and 0 <= badge["y"] and badge["y"] + badge["height"] <= height
             for title, box in zip(titles, boxes):
@@ -131,14 +118,14 @@ def test_the_wheel_over_a_figure_scrolls_the_page(browser, app_url):
     page = _open(browser, app_url, (1280, 720), "?ft=0.3&w=0.5")
     try:
         title = _titles("cylinder")[1]
-        box = wait_until(lambda: page.evaluate(_BOX, title), 60, message="the figure drawn")
+        box = wait_until(lambda: page.evaluate(FIGURE_BOX_JS, title), 60, message="the figure drawn")
         scrolled = """() => Math.max(window.scrollY, document.scrollingElement.scrollTop,
                                      ...[...document.querySelectorAll('*')].map((e) => e.scrollTop))"""
         for frac in (0.04, 0.5, 0.8):
             page.evaluate("() => { for (const el of document.querySelectorAll('*')) if (el.scrollTop) el.scrollTop = 0;"
                           " window.scrollTo(0, 0); }")
             page.wait_for_timeout(200)
-            box = page.evaluate(_BOX, title)
+            box = page.evaluate(FIGURE_BOX_JS, title)
             before = page.evaluate(scrolled)
             page.mouse.move(box["x"] + box["width"] / 2, box["y"] + frac * box["height"])
             page.mouse.wheel(0, 400)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import pytest
 
 from app.scheduling import SPINNER_DELAY_MS
-from app.serving import wait_until
+from app.serving import open_page, wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 
@@ -18,13 +18,7 @@ ANSWERED = "[data-regime]:not([data-regime='pending'])"
 
 
 def _open(browser, url, size, query):
-    page = browser.new_page(viewport={"width": size[0], "height": size[1]})
-    page.problems = []
-    page.on("console", lambda m: page.problems.append(f"console: {m.text}") if m.type == "error" else None)
-    page.on("pageerror", lambda e: page.problems.append(f"page error: {e}"))
-    page.goto(url + query, timeout=300_000)
-    page.locator(ANSWERED).first.wait_for(timeout=300_000)
-    return page
+    return open_page(browser, url + query, size, ready=ANSWERED, timeout_ms=300_000)
 
 
 def test_a_refused_input_stops_the_spinner_and_the_solving_numbers(browser, app_url):

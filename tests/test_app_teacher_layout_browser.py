@@ -13,7 +13,7 @@ import pytest
 from app.figures import key_figures
 from app.player import PAUSE, PLAY
 from app.plots import FIGURES
-from app.serving import scroll_through, wait_until
+from app.serving import open_page, scroll_through, wait_until
 from app.slides import FIGURE_VIEWS_JS
 from app.state import BODIES
 
@@ -70,13 +70,7 @@ _SET = """([title, v, release]) => { for (const d of Bokeh.documents) for (const
 
 
 def _open(browser, url, size, query):
-    page = browser.new_page(viewport={"width": size[0], "height": size[1]})
-    page.problems = []
-    page.on("console", lambda m: page.problems.append(f"console: {m.text}") if m.type == "error" else None)
-    page.on("pageerror", lambda e: page.problems.append(f"page error: {e}"))
-    page.goto(url + query, timeout=300_000)
-    page.locator(VERDICT).first.wait_for(timeout=300_000)
-    return page
+    return open_page(browser, url + query, size, ready=VERDICT, timeout_ms=300_000)
 
 
 def _titles(body):

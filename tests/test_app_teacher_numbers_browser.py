@@ -18,7 +18,7 @@ import time
 import pytest
 
 import core
-from app.serving import FIND_MODEL_JS, served_app, wait_until
+from app.serving import FIND_MODEL_JS, open_page, served_app, wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 
@@ -65,13 +65,7 @@ _SET = """([title, v]) => {""" + FIND_MODEL_JS + """
 
 
 def _open(browser, url, size=(1280, 720)):
-    page = browser.new_page(viewport={"width": size[0], "height": size[1]})
-    page.problems = []
-    page.on("console", lambda m: page.problems.append(f"console: {m.text}") if m.type == "error" else None)
-    page.on("pageerror", lambda e: page.problems.append(f"page error: {e}"))
-    page.goto(url, timeout=180_000)
-    page.locator(VERDICT).first.wait_for(timeout=180_000)
-    return page
+    return open_page(browser, url, size, ready=VERDICT)
 
 
 # ---------------------------------------------------------------- item 17: no traceback when a tab closes

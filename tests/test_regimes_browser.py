@@ -5,7 +5,7 @@ fixtures ``app_url`` and ``browser`` of ``tests/conftest.py``)."""
 import pytest
 
 from app.serving import FIND_MODEL_JS, wait_until
-from app.slides import FIGURE_VIEWS_JS
+from app.slides import FIGURE_BOX_JS, FIGURE_VIEWS_JS
 from app.styles import BADGE_COLORS
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
@@ -25,13 +25,6 @@ _POINTS = "(title) => {" + FIND_MODEL_JS + """
 _SCROLL_TO = "(title) => {" + FIGURE_VIEWS_JS + """
   const v = figure_views().find((v) => v.model.title && v.model.title.text === title);
   v.el.scrollIntoView({block: 'center'});
-}"""
-#: The viewport box of the figure titled ``title`` once drawn (null before).
-_BOX = "(title) => {" + FIGURE_VIEWS_JS + """
-  const v = figure_views().find((v) => v.model.title && v.model.title.text === title);
-  if (!v) return null;
-  const r = v.el.getBoundingClientRect();
-  return {x: r.x, y: r.y, width: r.width, height: r.height};
 }"""
 
 
@@ -82,7 +75,7 @@ def test_tangential_loading_shows_cyclic_slip_and_the_fretting_loop(browser, app
         # the loop scrolled into view: all of it inside the 1280x720 viewport, not under the badge (the page
         # scrolls under the header; the badge, at the top of the main area, scrolls away or stays clear)
         page.evaluate(_SCROLL_TO, "Fretting loop")
-        loop_box = wait_until(lambda: page.evaluate(_BOX, "Fretting loop"), 30, message="the loop's box")
+        loop_box = wait_until(lambda: page.evaluate(FIGURE_BOX_JS, "Fretting loop"), 30, message="the loop's box")
         badge_box = _box(badge)
         page.screenshot(path="/tmp/i30/loop_1280x720.png")
         assert loop_box["y"] >= 0 and loop_box["y"] + loop_box["height"] <= 720, loop_box
