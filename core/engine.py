@@ -83,6 +83,7 @@ import time
 
 import numpy as np
 
+from . import melan
 from ._jit import announce_compile
 from .bodies import MAX_ELEMENTS
 from .dense import DenseSolver, Trajectory
@@ -219,8 +220,10 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     out = cls.trajectory(history, body.shape)
     periodic = bool(detect_periodic) and history.is_periodic()
     load_scale = float(body.load_target(1.0))
-    # a line grid fills a buffer of bounds; a patch grid returns one (ny, nx) array per step
-    buffer = np.empty((min(chunk, steps), n)) if shape == "line" else None
+    # the bound of every step, kept for the result: a line grid fills the rows of one array; a patch grid returns
+    # one (ny, nx) array per step (shared between the steps with the same centre and load)
+    line_bounds = np.empty((steps, n)) if shape == "line" else None
+    patch_bounds = [] if shape == "patch" else None
     # mu p_min of the last period: tracked over the history's last block as it is marched (or, when the march
     # stops at a repeated period, over that period's bounds at the end)
     lowest, last_block = _Lowest(), int(history.period[-1])
@@ -229,10 +232,12 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     while done < steps:
         k1 = min(steps, done + chunk)
         bounds = body.bounds(history.xc[done:k1], history.P[done:k1],
-                             out=None if buffer is None else buffer[:k1 - done])
+                             out=None if line_bounds is None else line_bounds[done:k1])
         reached, periodic_from, failed = step_solver.march(bounds, history.Q, history.period, load_scale, done, k1,
                                                            periodic, out)
         lowest.add(bounds, history.period[done:reached], last_block)
+        if patch_bounds is not None:
+            patch_bounds.extend(bounds[:reached - done])
         if failed >= 0:
             res = max(step_solver.residuals.values())
             reason = getattr(step_solver, "failure", "") or (
@@ -249,21 +254,86 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
                                      f"{done} of {steps}: use fewer periods or a coarser grid")
             if progress is not None:
                 progress(done / steps)
+    solved = done
+    index = np.arange(steps)  # the row of the stored bounds of each step: a copied step's is its source's
     if done < steps:
         _repeat_last_period(history.period, done, periodic_from, out)
         block = np.flatnonzero(history.period == periodic_from)
-        rows = None if buffer is None else np.empty((block.size, n))
-        lowest.add(body.bounds(history.xc[block], history.P[block], out=rows), history.period[block], periodic_from)
+        m = block.size
+        index[done:] = block[0] + (np.arange(done, steps) - done) % m
+        rows = line_bounds[block] if line_bounds is not None else [patch_bounds[k] for k in block]
+        lowest.add(rows, history.period[block], periodic_from)
+    pressures, pressure_index = _stored_bounds(line_bounds, patch_bounds, solved, index)
     if progress is not None:
         progress(1.0)
+    now = pressures[pressure_index[-1]] if steps else None
     return CycleResult(
         edges=body.edges, xc=history.xc, P=history.P, Q=history.Q, period=history.period, kernel=kernel, u0=u0,
         periodic_from=None if periodic_from < 0 else int(periodic_from), params=dict(params or {}), tol=tol,
         shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0, body=body.body_spec,
         solver=step_solver.name, residuals=out.residuals(), lowest_pressure=lowest.value,
+        pressures=pressures, pressure_index=pressure_index,
+        melan_limit=melan_limit(body, history, lowest.value, now, params or {}),
         y_edges=getattr(body, "y_edges", None) if shape == "patch" else None,
         nu=operator.nu if shape == "patch" else None, angle=float(getattr(step_solver, "angle", 0.0)),
         **out.result_fields())
+
+
+def _stored_bounds(line_bounds, patch_bounds, solved, index):
+    """The bounds a result keeps: ``(pressures, pressure_index)``, the distinct bounds the march used (its first
+    ``solved`` steps' rows on a line; on a patch each shared array once) and the row of each step."""
+    if line_bounds is not None:
+        return line_bounds[:solved], index
+    rows, first = {}, []
+    for field in patch_bounds:
+        if id(field) not in rows:
+            rows[id(field)] = len(first)
+            first.append(field)
+    of_solved = np.array([rows[id(field)] for field in patch_bounds], dtype=np.int64)
+    return np.stack(first), of_solved[index]
+
+
+def melan_limit(body, history, lowest, now, params):
+    """Melan's limit of a run's discrete problem: ``(lo, hi)`` of the tangential load [the unit of ``Q``] below which
+    it shakes down and above which it ratchets, or None (:attr:`core.CycleResult.melan_limit`).
+
+    Uncoupled contact satisfies Melan's theorem (Klarbring, Ciavarella and
+    Barber 2007): the run shakes down if and only if a fixed traction within
+    ``mu`` times the lowest pressure of the last period (``lowest``) carries the
+    load. With no moment to balance, that is ``sum mu p_min dA`` over the
+    pressure ``now`` of the last step (``lo = hi``, :func:`core.melan.grid_limit`),
+    reached by tractions along the load; a body free to turn about the normal
+    (the cone) solves its linear programme (:meth:`core.Cone.grid_limit`, the
+    Coulomb disk between two polygons). The normal load may vary over the
+    period (``p_min`` is then also the lowest over the load); the tangential one
+    may not: None when it does, or for a body free to turn that has no programme.
+
+    Parameters
+    ----------
+    body : object
+        The discretised body of the run (its ``body_spec`` and ``dx``).
+    history : Schedule
+        The steps run.
+    lowest, now : ndarray
+        The lowest bound of each element over the last period and the bound at the last step [mu p0].
+    params : dict
+        The run's inputs (a body free to turn reads ``w``, ``dW`` and ``history``).
+    """
+    if len(history) == 0 or history.periods == 0:
+        return None
+    last = history.period == history.period[-1]
+    Q, P = history.Q[last], history.P[last]
+    if np.ptp(Q) > 1e-12 * max(1.0, float(np.abs(Q).max())):
+        return None
+    spec = body.body_spec
+    if getattr(spec, "twist_centre", None) is not None:
+        if (not hasattr(spec, "grid_limit") or params.get("history", "rocking") != "rocking"
+                or np.ptp(P) > 1e-12 * float(P.max())):
+            return None
+        lim = spec.grid_limit(params["w"], dx=float(body.edges[1] - body.edges[0]), dW=params.get("dW"))
+        return float(lim["lo"] * P[-1]), float(lim["hi"] * P[-1])
+    limit = melan.grid_limit(lowest, now, P[-1])  # the one place Melan's limit is computed
+    return None if limit is None else (limit, limit)
 
 
 class _Lowest:

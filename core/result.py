@@ -10,7 +10,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import melan
 from .states import STATE_NAMES, State, Zone
 # the verdict's functions and constants (core/verdict.py), kept importable from here
 from .verdict import (MIN_FIT_PERIODS, REGIMES, SETTLED_FRACTION, VERDICT_SIGMAS, EnergyVerdict,  # noqa: F401
@@ -388,6 +387,23 @@ class CycleResult(PeriodVerdict):
         cone): its rotation about the normal after each step [mu Fn/(E* a^2)
         rad], ``displacement`` then that of the twist centre; None otherwise
         (per period: :attr:`twist_per_period`).
+    pressures : ndarray, shape (k, n) or (k, ny, nx), or None
+        The distinct element pressures [p0] the run used, its traction bound
+        ``mu p`` [mu p0] (:func:`core.engine.run` keeps them as it marches;
+        a copied period's steps share the rows of the period they repeat, a
+        patch's steps with the same centre and load share one field).
+    pressure_index : ndarray of int, shape (steps,), or None
+        The row of :attr:`pressures` of each step (:attr:`pressure`,
+        :meth:`pressure_at`).
+    melan_limit : tuple of float or None
+        Melan's limit of this run's discrete problem: ``(lo, hi)`` of the
+        tangential load [``mu P``, the unit of :attr:`Q`: ``ft``] below which it
+        shakes down and above which it ratchets, or None
+        (:func:`core.engine.melan_limit` computes it when the run ends:
+        ``sum mu p_min dA`` over the lowest pressure of the last period with no
+        moment to balance, ``lo = hi``; a body free to turn about the normal,
+        the cone, solves its linear programme; None when the tangential load
+        varies over the last period).
 
     Every array, the cached ones included, is read-only: a result may be
     shared between sessions of the app.
@@ -424,11 +440,18 @@ class CycleResult(PeriodVerdict):
     state_snapshots: np.ndarray | None = None
     step_residuals: dict | None = None
     rotation: np.ndarray | None = None
+    pressures: np.ndarray | None = None
+    pressure_index: np.ndarray | None = None
+    melan_limit: tuple[float, float] | None = None
 
     def __post_init__(self):
-        if self.body is None or isinstance(self.body, str):  # a name: the registered body with its defaults
-            from .registry import make_body
-            object.__setattr__(self, "body", make_body(self.body or "cylinder"))
+        if self.body is None or isinstance(self.body, str):
+            raise ValueError(f"body must be a body object (core.make_body(name) builds one from a name), "
+                             f"got {self.body!r:.60}")
+        if (self.pressures is None) != (self.pressure_index is None):
+            raise ValueError("pressures and pressure_index must be given together")
+        if self.melan_limit is not None:
+            object.__setattr__(self, "melan_limit", tuple(float(v) for v in self.melan_limit))
         if self.cg_iterations is None:
             object.__setattr__(self, "cg_iterations", np.zeros(self.iterations.shape, dtype=np.int64))
         object.__setattr__(self, "residuals", {k: np.float64(v) for k, v in self.residuals.items()})
@@ -439,43 +462,10 @@ class CycleResult(PeriodVerdict):
                 for v in value.values():
                     if isinstance(v, np.ndarray):
                         read_only(v)
-        if self.lowest_pressure is None:
+        if self.lowest_pressure is None and self.pressures is not None:
             last = self.period == self.period[-1]
-            object.__setattr__(self, "lowest_pressure", read_only(self.pressure[last].min(axis=0)))
-
-    # ---- Melan's limit of the run's own discrete problem -------------------------------------------------
-    @cached_property
-    def melan_limit(self) -> tuple[float, float] | None:
-        """Melan's limit of this run's discrete problem: ``(lo, hi)`` of the tangential load [``mu P``, the unit of
-        :attr:`Q`: ``ft``] below which it shakes down and above which it ratchets, or None.
-
-        Uncoupled contact satisfies Melan's theorem (Klarbring, Ciavarella and
-        Barber 2007): the run shakes down if and only if a fixed traction
-        within ``mu`` times the lowest pressure of the last period
-        (:attr:`lowest_pressure`) carries the load. With no moment to balance,
-        that is ``sum mu p_min dA`` (``lo = hi``), reached by tractions along
-        the load; a body free to turn about the normal (the cone) solves its
-        linear programme (:meth:`core.Cone.grid_limit`, the Coulomb disk between
-        two polygons). The normal load may vary over the period (``p_min`` is
-        then also the lowest over the load); the tangential one may not: None
-        when it does, or for a body free to turn that has no programme.
-        """
-        if self.periods == 0:
-            return None
-        last = self.period == self.period[-1]
-        Q, P = self.Q[last], self.P[last]
-        if np.ptp(Q) > 1e-12 * max(1.0, float(np.abs(Q).max())):
-            return None
-        if getattr(self.body, "twist_centre", None) is not None:
-            if (not hasattr(self.body, "grid_limit") or self.params.get("history", "rocking") != "rocking"
-                    or np.ptp(P) > 1e-12 * float(P.max())):
-                return None
-            lim = self.body.grid_limit(self.params["w"], dx=self.dx, dW=self.params.get("dW"))
-            return float(lim["lo"] * P[-1]), float(lim["hi"] * P[-1])
-        step = int(np.flatnonzero(last)[-1])
-        now = self.pressure_at(step) if self.is_patch else self.pressure[step]
-        limit = melan.grid_limit(self.lowest_pressure, now, P[-1])  # the one place Melan's limit is computed
-        return None if limit is None else (limit, limit)
+            object.__setattr__(self, "lowest_pressure",
+                               read_only(self.pressures[self.pressure_index[last]].min(axis=0)))
 
     # ---- grid ------------------------------------------------------------
     @property
@@ -545,6 +535,12 @@ class CycleResult(PeriodVerdict):
         return n if self.y_edges is None else n * (self.y_edges.size - 1)
 
     # ---- per step ----------------------------------------------------------
+    def _stored_pressures(self) -> np.ndarray:
+        if self.pressures is None:
+            raise ValueError("this result was built without its pressures (pressures, pressure_index): "
+                             "core.engine.run keeps them")
+        return self.pressures
+
     @property
     def pressure(self):
         """A line's element-mean pressure per step, shape (steps, n) [p0]: the traction bound [mu p0] the solver
@@ -553,20 +549,11 @@ class CycleResult(PeriodVerdict):
 
     @cached_property
     def _line_pressure(self) -> np.ndarray:
-        grid = self.body.on_grid(self.edges, self.params.get("normal", "auto"))
-        return read_only(grid.bounds(self.xc, self.P))
-
-    @cached_property
-    def _patch_grid(self):
-        from .patch import PatchGrid
-        return PatchGrid(self.body, self.edges, self.y_edges, self.params.get("normal", "numerical"))
+        return read_only(self._stored_pressures()[self.pressure_index])
 
     def pressure_at(self, step) -> np.ndarray:
         """Element pressure [p0] at ``step``: shape (n,) on a line, (ny, nx) on a patch (the traction bound in mu p0)."""
-        if not self.is_patch:
-            return self.pressure[step]
-        grid = self._patch_grid
-        return grid.pressure(float(self.xc[step]), float(grid.load_scale(self.P[step])))
+        return self._stored_pressures()[self.pressure_index[step]]
 
     @property
     def final_traction(self) -> np.ndarray:
@@ -705,7 +692,7 @@ class CycleResult(PeriodVerdict):
             ever = (self.state != State.RELEASED).any(axis=0)
         else:
             bound, magnitude = self.lowest_pressure, np.abs(self.traction[-1])
-            ever = (self.pressure > 0).any(axis=0)
+            ever = (self._stored_pressures() > 0).any(axis=0)
         stick = below_bound(magnitude, bound)
         loaded = (bound > 0) | (magnitude > ZERO_TRACTION)
         zones = np.where(stick, Zone.STICK, np.where(loaded, Zone.SLIP, np.where(ever, Zone.RELEASED, Zone.NONE)))

@@ -231,6 +231,40 @@ def test_one_result_type_keeps_the_body_object_for_both_shapes():
     assert_allclose(line.pressure_at(3), line.pressure[3])
 
 
+@pytest.mark.parametrize("body, dx", [(core.Punch(flat=0.5), 0.1), (core.Ellipsoid(2.0), 0.2)])
+def test_a_result_keeps_the_bounds_and_the_limit_the_run_used(body, dx):
+    """The engine stores each step's bound and the grid's Melan limit when the run ends: they are the grid's own,
+    recomputed here, and a copied period's steps share the rows of the period they repeat."""
+    from core import melan
+    from core.patch import PatchGrid
+    r = core.simulate_cycles(0.2, 0.3, periods=12, dx=dx, body=body)
+    assert r.periodic_from is not None and r.periodic_from < r.periods - 1  # the march stopped: periods copied
+    grid = (PatchGrid(r.body, r.edges, r.y_edges, r.params["normal"]) if r.is_patch
+            else r.body.on_grid(r.edges, r.params["normal"]))
+    fresh = grid.bounds(r.xc, r.P, out=None)
+    for k in range(r.xc.size):
+        assert_allclose(r.pressure_at(k), fresh[k], rtol=0, atol=1e-13, err_msg=f"step {k}")
+    assert r.pressures.shape[0] < r.xc.size and r.pressure_index.shape == r.xc.shape
+    last = r.period == r.period[-1]
+    lowest = np.min([fresh[k] for k in np.flatnonzero(last)], axis=0)
+    assert_allclose(r.lowest_pressure, lowest, rtol=0, atol=1e-13)
+    expected = melan.grid_limit(lowest, fresh[-1], r.P[-1])
+    assert r.melan_limit == (pytest.approx(expected, rel=1e-12),) * 2
+
+
+def test_result_module_computes_nothing_through_the_registry_or_a_solver():
+    """core/result.py is a record: no import of the registry, the bodies' grids, Melan's limit or a solver."""
+    import ast
+    tree = ast.parse(Path(core.result.__file__).read_text())
+    imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+    imported |= {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
+    assert imported <= {"__future__", "math", "warnings", "dataclasses", "functools", "typing", "numpy", "states",
+                        "verdict", "_validate"}, imported
+    r = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.2)
+    with pytest.raises(ValueError, match="body must be a body object"):
+        core.CycleResult(**{**{f: getattr(r, f) for f in r.__dataclass_fields__}, "body": "cylinder"})
+
+
 @pytest.mark.parametrize("body, solver, valid", [("sphere", "dense", "'pcg3d'"), ("sphere", "fft", "'pcg3d'"),
                                                  ("cylinder", "pcg3d", "'dense', 'fft'"),
                                                  ("punch", "pcg3d", "'dense', 'fft'")])
