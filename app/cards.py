@@ -387,7 +387,7 @@ class CardsMixin:
             wait = "no run"  # the inputs were refused: nothing is being solved (the badge says why)
         else:
             wait = "solving…" if pending or result is None else "release the slider"
-        if isinstance(contact, core.PointContact) or point:
+        if (contact is not None and contact.is_point) or point:
             error = grid_error if (grid_error is not None and fresh and grid_error.result is result) else None
             return point_rows(ft, w, mu, contact, result, wait, units, cycles, self._body_spec(), error), wait
         return cylinder_rows(ft, w, mu, contact, result, wait, units, cycles, self._body_spec()), wait

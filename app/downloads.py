@@ -41,8 +41,9 @@ class DownloadsMixin:
 
     def _run_contact(self):
         """The current contact if it is of the run's kind (after a body switch the run may be the other body's)."""
-        kind = core.PointContact if isinstance(self.result, core.PointContactResult) else core.Contact
-        return self.contact if isinstance(self.contact, kind) else None
+        if self.contact is None or self.contact.is_point != self.result.is_patch:
+            return None
+        return self.contact
 
     def _csv(self):
         if self.result is None:

@@ -51,9 +51,9 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
 
     result = param.ClassSelector(class_=(core.CycleResult, core.PointContactResult), default=None, allow_None=True,
                                  doc="The solver run of the current inputs (None until solved, or if they are invalid).")
-    contact = param.ClassSelector(class_=(core.Contact, core.PointContact), default=None, allow_None=True,
+    contact = param.ClassSelector(class_=core.Contact, default=None, allow_None=True,
                                   doc="The current contact (None if the inputs are invalid).")
-    geometry = param.ClassSelector(class_=(core.Contact, core.PointContact), default=None, allow_None=True,
+    geometry = param.ClassSelector(class_=core.Contact, default=None, allow_None=True,
                                    doc="The current contact at ft = w = 0: what the plot units depend on.")
     plot_units = param.ClassSelector(class_=plots.Units, default=plots.Units("normalised"),
                                      doc="Scales and labels of the figures.")

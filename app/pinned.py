@@ -36,7 +36,7 @@ class Pin(NamedTuple):
     """A pinned run: the solver's result, its contact (SI) and the inputs it was solved for."""
 
     result: core.CycleResult | core.PointContactResult
-    contact: core.Contact | core.PointContact | None
+    contact: core.Contact | None
     inputs: dict
 
     @property

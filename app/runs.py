@@ -26,7 +26,6 @@ install; :func:`readiness` says how far that is (``/liveness`` reports it).
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import logging
 import sys
@@ -139,11 +138,11 @@ RESULTS = ResultCache(CACHE_ITEMS, CACHE_MB * 2**20)
 
 def run_key(contact, options: dict) -> tuple:
     """A hashable key of everything a run depends on (a line body's :class:`core.Contact` or a
-    :class:`core.PointContact`, and the options; a body object by its ``repr``: its name and parameters, a height
+    point :class:`core.Contact`, and the options; a body object by its ``repr``: its name and parameters, a height
     map's data digest). Not μ, for an uncoupled contact (Dundurs β = 0): the normalised run does not depend on it
     (tests/test_app_teacher_numbers.py checks that the arrays are the same)."""
-    if isinstance(contact, core.PointContact):
-        inputs = {"point_contact": True, **dataclasses.asdict(contact)}
+    if contact.is_point:
+        inputs = {"point_contact": True, **contact.summary()}
     else:
         inputs = contact.summary()
     if getattr(contact, "beta", 0.0) == 0.0:
@@ -164,9 +163,9 @@ def _point_body_run(contact, periods=10, dx=None, *, body, **options):
 
 def runner(contact, options: dict | None = None):
     """The run of ``contact`` as one callable of the solver options: :func:`core.simulate_contact` for a line body
-    (the cylinder, or another given by the option ``body``), :meth:`core.PointContact.simulate` for a sphere or
+    (the cylinder, or another given by the option ``body``), :meth:`core.Contact.simulate` for a sphere or
     an ellipsoid, :func:`core.simulate_cycles` for another point body (option ``body``); all need only ``core``."""
-    if isinstance(contact, core.PointContact):
+    if contact.is_point:
         if options and "body" in options:
             return functools.partial(_point_body_run, contact)
         return contact.simulate

@@ -167,11 +167,11 @@ class ExplorerState(param.Parameterized):
         except ValueError:
             return True
 
-    def contact(self) -> core.Contact | core.PointContact:
+    def contact(self) -> core.Contact:
         """The contact in SI units, with this state's ``ft`` and ``w``.
 
-        A :class:`core.Contact` for a line body (the cylinder's geometry: the
-        physical scales of any line body); a :class:`core.PointContact` for a
+        A line :class:`core.Contact` for a line body (the cylinder's geometry:
+        the physical scales of any line body); a point one (``Rx``, ``Ry``) for a
         point body: the sphere (``Rx = Ry = R``), an ellipsoid (``Rx = R``,
         ``Ry = ratio R``), another point body at the scales of the sphere of
         radius R; ``w`` is ``W`` over the contact's semi-axis along x and
@@ -189,9 +189,9 @@ class ExplorerState(param.Parameterized):
                              f"({type(body).__name__}); its exact limit is on the cards and the map")
         if self.point:
             ratio = float(body.ratio) if bodies.is_ellipsoid(body) else 1.0
-            c = core.PointContact(Rx=self.R * _MM, Ry=self.R * ratio * _MM, Fn=self.Fn, mu=self.mu,
-                                  E2=self.E2 * _MPA, nu2=self.nu2, E1=math.inf if rigid else self.E1 * _MPA,
-                                  nu1=0.3 if rigid else self.nu1, Ft=self.ft * self.mu * self.Fn)
+            c = core.Contact(Rx=self.R * _MM, Ry=self.R * ratio * _MM, Fn=self.Fn, mu=self.mu,
+                             E2=self.E2 * _MPA, nu2=self.nu2, E1=math.inf if rigid else self.E1 * _MPA,
+                             nu1=0.3 if rigid else self.nu1, Ft=self.ft * self.mu * self.Fn)
             return c.replace(w=self.w)
         inputs = dict(R1=self.R * _MM, Fn=self.Fn, mu=self.mu, E2=self.E2 * _MPA, nu2=self.nu2,
                       E1=math.inf if rigid else self.E1 * _MPA, nu1=0.3 if rigid else self.nu1, ft=self.ft, w=self.w)
@@ -207,7 +207,7 @@ class ExplorerState(param.Parameterized):
 
     def solver_options(self) -> dict:
         """Keyword arguments of the run of :meth:`contact`: :func:`core.simulate_contact` for the cylinder,
-        :meth:`core.PointContact.simulate` for a point contact (no kernel: the half-space's)."""
+        :meth:`core.Contact.simulate` for a point contact (no kernel: the half-space's)."""
         if self.point:
             body = self.body_object()
             if bodies.is_ellipsoid(body):

@@ -36,7 +36,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from .contact import Contact, PointContact
+from .contact import Contact
 from .result import CycleResult
 from .states import STATE_NAMES, ZONE_NAMES
 
@@ -51,23 +51,19 @@ POINT_STATE_NAMES = ("released", "stick", "slip +x", "slip -x")
 def _check(result, contact, first_period=0):
     if not isinstance(result, CycleResult):
         raise ValueError(f"result must be a core.CycleResult, got {type(result).__name__}")
-    if result.is_patch:
-        if contact is not None and not isinstance(contact, PointContact):
-            raise ValueError(f"contact must be a core.PointContact or None for a point-contact run, "
-                             f"got {type(contact).__name__}")
-    elif contact is not None and not isinstance(contact, Contact):
+    if contact is not None and not isinstance(contact, Contact):
         raise ValueError(f"contact must be a core.Contact or None, got {type(contact).__name__}")
+    if contact is not None and contact.is_point != result.is_patch:
+        raise ValueError(f"contact must be a {'point' if result.is_patch else 'line'} core.Contact or None for "
+                         f"a {'point' if result.is_patch else 'line'}-contact run, got a "
+                         f"{'point' if contact.is_point else 'line'} contact")
     if isinstance(first_period, bool) or not isinstance(first_period, (int, np.integer)) or not 0 <= first_period <= 1:
         raise ValueError(f"first_period must be 0 or 1, got {first_period!r}")
 
 
 def _contact_summary(contact) -> dict:
     """The inputs and derived quantities of a contact (SI units)."""
-    if isinstance(contact, Contact):
-        return dict(contact.summary())
-    fields = ("Rx", "Ry", "Fn", "mu", "E2", "nu2", "E1", "nu1", "Ft", "W", "angle")
-    return {**{k: getattr(contact, k) for k in fields}, "a": contact.a, "b": contact.b, "p0": contact.p0,
-            "E_star": contact.E_star, "ft": contact.ft, "w": contact.w}
+    return dict(contact.summary())
 
 
 def _plain(v):
@@ -86,8 +82,8 @@ def parameters(result: CycleResult, contact: Contact | None = None) -> dict:
     ----------
     result : CycleResult
         The run.
-    contact : Contact or PointContact, optional
-        The contact in physical units; adds its inputs and derived quantities
+    contact : Contact, optional
+        The contact in physical units (of the run's kind); adds its inputs and derived quantities
         (prefixed ``contact_``, SI units) and the unit conversions.
 
     Returns
@@ -121,7 +117,7 @@ def result_table(result, table: str = "steps", contact=None, first_period: int =
         The run.
     table : {"steps", "periods", "final"}
         Which table.
-    contact : Contact or PointContact, optional
+    contact : Contact, optional
         The run's contact (of the same kind): adds columns in SI units.
     first_period : {0, 1}
         The number of the first rocking period (the loading is ``first_period - 1``).

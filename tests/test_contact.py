@@ -74,3 +74,36 @@ def test_summary_round_trip():
     s = PAPER_SIMULATION.summary()
     assert s["a"] == PAPER_SIMULATION.a and set(s) >= {"ft", "w", "beta", "E_star"}
     assert core.Contact(**{k: s[k] for k in ("R1", "L", "Fn", "mu", "E2", "nu2", "R2", "E1", "nu1")}) == PAPER_SIMULATION
+
+
+def test_one_class_holds_a_line_or_a_point_contact_and_runs_its_body():
+    """core.Contact is the one physical-units class: a line (R1, L) or a point (Rx, Ry) contact, with any body of
+    its kind at its scales; its run is that body's under its normalised loads."""
+    import numpy as np
+    line = PAPER_EXPERIMENT.replace(ft=0.3, w=0.4, body=core.Punch(flat=0.5))
+    point = Contact(Rx=0.01, Ry=0.02, Fn=10.0, mu=0.5, E2=3e6, nu2=0.4, Ft=1.0, W=2e-4)
+    assert not line.is_point and point.is_point and point.body == core.Ellipsoid(2.0)
+    assert line.b is None and line.P == line.Fn / line.L and point.P is None and point.b > point.a
+    r = line.simulate(periods=2, dx=0.1, kernel="plane")
+    ref = core.simulate_cycles(line.ft, line.w, periods=2, dx=0.1, body=core.Punch(flat=0.5))
+    assert r.body == core.Punch(flat=0.5) and np.array_equal(r.increment_per_period, ref.increment_per_period)
+    s = core.simulate_contact(point, periods=1, dx=0.25)
+    assert s.is_patch and s.nu == pytest.approx(0.4) and s.params["ft"] == pytest.approx(point.ft)
+    # the point contact's kernel Poisson ratio is the line's strip-kernel one for the same materials
+    mixed = PAPER_EXPERIMENT.replace(nu2=0.4)  # a steel cylinder: elastic on both sides
+    steel_ball = Contact(Rx=0.01, Ry=0.01, Fn=mixed.Fn, mu=mixed.mu, E2=mixed.E2, nu2=0.4, E1=mixed.E1, nu1=mixed.nu1)
+    assert steel_ball.kernel_nu == pytest.approx(core.strip_options(mixed)["nu"], rel=1e-12) and 0.39 < mixed.kernel_nu < 0.4
+    with pytest.raises(ValueError, match="not both"):
+        Contact(R1=0.04, L=0.08, Fn=1.0, mu=0.5, E2=1e6, nu2=0.5, Rx=0.01, Ry=0.01)
+    with pytest.raises(ValueError, match="line core.Contact"):
+        core.strip_options(point)
+    with pytest.raises(ValueError, match="kernel"):
+        core.simulate_contact(point, periods=1, kernel="plane")
+
+
+def test_point_contact_is_a_deprecated_name_of_contact():
+    with pytest.warns(DeprecationWarning, match="PointContact is Contact"):
+        old = core.PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
+    new = Contact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
+    assert type(old) is Contact and old == new and round(old.a * 1e3, 3) == 2.657
+    assert isinstance(new, core.PointContact) and not isinstance(PAPER_EXPERIMENT, core.PointContact)

@@ -8,7 +8,7 @@ from scipy.integrate import dblquad
 from scipy.special import ellipe, ellipk
 
 import core
-from core.contact import PointContact
+from core.contact import Contact
 from core.point_contact import Ellipsoid, ft_limit_point, hertz_element_means, hertz_pressure_3d, w_limit_point
 
 
@@ -68,7 +68,7 @@ def test_cylinder_bears_more_than_sphere_at_same_amplitude():
 @pytest.mark.parametrize("ratio", [0.2, 0.5, 2.0, 4.0, 10.0])
 def test_hertz_ellipse_matches_johnson(ratio):
     """Semi-axes and p0 reproduce both principal curvatures through Johnson's eqs 4.39-4.40."""
-    c = PointContact(Rx=0.01, Ry=0.01 * ratio, Fn=5.0, mu=0.4, E2=2e6)
+    c = Contact(Rx=0.01, Ry=0.01 * ratio, Fn=5.0, mu=0.4, E2=2e6)
     a, b = c.a, c.b
     major, minor = max(a, b), min(a, b)
     e2 = 1 - (minor / major) ** 2
@@ -84,7 +84,7 @@ def test_hertz_ellipse_matches_johnson(ratio):
 
 
 def test_sphere_contact_radius():
-    c = PointContact(Rx=0.02, Ry=0.02, Fn=3.0, mu=0.5, E2=1e6, nu2=0.3)
+    c = Contact(Rx=0.02, Ry=0.02, Fn=3.0, mu=0.5, E2=1e6, nu2=0.3)
     np.testing.assert_allclose(c.a, (3 * 3.0 * 0.02 / (4 * c.E_star)) ** (1 / 3), rtol=1e-12)
     assert c.nu == pytest.approx(0.3)
 
@@ -111,22 +111,22 @@ def test_bad_ellipsoid(kw, match):
 
 def test_bad_contact_inputs():
     with pytest.raises(ValueError, match="Ft"):
-        PointContact(Rx=0.01, Ry=0.01, Fn=1.0, mu=0.5, E2=1e6, Ft=0.6)
+        Contact(Rx=0.01, Ry=0.01, Fn=1.0, mu=0.5, E2=1e6, Ft=0.6)
     with pytest.raises(ValueError, match="nu2"):
-        PointContact(Rx=0.01, Ry=0.01, Fn=1.0, mu=0.5, E2=1e6, nu2=0.7)
+        Contact(Rx=0.01, Ry=0.01, Fn=1.0, mu=0.5, E2=1e6, nu2=0.7)
     with pytest.raises(ValueError, match="ratio"):
         core.simulate_cycles(0.2, 0.2, body="ellipsoid")
 
 
 def test_physical_contact_runs_normalised():
-    c = PointContact(Rx=0.01, Ry=0.02, Fn=10.0, mu=0.5, E2=3e6, nu2=0.4, Ft=1.0, W=2e-4)
+    c = Contact(Rx=0.01, Ry=0.02, Fn=10.0, mu=0.5, E2=3e6, nu2=0.4, Ft=1.0, W=2e-4)
     r = c.simulate(periods=1, dx=0.25)
     assert r.params["ft"] == pytest.approx(c.ft) and r.params["w"] == pytest.approx(c.w)
     assert r.body.ratio == pytest.approx(2.0) and r.nu == pytest.approx(0.4)
 
 
 def test_replace_keeps_the_normalised_loads_as_contact_replace_does():
-    c = PointContact(Rx=0.01, Ry=0.02, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4, angle=0.3)
+    c = Contact(Rx=0.01, Ry=0.02, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4, angle=0.3)
     stiffer = c.replace(E2=6e6, mu=0.8)
     assert stiffer.E2 == 6e6 and stiffer.angle == c.angle and stiffer.Ry == c.Ry
     assert stiffer.ft == pytest.approx(c.ft, rel=1e-12) and stiffer.w == pytest.approx(c.w, rel=1e-12)
@@ -144,9 +144,9 @@ def test_replace_keeps_the_normalised_loads_as_contact_replace_does():
     (dict(W=1e-5, w=0.2), "W: give W or w"),
     (dict(radius=0.1), "radius: not an input"),
     (dict(mu=-1.0), "mu"),
-    (dict(ft=1.5), "Ft"),
+    (dict(ft=1.5), "ft"),
 ])
 def test_replace_refuses_what_is_not_a_point_contact(changes, match):
-    c = PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
+    c = Contact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
     with pytest.raises(ValueError, match=match):
         c.replace(**changes)

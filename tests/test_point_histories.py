@@ -78,7 +78,7 @@ def test_point_contact_takes_arrays():
 
 
 def test_point_contact_simulate_passes_the_history():
-    c = core.PointContact(Rx=0.01, Ry=0.01, Fn=100.0, mu=0.5, E2=2e11, nu2=0.3, Ft=20.0)
+    c = core.Contact(Rx=0.01, Ry=0.01, Fn=100.0, mu=0.5, E2=2e11, nu2=0.3, Ft=20.0)
     r = c.simulate(periods=2, dx=0.2, history="tangential", amplitude=0.3)
     assert r.params["history"] == "tangential" and float(np.ptp(r.Q)) == pytest.approx(0.6)
 

@@ -163,7 +163,7 @@ def test_the_energy_is_in_the_tables_and_in_physical_units(fretting):
     J_per_m = contact.mu ** 2 * contact.P ** 2 / contact.E_star
     assert contact.energy_unit == pytest.approx(J_per_m, rel=1e-12)
     assert parameters(fretting, contact)["mu2P2_Estar_J_per_m"] == pytest.approx(J_per_m, rel=1e-12)
-    point = core.PointContact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
+    point = core.Contact(Rx=0.01, Ry=0.01, Fn=10.0, mu=0.5, E2=3e6, Ft=2.0, W=1e-4)
     assert point.energy_unit == pytest.approx(0.5 ** 2 * 10.0 ** 2 / (point.E_star * point.a), rel=1e-12)
 
 
