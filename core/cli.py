@@ -31,20 +31,19 @@ from __future__ import annotations
 # Only the standard library at import time, so that `shakedown --help` answers at once: numpy, pandas and the
 # solver are imported by the commands that need them.
 import argparse
-import importlib.util
 import math
 import re
 import sys
 import time
 from pathlib import Path
 
+from .cli_values import (MAX_AXIS_VALUES, MAX_TEXT, _MAX_PATH, _address, _arg, _choice, _integer, _number, _Once,
+                         _output, _range, _short, _text, parse_range)
+from . import registry as _registry
+from .registry import DEFAULT as _DEFAULT_BODY, flags as _registry_flags
+
 __all__ = ["main", "parse_range", "build_parser", "MAX_AXIS_VALUES", "MAX_TEXT", "flag_names"]
 
-#: Most values one ``--ft`` or ``--w`` range may expand to.
-MAX_AXIS_VALUES = 10_000
-#: Longest text accepted for any option value (characters).
-MAX_TEXT = 200
-_MAX_PATH = 4096
 _EXIT_OK, _EXIT_FAILED, _EXIT_USAGE, _EXIT_INTERRUPTED = 0, 1, 2, 130
 _PREFIX = "shakedown: error: "
 # copies of library constants, so that building the parser imports nothing heavy (tests/test_cli.py checks them)
@@ -52,11 +51,14 @@ _KERNELS = ("plane", "strip")
 _SHAPES = ("triangle", "sine")
 _NORMALS = ("auto", "exact", "numerical")
 _SOLVERS = ("auto", "dense", "fft", "pcg3d")
-# the body flags: which body each belongs to (core/registry.py lists the bodies and their parameters)
-_BODY_FLAGS = {"flat": ("punch",), "ratio": ("ellipsoid",), "angle": ("sphere", "ellipsoid", "heightmap"),
-               "file": ("heightmap",), "length_unit": ("heightmap",), "height_unit": ("heightmap",),
-               "inner": ("cone",), "length": ("cone",), "load_at": ("cone",)}
-_BODY_NAMES = ("cylinder", "punch", "sphere", "ellipsoid", "heightmap", "cone")  # core.registry.REGISTRY's names
+# the body flags come from the registry (core/registry.py, the one list of the bodies and their parameters), read
+# when the parser is built: each body parameter and run option, with the bodies that take it (these two names are
+# what it held at import)
+_BODY_FLAGS = _registry_flags()
+_BODY_NAMES = tuple(_registry.REGISTRY)
+# the run options a body may take (core.registry.BodyEntry.options): their flags, parsed here
+_OPTION_FLAGS = {"angle": dict(type=_number("angle", -180.0, 180.0), metavar="DEG",
+                               help="the angle of Ft to the rocking direction [degrees], in [-180, 180] (default 0)")}
 _DEFAULT_DX = 1.0 / 40.0  # core.resolution.DEFAULT_DX_LINE: the cylinder's default grid
 _DEFAULT_DX_POINT = 1.0 / 20.0  # core.resolution.DEFAULT_DX_POINT: the point contacts' default grid
 _MAX_ELEMENTS = 16384  # core.solver.MAX_FFT_ELEMENTS: the grid over [-(1 + w), 1 + w] has at most this many
@@ -64,190 +66,7 @@ _MAX_ELEMENTS = 16384  # core.solver.MAX_FFT_ELEMENTS: the grid over [-(1 + w), 
 _DX_MIN = 1.0 / (_MAX_ELEMENTS // 2 - 1)  # the finest dx the solver accepts (at w = 0)
 _MAX_RUNS, _MAX_CELLS = 20_000, 25_000_000  # core.grid.MAX_RUNS, MAX_CELLS
 # options that pass through to core.simulate_cycles, and the one value each has while the solver lacks it
-_PASS_THROUGH = {"body": "cylinder", "history": "rocking"}
-
-
-# --------------------------------------------------------------------------
-# parsing values
-# --------------------------------------------------------------------------
-def _short(text: str) -> str:
-    return repr(text) if len(text) <= 40 else repr(text[:37] + "...")
-
-
-def _text(name: str, text: str) -> str:
-    if len(text) > MAX_TEXT:
-        raise ValueError(f"{name} is too long ({len(text)} characters, at most {MAX_TEXT}): {_short(text)}")
-    return text.strip()
-
-
-def _float(name: str, text: str) -> float:
-    text = _text(name, text)
-    try:
-        return float(text)
-    except ValueError:
-        raise ValueError(f"{name} must be a number, got {_short(text)}") from None
-
-
-def parse_range(text: str, name: str = "value", lo: float | None = None, hi: float | None = None, *,
-                lo_closed: bool = True, hi_closed: bool = True, max_values: int = MAX_AXIS_VALUES):
-    """Parse ``START:STOP:N`` (N evenly spaced values, both ends included), ``X`` or ``X,Y,...``.
-
-    Parameters
-    ----------
-    text : str
-        The text to parse.
-    name : str
-        The option's name, for error messages.
-    lo, hi : float or None
-        Allowed range of every value (None: unbounded on that side).
-    lo_closed, hi_closed : bool
-        Whether the bounds themselves are allowed.
-    max_values : int
-        Most values the text may expand to.
-
-    Returns
-    -------
-    ndarray
-        The values, finite, within the range, distinct, in the order written.
-        Inner ``START:STOP:N`` values are rounded to 12 significant digits, so that
-        they are the decimals one would write (0.3, not 0.30000000000000004)
-        in tables and file names.
-
-    Raises
-    ------
-    ValueError
-        With a message naming ``name`` for anything else.
-
-    Examples
-    --------
-    >>> from core.cli import parse_range
-    >>> parse_range("0.1:0.5:5", "ft", 0, 1, hi_closed=False).tolist()
-    [0.1, 0.2, 0.3, 0.4, 0.5]
-    >>> parse_range("0.3", "w").tolist(), parse_range("0.1, 0.2", "w").tolist()
-    ([0.3], [0.1, 0.2])
-    """
-    import numpy as np
-
-    from ._validate import check_scalar
-
-    text = _text(name, text)
-    if ":" in text:
-        parts = text.split(":")
-        if len(parts) != 3:
-            raise ValueError(f"{name} must be START:STOP:N, X or X,Y,..., got {_short(text)}")
-        start, stop = _float(name, parts[0]), _float(name, parts[1])
-        count_text = parts[2].strip()
-        if not (count_text.isascii() and count_text.isdigit()):
-            raise ValueError(f"{name}: N in START:STOP:N must be a whole number, got {_short(count_text)}")
-        count = int(count_text)
-        if not 2 <= count <= max_values:
-            raise ValueError(f"{name}: N in START:STOP:N must be in [2, {max_values}], got {count}"
-                             + (" (give a single value instead)" if count == 1 else ""))
-        for v in (start, stop):
-            check_scalar(name, v, lo, hi, lo_closed=lo_closed, hi_closed=hi_closed)
-        if not math.isfinite(start) or not math.isfinite(stop):
-            raise ValueError(f"{name} must be finite, got {_short(text)}")
-        if start == stop:
-            raise ValueError(f"{name}: START and STOP must differ in START:STOP:N, got {_short(text)}")
-        values = np.linspace(start, stop, count)
-        values[1:-1] = [float(f"{v:.12g}") for v in values[1:-1]]  # the ends are as written already
-    else:
-        items = text.split(",")
-        if len(items) > max_values:
-            raise ValueError(f"{name} has {len(items)} values (at most {max_values})")
-        values = np.array([_float(name, item) for item in items])
-    for v in values:
-        check_scalar(name, float(v), lo, hi, lo_closed=lo_closed, hi_closed=hi_closed)
-        if not math.isfinite(v):
-            raise ValueError(f"{name} must be finite, got {v}")
-    if np.unique(values).size != values.size:
-        raise ValueError(f"{name} values must be distinct, got {_short(text)}")
-    return values
-
-
-def _arg(fn):
-    """Turn a parser raising ValueError into an argparse type (message kept, exit status 2)."""
-    def parse(text):
-        try:
-            return fn(text)
-        except ValueError as e:
-            raise argparse.ArgumentTypeError(str(e)) from None
-    return parse
-
-
-def _number(name, lo=None, hi=None, *, lo_closed=True, hi_closed=True, finite=True):
-    def parse(text):
-        from ._validate import check_scalar
-
-        value = check_scalar(name, _float(name, text), lo, hi, lo_closed=lo_closed, hi_closed=hi_closed)
-        if finite and not math.isfinite(value):
-            raise ValueError(f"{name} must be finite, got {value}")
-        return value
-    return _arg(parse)
-
-
-def _integer(name, lo, hi):
-    def parse(text):
-        from ._validate import check_int
-
-        text = _text(name, text)
-        if not (text.lstrip("+-").isascii() and text.lstrip("+-").isdigit()):
-            raise ValueError(f"{name} must be a whole number in [{lo}, {hi}], got {_short(text)}")
-        return check_int(name, int(text), lo, hi)
-    return _arg(parse)
-
-
-def _choice(name, choices):
-    def parse(text):
-        text = _text(name, text)
-        if text not in choices:
-            raise ValueError(f"{name} must be one of {', '.join(choices)}, got {_short(text)}")
-        return text
-    return _arg(parse)
-
-
-def _range(name, lo, hi, **kw):
-    return _arg(lambda text: parse_range(text, name, lo, hi, **kw))
-
-
-def _address(text):
-    from .tasks import check_address
-
-    text = _text("scheduler", text)
-    if not text:
-        raise ValueError("scheduler must be a Dask scheduler address such as tcp://host:8786")
-    check_address(text)
-    return text
-
-
-def _output(suffixes, stdout=False):
-    def parse(text):
-        if stdout and text.strip() == "-":
-            return "-"
-        if len(text) > _MAX_PATH or not text.strip():
-            raise ValueError(f"--out must be a file path of 1 to {_MAX_PATH} characters")
-        path = Path(text)
-        if not any(path.name.lower().endswith(s) for s in suffixes):
-            raise ValueError(f"--out must end in {', '.join(suffixes)}, got {_short(path.name)}")
-        if path.is_dir():
-            raise ValueError(f"--out is a directory: {_short(text)}")
-        if not path.parent.is_dir():
-            raise ValueError(f"--out: the directory {_short(str(path.parent))} does not exist")
-        if path.name.lower().endswith(".parquet") and importlib.util.find_spec("pyarrow") is None:
-            raise ValueError("--out: Parquet needs pyarrow (pip install pyarrow); or write .csv / .csv.gz")
-        return path
-    return _arg(parse)
-
-
-class _Once(argparse.Action):
-    """Store an option's value, refusing a second occurrence (``--ft 0.1 --ft 0.2``)."""
-
-    def __call__(self, parser, namespace, values, option_string=None):
-        seen = namespace.__dict__.setdefault("_seen", set())
-        if self.dest in seen:
-            raise argparse.ArgumentError(self, "given more than once")
-        seen.add(self.dest)
-        setattr(namespace, self.dest, values)
+_PASS_THROUGH = {"body": _DEFAULT_BODY, "history": "rocking"}
 
 
 # --------------------------------------------------------------------------
@@ -278,7 +97,7 @@ def flag_names(message: str) -> str:
     m = re.match(r"argument (--[\w-]+)(?:/\S+)?: (.*)", message, re.S)
     if m and re.match(rf"{re.escape(m.group(1)[2:].replace('-', '_'))}\b", m.group(2)):
         message = m.group(2)
-    for name in sorted(_FLAGGED, key=len, reverse=True):
+    for name in sorted({*_FLAGGED, *_registry_flags()}, key=len, reverse=True):
         flag = "--" + name.replace("_", "-")
         message = re.sub(rf"(?<![\w-]){name}=(['\"]?)([\w.+-]*)\1", rf"{flag} \2", message)
         if "_" in name:
@@ -288,35 +107,31 @@ def flag_names(message: str) -> str:
     return message
 
 
+def _body_flag(name, bodies) -> dict:
+    """The type, metavar and help of a body flag: a run option's (:data:`_OPTION_FLAGS`) or the registry's
+    parameter's (its range, default and meaning)."""
+    only = f"--body {' or '.join(bodies)}: "
+    if name in _OPTION_FLAGS:
+        option = _OPTION_FLAGS[name]
+        return dict(option, help=only + option["help"])
+    p = next(p for e in _registry.REGISTRY.values() for p in e.parameters if p.name == name)
+    if p.path:
+        return dict(type=_arg(lambda text: _text(name, text)), metavar="PATH", help=only + p.doc)
+    span = f"[{p.lo:g}, {p.hi:g}{']' if p.hi_closed else ')'}"
+    default = " (required)" if p.keyword else f" (default {p.default:g})"
+    return dict(type=_number(name, p.lo, p.hi, hi_closed=p.hi_closed), metavar=name.upper(),
+                help=f"{only}{p.doc}, in {span}{default}")
+
+
 def _add_solver_options(parser, kernel_default="plane"):
     g = parser.add_argument_group("solver options (normalised: lengths in a, the Hertz half-width)")
     add = g.add_argument
     add("--body", type=_arg(lambda text: _text("body", text)), action=_Once, metavar="NAME",
-        help=f"the rocking body: {', '.join(_BODY_NAMES)} (core/registry.py; default {_PASS_THROUGH['body']}); "
-             "its parameters: --flat (punch), --ratio and --angle (ellipsoid), --file, --length-unit and "
-             "--height-unit (heightmap), --inner, --length and --load-at (cone)")
-    add("--flat", type=_number("flat", 0.0, 1.0, hi_closed=False), action=_Once, metavar="B/A",
-        help="--body punch: the flat's half-width over the contact half-width, in [0, 1) (default 0.5; 0 is the "
-             "cylinder)")
-    add("--ratio", type=_number("ratio", 0.05, 20.0), action=_Once, metavar="RY/RX",
-        help="--body ellipsoid: the ratio Ry/Rx of its principal relative radii, in [0.05, 20]")
-    add("--angle", type=_number("angle", -180.0, 180.0), action=_Once, metavar="DEG",
-        help="--body sphere or ellipsoid: the angle of Ft to the rocking direction [degrees], in [-180, 180] "
-             "(default 0)")
-    add("--file", type=_arg(lambda text: _text("file", text)), action=_Once, metavar="PATH",
-        help="--body heightmap: the height map, a file SurfaceTopography reads (NetCDF, profilometer formats); "
-             "the body's gap is -height/height_unit, rows along y, rocked along x, run on its own grid (dx = pixel)")
-    add("--length-unit", dest="length_unit", type=_number("length_unit", 0.0, None, lo_closed=False), action=_Once,
-        metavar="A", help="--body heightmap: the length a in the file's length unit (default 1)")
-    add("--height-unit", dest="height_unit", type=_number("height_unit", 0.0, None, lo_closed=False), action=_Once,
-        metavar="U", help="--body heightmap: P/(E* a) in the file's height unit (default 1)")
-    add("--inner", type=_number("inner", 0.0, 1.0, hi_closed=False), action=_Once, metavar="R1/R2",
-        help="--body cone: the inner end's distance from the apex over the outer end's, in [0, 1) (default 0.5; "
-             "0 is a full cone); a and w are measured at the mid-length")
-    add("--length", type=_number("length", 4.0, 200.0), action=_Once, metavar="L/A",
-        help="--body cone: the contact length over the half-width at the mid-length, in [4, 200] (default 10)")
-    add("--load-at", dest="load_at", type=_number("load_at", 0.0, 1.0), action=_Once, metavar="F",
-        help="--body cone: where Ft acts along the contact, (r_F - r1)/(r2 - r1) in [0, 1] (default 0.5)")
+        help=f"the rocking body: {', '.join(_registry.REGISTRY)} (core/registry.py; default {_DEFAULT_BODY}); its "
+             "parameters: " + "; ".join(f"--{name.replace('_', '-')} ({' or '.join(bodies)})"
+                                         for name, bodies in _registry_flags().items()))
+    for name, bodies in _registry_flags().items():  # read now: a body registered after the import has its flags
+        add(f"--{name.replace('_', '-')}", dest=name, action=_Once, **_body_flag(name, bodies))
     add("--normal", type=_choice("normal", _NORMALS), action=_Once,
         help="the pressure: exact (closed form), numerical (the normal problem solved by constrained conjugate "
              "gradients) or auto (the default: a line contact's closed form where there is one; a point contact's "
@@ -360,8 +175,7 @@ _SOLVER_DESTS = ("body", "normal", "solver", "history", "periods", "dx", "dW", "
                  "shakedown_rtol", "time_budget")
 # every parameter name a library message may use, spelled as a flag by flag_names
 _FLAGGED = (*_SOLVER_DESTS, "ft", "w", "tol", "max_runs", "workers", "max_workers", "scheduler", "R1", "L", "Fn",
-            "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W", "flat", "ratio", "angle", "file", "length_unit",
-            "height_unit")
+            "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W")
 
 
 def _add_execution_options(parser):
@@ -472,8 +286,10 @@ def build_parser() -> argparse.ArgumentParser:
         "limit", allow_abbrev=False, help="the numerical shakedown limit w_lim(ft), then the exact one beside it",
         description="For each ft, bisect in w for the largest amplitude that still shakes down, starting from "
                     "the whole range [0, 0.999] (not from the exact limit); print the bracket found and whether the "
-                    "exact limit of the body (eq 35 for the cylinder, ft = 1 - 3w/2 + w^3/2 for --body sphere or "
-                    "ellipsoid) lies inside it. Each body runs at its own default grid unless --dx is given.")
+                    "exact limit of the body (" + "; ".join(f"{e.exact_limit} for the {n}"
+                                                            for n, e in _registry.REGISTRY.items() if e.exact_limit) +
+                    "; Melan's integral, core.w_limit, for any other) lies inside it. Each body runs at its own "
+                    "default grid unless --dx is given.")
     li.add_argument("--ft", type=_range("ft", 0.0, 1.0, lo_closed=False, hi_closed=False, max_values=1000),
                     action=_Once, required=True, metavar="RANGE",
                     help="tangential loads Ft/(mu Fn) [-], each in (0, 1); START:STOP:N, X or X,Y,...")
@@ -495,16 +311,17 @@ def _body_options(args, options) -> None:
     """The body flags (--flat, --ratio, --angle) into the options: a body object (core/registry.py) or the
     point contacts' ``ratio`` and ``angle`` [rad]; each flag only with its body."""
     body = options.get("body", _PASS_THROUGH["body"])
-    given = {k: getattr(args, k) for k in _BODY_FLAGS if getattr(args, k, None) is not None}
+    flags = _registry_flags()
+    given = {k: getattr(args, k) for k in flags if getattr(args, k, None) is not None}
     for name, value in given.items():
-        if body not in _BODY_FLAGS[name]:
-            raise ValueError(f"--{name} is for --body {' or '.join(_BODY_FLAGS[name])}, not {_short(body)}")
+        if body not in flags[name]:
+            raise ValueError(f"--{name.replace('_', '-')} is for --body {' or '.join(flags[name])}, not {_short(body)}")
     # the body's own parameters (core/registry.py) make the body object; one that core.simulate_cycles takes as a
     # keyword (the ellipsoid's ratio) passes as that
     from .grid import solver_defaults
-    from .registry import REGISTRY, make_body
+    from .registry import make_body
 
-    entry = REGISTRY.get(body) if isinstance(body, str) else None
+    entry = _registry.REGISTRY.get(body) if isinstance(body, str) else None
     if entry is not None:
         keywords = solver_defaults()
         own = {p.name: p for p in entry.parameters if p.name not in keywords}
@@ -760,10 +577,9 @@ def _cmd_limit(args) -> int:
     else:
         shown = table[["ft", "start_lo", "start_hi", "w_shakedown", "w_ratcheting", "w_limit_eq35", "eq35_inside",
                        "exact_within_tol", "periods", "runs", "converged"]]
-        body = options.get("body", "cylinder")
+        body = options.get("body", _DEFAULT_BODY)
         name = body if isinstance(body, str) else getattr(body, "name", type(body).__name__)
-        exact = {"cylinder": "eq 35", "sphere": "the point contacts' ft = 1 - 3w/2 + w^3/2",
-                 "ellipsoid": "the point contacts' ft = 1 - 3w/2 + w^3/2"}.get(name, "core.w_limit of the body")
+        exact = getattr(_registry.REGISTRY.get(name), "exact_limit", "") or "core.w_limit of the body"
         grid = options.get("dx")
         if grid is None:
             from .resolution import default_dx

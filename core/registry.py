@@ -26,10 +26,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
-from ._validate import check_scalar
+__all__ = ["Parameter", "BodyEntry", "REGISTRY", "DEFAULT", "make_body", "register", "describe", "body_name",
+           "resolve", "kind", "point_body", "flags"]
 
-__all__ = ["Parameter", "BodyEntry", "REGISTRY", "make_body", "register", "describe", "body_name", "resolve", "kind",
-           "point_body"]
+#: The default body's name: the paper's cylinder (a run without ``body``).
+DEFAULT = "cylinder"
 
 
 @dataclass(frozen=True)
@@ -44,9 +45,14 @@ class Parameter:
     hi_closed: bool = True
     #: A path to a file (``--file``) or what was read from one, not a number: ``default`` None, no range.
     path: bool = False
+    #: Also a keyword of :func:`core.simulate_cycles` (the ellipsoid's ``ratio``): a run by name needs it given
+    #: (:func:`point_body`: no default taken silently); ``default`` serves :func:`make_body` alone.
+    keyword: bool = False
 
     def check(self, value):
         """The value as a float (a path: a str), or ValueError naming the parameter and its range."""
+        from ._validate import check_scalar  # here: the registry imports nothing heavy (the CLI's help reads it)
+
         if self.path:  # a file's path, or what was read from one (a SurfaceTopography topography: has heights())
             if not isinstance(value, (str, bytes)) and not hasattr(value, "__fspath__") and not (
                     hasattr(value, "heights") and hasattr(value, "dim")):
@@ -64,6 +70,11 @@ class BodyEntry:
     kind: str
     doc: str
     parameters: tuple = field(default_factory=tuple)
+    #: Run options of :func:`core.simulate_cycles` the body takes besides its parameters (e.g. ``"angle"``: the
+    #: direction of Ft on a patch); the CLI offers their flags with this body only.
+    options: tuple = ()
+    #: Its exact limit in words, where it has a closed form (the CLI's ``limit`` table names it).
+    exact_limit: str = ""
 
 
 def _punch(flat=0.5):
@@ -105,28 +116,40 @@ REGISTRY: dict[str, BodyEntry] = {}
 
 def register(entry: BodyEntry) -> BodyEntry:
     """Add (or replace) a body in :data:`REGISTRY`; line bodies also become names of :data:`core.bodies.BODIES`."""
-    if entry.kind not in ("line", "point"):
-        raise ValueError(f"kind must be 'line' or 'point', got {entry.kind!r:.40}")
-    REGISTRY[entry.name] = entry
+    _add(entry)
     if entry.kind == "line":
         from .bodies import BODIES
         BODIES.setdefault(entry.name, type(entry.make()))
     return entry
 
 
-register(BodyEntry("cylinder", _cylinder, "line", "the rocking cylinder (Hertz line contact, the paper's)"))
-register(BodyEntry("punch", _punch, "line", "the rounded flat punch (plane strain, Ciavarella, Hills and Monno 1998)",
+def _add(entry: BodyEntry) -> BodyEntry:
+    """Add a body to :data:`REGISTRY` only (the built-in line bodies are in :data:`core.bodies.BODIES` already:
+    importing the registry imports no body module)."""
+    if entry.kind not in ("line", "point"):
+        raise ValueError(f"kind must be 'line' or 'point', got {entry.kind!r:.40}")
+    REGISTRY[entry.name] = entry
+    return entry
+
+
+_POINT_LIMIT = "the point contacts' ft = 1 - 3w/2 + w^3/2"
+_add(BodyEntry("cylinder", _cylinder, "line", "the rocking cylinder (Hertz line contact, the paper's)",
+               exact_limit="eq 35"))
+_add(BodyEntry("punch", _punch, "line", "the rounded flat punch (plane strain, Ciavarella, Hills and Monno 1998)",
                    (Parameter("flat", 0.5, 0.0, 1.0, "flat half-width over the contact half-width, b/a",
                               hi_closed=False),)))
-register(BodyEntry("sphere", _sphere, "point", "the rocking sphere (Hertz point contact)"))
-register(BodyEntry("ellipsoid", _ellipsoid, "point", "the rocking ellipsoid, rocked along its x axis",
-                   (Parameter("ratio", 2.0, 0.05, 20.0, "Ry/Rx, its principal relative radii's ratio"),)))
-register(BodyEntry("heightmap", _heightmap, "point", "a measured or designed surface (a height map read by "
+_add(BodyEntry("sphere", _sphere, "point", "the rocking sphere (Hertz point contact)", options=("angle",),
+               exact_limit=_POINT_LIMIT))
+_add(BodyEntry("ellipsoid", _ellipsoid, "point", "the rocking ellipsoid, rocked along its x axis",
+               (Parameter("ratio", 2.0, 0.05, 20.0, "Ry/Rx, its principal relative radii's ratio", keyword=True),), options=("angle",),
+               exact_limit=_POINT_LIMIT))
+_add(BodyEntry("heightmap", _heightmap, "point", "a measured or designed surface (a height map read by "
                    "SurfaceTopography), rocked along x like the sphere on its own grid",
                    (Parameter("file", None, 0.0, 0.0, "the map's file (any format SurfaceTopography reads)", path=True),
                     Parameter("length_unit", 1.0, 1e-12, 1e12, "a in the file's length unit"),
-                    Parameter("height_unit", 1.0, 1e-12, 1e12, "P/(E* a) in the file's height unit"))))
-register(BodyEntry("cone", _cone, "point", "the rocking cone or frustum (a tapered roller) on its side, turning about "
+                    Parameter("height_unit", 1.0, 1e-12, 1e12, "P/(E* a) in the file's height unit")),
+               options=("angle",)))
+_add(BodyEntry("cone", _cone, "point", "the rocking cone or frustum (a tapered roller) on its side, turning about "
                    "the vertical axis through its apex, free to translate and turn about the normal; "
                    "a and w at the mid-length",
                    (Parameter("inner", 0.5, 0.0, 1.0, "r1/r2, the inner end's distance from the apex over the outer "
@@ -167,7 +190,7 @@ def resolve(body=None):
         For a name that is not registered (the message lists the names).
     """
     if body is None:
-        body = "cylinder"
+        body = DEFAULT
     if isinstance(body, str):
         return make_body(body)
     if isinstance(body, type):
@@ -184,7 +207,7 @@ def kind(body) -> str:
         For a name that is not registered.
     """
     if body is None or isinstance(body, str):
-        name = "cylinder" if body is None else body
+        name = DEFAULT if body is None else body
         if name not in REGISTRY:  # the registry's order: the paper's cylinder first
             raise ValueError(f"body must be one of {', '.join(REGISTRY)}, got {name!r:.60}")
         return REGISTRY[name].kind
@@ -237,3 +260,20 @@ def describe() -> str:
                            for p in e.parameters)
         lines.append(f"{e.name} ({e.kind}{'; ' + params if params else ''}): {e.doc}")
     return "\n".join(lines)
+
+
+def flags() -> dict:
+    """Each body parameter and run option a body takes (:attr:`BodyEntry.options`), with the bodies that take it,
+    in the registry's order: what the CLI makes its body flags of.
+
+    Examples
+    --------
+    >>> flags()["flat"], flags()["angle"]
+    (('punch',), ('sphere', 'ellipsoid', 'heightmap'))
+    """
+    out = {}
+    for entry in REGISTRY.values():
+        for name in (*(p.name for p in entry.parameters), *entry.options):
+            out.setdefault(name, [])
+            out[name].append(entry.name)
+    return {name: tuple(bodies) for name, bodies in out.items()}

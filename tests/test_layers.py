@@ -26,11 +26,11 @@ LAYERS = {
     "bodies": ["bodies", "heightmap", "cone", "patch", "registry", "resolution"],
     "limits": ["limits"],
     "results": ["verdict", "result"],
-    "solvers": ["_pdas", "_pcg", "dense", "matrix_free", "solver3d"],
+    "solvers": ["_pdas", "_pcg", "_pcg3d", "dense", "matrix_free", "solver3d"],
     "engine": ["engine"],
     "api": ["solver", "point_runs", "contact", "convergence", "export"],
     "maps": ["grid", "tasks", "tables", "limits_search", "sweeps", "paper_figures"],
-    "cli": ["cli"],
+    "cli": ["cli_values", "cli"],
 }
 LEVEL = {module: level for level, modules in enumerate(LAYERS.values()) for module in modules}
 

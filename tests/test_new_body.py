@@ -66,3 +66,21 @@ def test_runs_limit_and_sweep():
 def test_exact_is_refused():
     with pytest.raises(ValueError, match="normal='exact'"):
         core.simulate_cycles(0.2, 0.3, periods=2, body=Crowned(), normal="exact")
+
+
+def test_one_registry_line_makes_its_cli_flag(monkeypatch, capsys):
+    """Registered, the body is a --body of the command line with its parameter's flag (built from the registry:
+    core/cli.py names no body), refused with another body."""
+    from core import bodies, registry
+    from core.cli import build_parser, main
+    monkeypatch.setattr(registry, "REGISTRY", dict(registry.REGISTRY))
+    monkeypatch.setattr(bodies, "BODIES", dict(bodies.BODIES))
+    registry.register(registry.BodyEntry("crowned", Crowned, "line", "a roller crowned by a quartic term",
+                                         (registry.Parameter("c", 0.5, 0.0, 10.0, "the quartic coefficient"),)))
+    run_help = build_parser()._subparsers._group_actions[0].choices["run"].format_help()
+    assert "crowned" in run_help and "--c C" in run_help and "--body crowned: the quartic coefficient" in run_help
+    assert main(["run", "--body", "crowned", "--c", "0.25", "--ft", "0.3", "--w", "0.3", "--periods", "2",
+                 "--dx", "0.1"]) == 0
+    assert "Crowned(c=0.25)" in capsys.readouterr().out  # the body it ran, with the flag's value
+    assert main(["run", "--body", "punch", "--c", "0.25", "--ft", "0.3", "--w", "0.3"]) == 2
+    assert "--c is for --body crowned, not 'punch'" in capsys.readouterr().err
