@@ -154,22 +154,11 @@ def run_key(contact, options: dict) -> tuple:
     return tuple(sorted(inputs.items())) + tuple(sorted(opts.items()))
 
 
-def _point_body_run(contact, periods=10, dx=None, *, body, **options):
-    """A point body other than an ellipsoid (e.g. a height map) under ``contact``'s loads: :func:`core.simulate_cycles`
-    with ``body`` (the sphere's scales of ``contact``; its ``nu`` and the angle of Ft)."""
-    return core.simulate_cycles(contact.ft, contact.w, periods, dx, body=body, angle=contact.angle, nu=contact.nu,
-                                **options)
-
-
 def runner(contact, options: dict | None = None):
-    """The run of ``contact`` as one callable of the solver options: :func:`core.simulate_contact` for a line body
-    (the cylinder, or another given by the option ``body``), :meth:`core.Contact.simulate` for a sphere or
-    an ellipsoid, :func:`core.simulate_cycles` for another point body (option ``body``); all need only ``core``."""
-    if contact.is_point:
-        if options and "body" in options:
-            return functools.partial(_point_body_run, contact)
-        return contact.simulate
-    return functools.partial(core.simulate_contact, contact)
+    """The run of ``contact`` as one callable of the solver options: :meth:`core.Contact.simulate`, the one run of
+    any body in physical units (a line contact's strip kernel, a point contact's half-space; the option ``body``
+    another body at the contact's scales); it needs only ``core``. ``options`` is kept for the callers' signature."""
+    return contact.simulate
 
 
 def _compute(contact, options, cancel=None, time_budget=SOLVE_BUDGET_S):
