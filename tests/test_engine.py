@@ -259,7 +259,7 @@ def test_result_module_computes_nothing_through_the_registry_or_a_solver():
     imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
     imported |= {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
     assert imported <= {"__future__", "math", "warnings", "dataclasses", "functools", "typing", "numpy", "states",
-                        "verdict", "_validate"}, imported
+                        "verdict", "static_result", "_validate"}, imported
     r = core.simulate_cycles(0.2, 0.3, periods=2, dx=0.2)
     with pytest.raises(ValueError, match="body must be a body object"):
         core.CycleResult(**{**{f: getattr(r, f) for f in r.__dataclass_fields__}, "body": "cylinder"})

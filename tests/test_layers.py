@@ -25,7 +25,7 @@ LAYERS = {
     "normal": ["normal", "melan"],
     "bodies": ["bodies", "heightmap", "cone", "patch", "registry", "resolution"],
     "limits": ["limits"],
-    "results": ["verdict", "result"],
+    "results": ["verdict", "static_result", "result"],
     "solvers": ["_pdas", "_pcg", "_pcg3d", "dense", "matrix_free", "solver3d"],
     "engine": ["engine"],
     "api": ["solver", "point_runs", "contact", "convergence", "export"],
