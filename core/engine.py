@@ -282,8 +282,8 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
 def _stored_bounds(line_bounds, patch_bounds, solved, index):
     """The bounds a result keeps: ``(pressures, pressure_index)``, the distinct bounds the march used (its first
     ``solved`` steps' rows on a line; on a patch each shared array once) and the row of each step."""
-    if line_bounds is not None:
-        return line_bounds[:solved], index
+    if line_bounds is not None:  # a march stopped at a repeated period: its rows alone (the buffer is freed)
+        return (line_bounds if solved == len(line_bounds) else line_bounds[:solved].copy()), index
     rows, first = {}, []
     for field in patch_bounds:
         if id(field) not in rows:

@@ -445,7 +445,10 @@ class CycleResult(PeriodVerdict):
 
     @cached_property
     def _line_pressure(self) -> np.ndarray:
-        return read_only(self._stored_pressures()[self.pressure_index])
+        stored, index = self._stored_pressures(), self.pressure_index
+        if stored.shape[0] == index.size and np.array_equal(index, np.arange(index.size)):
+            return stored  # every step solved: the stored rows are the steps' (no copy)
+        return read_only(stored[index])
 
     def pressure_at(self, step) -> np.ndarray:
         """Element pressure [p0] at ``step``: shape (n,) on a line, (ny, nx) on a patch (the traction bound in mu p0)."""
