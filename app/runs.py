@@ -66,7 +66,8 @@ def result_nbytes(result: core.CycleResult) -> int:
     """Approximate memory held by a result [bytes] (its arrays, and the per-step pressure it will cache)."""
     total = sum(getattr(result, f.name).nbytes for f in fields(result)
                 if isinstance(getattr(result, f.name), np.ndarray))
-    per_step = getattr(result, "traction", None)  # a cylinder's run caches its per-step pressure, of this size
+    # a line run whose march stopped at a repeated period caches its per-step pressure, of at most this size
+    per_step = getattr(result, "traction", None)
     return int(total + (per_step.nbytes if isinstance(per_step, np.ndarray) else 0))
 
 
