@@ -315,10 +315,12 @@ def explorer_defaults(repeats=2):
             product(q, *spec[:5])
         each = (time.perf_counter() - t) / n
         steps = r.xc.size
-        print(f"  {name:6s}: grid {r.y_edges.size - 1}x{r.x_edges.size - 1} ({(r.y_edges.size - 1) * (r.x_edges.size - 1)} "
+        ny, nx = r.y_edges.size - 1, r.x_edges.size - 1
+        print(f"  {name:6s}: grid {ny}x{nx} ({ny * nx} "
               f"elements), window {shape[0]}x{shape[1]} ({shape[0] * shape[1]}), FFT grid {spec[3]}x{spec[4]}"
               f"{' (half: mirror)' if mirror else ''}, one product {1e3 * each:.3f} ms; {steps} steps; per step: "
-              f"active-set {r.iterations.mean():.2f}, CG {r.cg_iterations.mean():.1f}, CPU {1e3 * best / steps:.1f} ms; "
+              f"active-set {r.iterations.mean():.2f}, CG {r.cg_iterations.mean():.1f}, "
+              f"CPU {1e3 * best / steps:.1f} ms; "
               f"run {best:.2f} s CPU (best of {repeats}); {r.regime}, last increment {r.increment_per_period[-1]:.3g}")
 
 
