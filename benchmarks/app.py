@@ -197,20 +197,31 @@ def measure(n: int, figures: str = "live") -> dict:
 
 
 #: Release the ft slider at ``value`` and wait until the verdict's badge shows the run of that ft (its note names
-#: it, no longer 'solving'); returns the elapsed ms (NaN after 120 s).
+#: it, no longer 'solving'); returns ``[elapsed ms, the server's solve ms]`` (NaN after 120 s): the second is the
+#: run's own time in the server (``CycleResult.runtime``, the run card's "solve" row, sent with the badge), so that
+#: the response splits into the solve and the rest (the hand-over, the figures, the browser). It is read from the
+#: key-number strip's "all numbers" tooltip ("solve: 2.5 s, ...") or the cards, whichever the page holds.
 _RELEASE = """
 async ([title, value, printed]) => {
   const all = []; for (const d of Bokeh.documents) for (const m of d.all_models) all.push(m);
   const slider = all.find((m) => m.title === title && typeof m.value === 'number' && 'value_throttled' in m);
   const badges = () => all.filter((m) => typeof m.text === 'string' && m.text.includes('regime-badge'));
+  const solved = () => {
+    for (const m of all) {
+      if (typeof m.text !== 'string') continue;
+      const f = new RegExp("solve(?::|</span>|&lt;/span&gt;)[^0-9]{0,60}?([0-9.]+) (ms|s),").exec(m.text);
+      if (f) return parseFloat(f[1]) * (f[2] === 's' ? 1000 : 1);
+    }
+    return NaN;
+  };
   const t0 = performance.now();
   slider.value = value; slider.value_throttled = value;
   while (performance.now() - t0 < 120000) {
     if (badges().some((b) => /data-regime=(&quot;|")(shakedown|ratcheting|undetermined|cyclic slip)/.test(b.text)
-                             && b.text.includes('ft = ' + printed))) return performance.now() - t0;
+                             && b.text.includes('ft = ' + printed))) return [performance.now() - t0, solved()];
     await new Promise((r) => setTimeout(r, 5));
   }
-  return NaN;
+  return [NaN, NaN];
 }
 """
 
@@ -234,7 +245,7 @@ def measure_bodies(n: int = 3, only=None):
             page = browser.new_page(viewport={"width": 1280, "height": 720})
             page.goto(f"{url}?body={body}&ft=0.3", timeout=180_000)
             page.locator("[data-regime]:not([data-regime='pending'])").first.wait_for(timeout=180_000)
-            times = [page.evaluate(_RELEASE, [FT_TITLE, ft, f"{ft:.2f}"]) for ft in fts]
+            times = [page.evaluate(_RELEASE, [FT_TITLE, ft, f"{ft:.2f}"]) for ft in fts]  # [response, server solve]
             page.close()
             s = ExplorerState(body=body, ft=fts[0])
             options = s.solver_options()
@@ -242,8 +253,9 @@ def measure_bodies(n: int = 3, only=None):
 
 
 def report_body(body: str, times: list, solver: float) -> str:
-    """One line of :func:`measure_bodies`."""
-    return (f"  {body:10s}: {_stats(times)}; max {max(times):7.1f} ms; the solver alone (first run) "
+    """One line of :func:`measure_bodies` (``times``: [response, the server's solve] of each release, ms)."""
+    return (f"  {body:10s}: {_stats(times)}; max {max(t[0] for t in times):7.1f} ms; the server's solve "
+            f"(run card, 0.1 s steps for a point body) {_stats(times, 1)}; the solver alone here (first run) "
             f"{solver:7.1f} ms")
 
 

@@ -46,6 +46,7 @@ grid convergence.
    step (5.46 and 14.3) and increments equal to 3e-16.
 
 Run: python benchmarks/solver3d.py [--quick] [--no-fine] [--cone (the cone's row alone)]
+    [--defaults [--convergence] (sphere against cone at the explorer's grid, issue 31)]
 """
 
 import math
@@ -270,6 +271,79 @@ def cones(quick=False):
                       f"{r.twist_per_period[-1]:.3g} mu Fn/(E* a_m^2) rad, worst residual {r.max_residual:.1e}")
 
 
+def explorer_defaults(repeats=2):
+    """Sphere against cone at the explorer's default grid (a/10 for every point body, ``app.state``), its first
+    numerical run (ft 0.32, w 0.5, 10 periods, triangle; the cone: inner 0.5, L/a_m = 10): why the cone costs more
+    on the same patch solver. Per run: the grid, the window the steps are solved on (its most frequent shape), the
+    padded FFT grid of one operator product and that product's time (half-cost on the sphere: mirror-symmetric),
+    the steps, the active-set and CG iterations per step and the CPU time per step (best of ``repeats``)."""
+    import collections
+
+    import core
+    import core.solver3d as s3
+    from core.halfspace import HalfSpaceOperator, convolve, convolve_mirror
+
+    print("\nexplorer's default grid (a/10), ft 0.32, w 0.5, 10 periods: sphere against cone (inner 0.5, L/a_m 10)")
+    for name, body in (("sphere", "sphere"), ("cone", core.Cone(inner=0.5))):
+        core.simulate_cycles(0.32, 0.5, periods=1, dx=0.25, body=body)  # compiled kernels loaded
+        windows = collections.Counter()
+        solve = s3.solve_increment
+
+        def counted(op, g, *args, **kwargs):
+            windows[g.shape] += 1
+            return solve(op, g, *args, **kwargs)
+
+        s3.solve_increment = counted
+        try:
+            best, r = np.inf, None
+            for _ in range(repeats):
+                windows.clear()
+                c = time.process_time()
+                r = core.simulate_cycles(0.32, 0.5, periods=10, dx=0.1, body=body)
+                best = min(best, time.process_time() - c)
+        finally:
+            s3.solve_increment = solve
+        shape = windows.most_common(1)[0][0]
+        op = HalfSpaceOperator(*shape, 0.1, 0.5, 1.0 / np.pi)
+        spec = op.spectra()
+        mirror = name == "sphere"
+        q = np.random.default_rng(1).standard_normal((2,) + shape)
+        product = convolve_mirror if mirror else convolve
+        product(q, *spec[:5])
+        t, n = time.perf_counter(), 300
+        for _ in range(n):
+            product(q, *spec[:5])
+        each = (time.perf_counter() - t) / n
+        steps = r.xc.size
+        ny, nx = r.y_edges.size - 1, r.x_edges.size - 1
+        print(f"  {name:6s}: grid {ny}x{nx} ({ny * nx} "
+              f"elements), window {shape[0]}x{shape[1]} ({shape[0] * shape[1]}), FFT grid {spec[3]}x{spec[4]}"
+              f"{' (half: mirror)' if mirror else ''}, one product {1e3 * each:.3f} ms; {steps} steps; per step: "
+              f"active-set {r.iterations.mean():.2f}, CG {r.cg_iterations.mean():.1f}, "
+              f"CPU {1e3 * best / steps:.1f} ms; "
+              f"run {best:.2f} s CPU (best of {repeats}); {r.regime}, last increment {r.increment_per_period[-1]:.3g}")
+
+
+def cone_convergence(ft=0.4041, w=0.5, inner=0.5, dxs=(0.2, 1 / 7, 0.125, 0.1, 0.05), dws=(0.2, 0.125, 0.05)):
+    """The cone's increment per period against the grid and the time step, at one ft (the explorer's w = 0.5,
+    inner 0.5; ft 0.4041 is 1.1 times the upper Melan limit on the a/10 grid: a ratcheting cone), 10 periods:
+    dx at dW = dx (the default), then dW at dx = a/10."""
+    import core
+
+    body = core.Cone(inner=inner)
+    print(f"\ncone convergence: inner {inner}, w {w}, ft {ft}, 10 periods (increment [mu Fn/(E* a_m)], twist "
+          "[mu Fn/(E* a_m^2) rad], last period)")
+    rows = [(dx, None) for dx in dxs] + [(0.1, dW) for dW in dws]
+    for dx, dW in rows:
+        c = time.process_time()
+        r = core.simulate_cycles(ft, w, periods=10, dx=dx, dW=dW, body=body)
+        print(f"  dx a/{1 / dx:5.2f}, dW {dx if dW is None else dW:.4f}: {r.xc.size:4d} steps, "
+              f"{(r.y_edges.size - 1) * (r.x_edges.size - 1):6d} elements, {time.process_time() - c:6.2f} s CPU; "
+              f"AS {r.iterations.mean():.2f}, CG {r.cg_iterations.mean():.1f}; {r.regime}, increment "
+              f"{r.increment_per_period[-1]:.6f} (first {r.increment_per_period[0]:.6f}), twist "
+              f"{r.twist_per_period[-1]:.4e}")
+
+
 def main(quick=False, fine=True):
     timed_cases(quick, fine)
     mindlin(dx=0.1 if quick else 0.05)
@@ -285,5 +359,9 @@ def main(quick=False, fine=True):
 if __name__ == "__main__":
     if "--cone" in sys.argv:  # the cone's row alone
         cones(quick="--quick" in sys.argv)
+    elif "--defaults" in sys.argv:  # sphere against cone at the explorer's default grid, and the cone's convergence
+        explorer_defaults()
+        if "--convergence" in sys.argv:
+            cone_convergence()
     else:
         main(quick="--quick" in sys.argv, fine="--no-fine" not in sys.argv)

@@ -146,10 +146,14 @@ def _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, 
     for c in range(2):
         tmp[c] = -Kdq[c] - curv * x[c]
     _project(pxx, pyy, pxy, minv, tmp, r, mirror, tv)
+    rmax = np.abs(r).max()
+    if rmax <= tol or maxiter <= 0:
+        # the start already solves it (the warm start of a step that is nearly settled: half of a cone's
+        # active-set iterations late in a run): no preconditioner product for an iteration that will not come
+        return 0, rmax
     _precondition(spec, stick, slip_diag, pxx, pyy, pxy, minv, r, z, mirror, tv)
     p = z.copy()
     rz = np.sum(r * z)
-    rmax = np.abs(r).max()
     its = 0
     # the vector updates in fused loops (no temporaries): a third of a step's time went to them
     # rz == 0: the preconditioned residual vanishes (a zero residual, or one so small that r.z underflows, as with
@@ -287,6 +291,8 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
     Kdq = np.empty((2, ny, nx))
     stick = np.zeros((ny, nx), np.bool_)
     slip = np.zeros((ny, nx), np.bool_)
+    over = np.empty((ny, nx))  # the violations of this iteration's check (bound on stick, direction on slip)
+    wrong = np.empty((ny, nx))
     minv = np.zeros((3, 3))  # the 2 x 2 block without the twist
     lam = np.zeros(3)
     cg_total = 0
@@ -398,8 +404,8 @@ def _increment_kernel(spec, k_self, g, q_prev, target, dA, kind, d, wcurv, x, to
         over_max = -np.inf
         wrong_max = -np.inf
         tangent = 0.0
-        over = np.full((ny, nx), -np.inf)
-        wrong = np.full((ny, nx), -np.inf)
+        over[:] = -np.inf
+        wrong[:] = -np.inf
         for i in range(ny):
             for j in range(nx):
                 for c in range(2):

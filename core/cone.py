@@ -153,7 +153,9 @@ LENGTH_RANGE = (4.0, 200.0)
 #: ``10 L/a_m`` along it. Measured (benchmarks/solver3d.py, L/a_m = 10, w = 0.3, 10 periods, 1.1 times the grid's
 #: limit): the increment per period 0.00891 (inner 0.5) and 0.00823 (inner 0) at a/10 against 0.00892 and 0.00808
 #: at a/20 (0.1 % and 1.9 %: the full cone's apex, where the contact is narrow, wants the finer grid), at 1.4-1.7 s
-#: CPU against 17-28 s.
+#: CPU against 17-28 s. Those compare each grid at its own 1.1 times the limit; at one ft (0.4041, inner 0.5, w 0.5)
+#: the increment is 0.004421, 0.004463 and 0.004564 at a/8, a/10 and a/20 (issue 31, docs/guide/cone.md): a coarser
+#: default would not be converged.
 DEFAULT_DX = 0.1
 #: Sub-rows per element row in the element means of the slice pressure (:meth:`Cone.grid_pressure`).
 _SUB_ROWS = 8

@@ -180,6 +180,48 @@ def test_runs_bracket_the_grid_limit(inner, w, periods):
     assert max(below.max_residual, above.max_residual) <= 10 * TOL_3D
 
 
+@pytest.mark.parametrize("ft", [0.3, 0.6])
+def test_loading_of_a_long_frustum_is_cattaneos_line_contact(ft):
+    """Far from its apex and long (inner 0.95, L/a_m = 40) the frustum is a cylinder: the first step, Ft applied
+    at rest, is Cattaneo's partial slip of a line contact on the mid-length cut, the stick zone |x| < c with
+    c/a_m = sqrt(1 - ft) (to the element: its edge is c rounded up to an element's edge) and the traction
+    mu p0m (sqrt(1 - x^2) - sqrt(c^2 - x^2)) inside |x| < 0.9 (away from the contact edges, where an element holds
+    the mean of a square-root profile). Measured at a/10: 0.030 and 0.091 mu p0m at ft 0.3 and 0.6 (the 3D solve
+    of square elements against the plane closed form at element centres)."""
+    dx = 0.1
+    r = core.simulate_cycles(ft, 0.1, periods=1, dx=dx, body=Cone(inner=0.95, length=40.0))
+    x = 0.5 * (r.x_edges[1:] + r.x_edges[:-1])
+    c = math.sqrt(1.0 - ft)
+    stick = x[r.state[0] == core.State.STICK]
+    # the elements whose centres lie inside |x| < c stick: the zone's edges are c rounded up to an element's edge
+    for edge in (stick.max() + 0.5 * dx, -stick.min() + 0.5 * dx):
+        assert edge - dx < c <= edge, (edge, c)
+    exact = np.sqrt(np.clip(1.0 - x**2, 0.0, None)) - np.sqrt(np.clip(c * c - x**2, 0.0, None))
+    inner = np.abs(x) < 0.9
+    np.testing.assert_allclose(r.traction[0, 0][inner], exact[inner], rtol=0, atol=0.04 if ft < 0.5 else 0.11,
+                               err_msg=f"ft {ft}: the mid-length cut against Cattaneo's line contact")
+    np.testing.assert_allclose(r.traction[0, 1], 0.0, atol=0.02, err_msg="no traction across Ft on the mid cut")
+    assert r.max_residual <= 10 * TOL_3D
+
+
+def test_increment_converges_with_the_rocking_step():
+    """A ratcheting cone (inner 0.5, the explorer's w = 0.5, ft 0.4041) at a/4: the increment and the turn per
+    period with the rocking step dW = dx, dx/2, dx/4 (8, 16, 32 steps a period) rise by less than 0.5 % a halving
+    and by less each time (measured: 0.004299, 0.004314, 0.004327 mu Fn/(E* a_m); 0.35 %, 0.30 %): the default
+    dW = dx is within 1 % of the finer steps' limit. The grid's own error is larger and converges slowly
+    (benchmarks/solver3d.py --convergence: 0.00446 at a/10 against 0.00456 at a/20, the same ft)."""
+    c = Cone(inner=0.5)
+    runs = [core.simulate_cycles(0.4041, 0.5, periods=10, dx=0.25, dW=0.25 / k, body=c) for k in (1, 2, 4)]
+    assert [r.xc.size for r in runs] == [81, 161, 321]
+    assert all(r.regime == "ratcheting" for r in runs), [r.regime_reason for r in runs]
+    inc = np.array([r.increment_per_period[-1] for r in runs])
+    turn = np.array([r.twist_per_period[-1] for r in runs])
+    steps = np.diff(inc) / inc[:-1]
+    assert np.all(steps > 0) and np.all(steps < 5e-3), inc
+    assert steps[1] < steps[0], inc
+    np.testing.assert_allclose(turn, turn[-1], rtol=1e-2, err_msg="the turn per period")
+
+
 def test_result_reports_displacement_and_twist_per_period():
     """A ratcheting cone walks along Ft and turns about the normal each period: both per period on the result,
     the displacement of the load point in mu Fn/(E* a_m) and the rotation in mu Fn/(E* a_m^2) rad."""
