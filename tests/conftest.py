@@ -80,14 +80,18 @@ def _run_in_fresh_thread(fn, *args, **kwargs):
 def fresh_thread():
     return _run_in_fresh_thread
 
-# ---- the served app and Chromium, shared by the tests of one module (Playwright's sync API allows one
+# ---- the served app, one for the whole run, and Chromium, one per module (Playwright's sync API allows one
 # instance per process at a time, and while it lives it runs an asyncio loop in this thread: a session-wide
 # browser broke later modules that run an event loop of their own, e.g. the load test's Bokeh clients) ----
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def app_url():
+    """``app/main.py`` served once for every browser test that needs no server of its own (each module started
+    its own: 30-40 s of warm-up each, nine times). Sessions are independent, so sharing the server changes
+    nothing a test sees; the solve budget (20 s by default) is raised because a point-contact run that takes 3 s
+    alone takes 20 s on 2 cores shared with Chromium, and no browser test checks the budget."""
     from app.serving import served_app
 
-    with served_app() as url:
+    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "300"}) as url:
         yield url
 
 

@@ -44,15 +44,6 @@ _CURVE_DATA = "(title) => {" + FIND_MODEL_JS + """
 }"""
 
 
-@pytest.fixture(scope="module")
-def app_url():
-    """The served app, with room for point-contact runs on a busy machine (2 cores shared by several test runs)."""
-    from app.serving import served_app
-
-    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "180"}) as url:
-        yield url
-
-
 def _open(browser, url):
     return open_page(browser, url, (1400, 1000), ready=VERDICT)
 

@@ -57,14 +57,6 @@ _CURVES = "(title) => {" + FIGURE_VIEWS_JS + """
 }"""
 
 
-@pytest.fixture(scope="module")
-def app_url():
-    from app.serving import served_app
-
-    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "180"}) as url:
-        yield url
-
-
 def _open(browser, url, size, query):
     return open_page(browser, url + query, size, ready=VERDICT)
 

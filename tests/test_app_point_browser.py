@@ -18,16 +18,6 @@ from app.serving import FIND_MODEL_JS, scroll_through
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
 
-@pytest.fixture(scope="module")
-def app_url():
-    """The served app, with room for a point-contact run on a busy machine: its time budget (20 s by default) is
-    not what this test checks, and 2 cores shared by several test runs make a 3 s run take 20 s."""
-    from app.serving import served_app
-
-    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "180"}) as url:
-        yield url
-
-
 _FIND = FIND_MODEL_JS
 #: Per figure title: the shapes of its images (rows x columns) and how many of their values are finite and > 0.
 _IMAGES = "(title) => {" + _FIND + """

@@ -91,13 +91,6 @@ def test_closing_a_tab_mid_update_leaves_no_traceback_in_the_server_log(browser,
     assert "WebSocketClosedError" not in text and "Traceback" not in text, text[-3000:]
 
 
-@pytest.fixture(scope="module")
-def app_url():
-    """The served app, with room for point-contact runs on a busy machine (2 cores shared by several test runs)."""
-    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "180"}) as url:
-        yield url
-
-
 def _strip_csd(page) -> float:
     """The strip's c_sd [a] (the cylinder's 'c_sd', a point contact's 'c_sd (y = 0)')."""
     text = page.locator(".strip").first.inner_text()
