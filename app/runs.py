@@ -42,7 +42,7 @@ import core
 from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WORKERS,  # noqa: F401
                      MAX_QUEUED_PER_SESSION, SCHEDULER, SOLVE_BUDGET_S, SOLVER_THREADS)
 
-__all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "run_key", "runner", "solve", "submit", "Generation",
+__all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "SOLVE_TASK", "run_key", "runner", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
            "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend", "warming_seconds",
            "warmed", "on_warm"]
@@ -153,6 +153,11 @@ def run_key(contact, options: dict) -> tuple:
         inputs["ft"] = round(float(contact.ft), 12)
     opts = {k: (f"{type(v).__name__}:{v!r}" if k == "body" else v) for k, v in options.items()}
     return tuple(sorted(inputs.items())) + tuple(sorted(opts.items()))
+
+
+#: The name of a solve's tasks on a Dask cluster (the prefix of their keys: the run's function,
+#: :meth:`core.Contact.simulate`): what the cluster's tests and ``benchmarks/loadtest.py`` count.
+SOLVE_TASK = "simulate"
 
 
 def runner(contact, options: dict | None = None):

@@ -75,6 +75,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from app import limits  # noqa: E402
+from app.runs import SOLVE_TASK  # noqa: E402
 from app.serving import dask_cluster, served_app, tasks_done  # noqa: E402
 
 YARDSTICK = Path(__file__).resolve().parent / "yardstick.py"
@@ -727,7 +728,7 @@ def run_load(sessions: int = 60, open_over: float = 30.0, seconds: float = 60.0,
         with served_app(env=env, log_path=log_path, info=info, extra_args=serve_args, extra_apps=[YARDSTICK]) as url:
             stats = _run(url, info["base"], info["pid"], sessions, open_over, seconds, burst, cpu_sessions,
                          figures_in_view)
-            stats["cluster_tasks"] = tasks_done(env["SHAKEDOWN_SCHEDULER"], "simulate_contact") if cluster else 0
+            stats["cluster_tasks"] = tasks_done(env["SHAKEDOWN_SCHEDULER"], SOLVE_TASK) if cluster else 0
         log = log_path.read_text(errors="replace")
         if keep_log:
             Path(keep_log).write_text(log)

@@ -111,7 +111,7 @@ def test_solves_and_maps_run_on_the_cluster(cluster):
     backend = runs._Cluster(cluster)
     try:
         contact, options = _default()
-        before = tasks_done(cluster, "simulate_contact")
+        before = tasks_done(cluster, runs.SOLVE_TASK)
         cache = runs.ResultCache()
         result = backend.submit(contact.replace(w=0.39), options, None, cache).result(timeout=120)
         assert len(cache) == 1 and not result.traction.flags.writeable
@@ -119,7 +119,7 @@ def test_solves_and_maps_run_on_the_cluster(cluster):
         # the same run; in the full suite the worker's numbers matched this process's to 1e-15 but not to the
         # last bit once (fresh clone, cold numba cache: a summation order), so equal to rounding
         np.testing.assert_allclose(result.traction, local.traction, rtol=1e-12, atol=1e-13)
-        assert tasks_done(cluster, "simulate_contact") == before + 1
+        assert tasks_done(cluster, runs.SOLVE_TASK) == before + 1
         # a map sweep on the cluster's executor: split in one chunk per worker thread, same table as here
         grid = np.linspace(0.1, 0.8, 3)
         table = core.sweep(grid, grid, backend.map_scheduler(), periods=3, dx=0.1, kernel="plane")
@@ -146,17 +146,17 @@ def _served_app_solves_on_the_cluster(cluster):
     with served_app(env={"SHAKEDOWN_SCHEDULER": cluster}, info=info) as url, chromium() as browser:
         health = json.loads(urllib.request.urlopen(info["base"] + "/liveness", timeout=10).read())
         assert health["ready"] and health["backend"] == f"dask({cluster})"
-        before = tasks_done(cluster, "simulate_contact")
+        before = tasks_done(cluster, runs.SOLVE_TASK)
         page = browser.new_page()
         errors = []
         page.on("pageerror", lambda e: errors.append(str(e)))
         page.goto(url + "?ft=0.3&w=0.371")
         page.locator(BADGE).first.wait_for(timeout=120_000)
-        assert tasks_done(cluster, "simulate_contact") == before + 1, "the first run was solved on the cluster"
+        assert tasks_done(cluster, runs.SOLVE_TASK) == before + 1, "the first run was solved on the cluster"
         page.get_by_text("all numbers ▾").first.click()  # the cards with the solve's line, one click away
         page.locator(".cards").first.wait_for(timeout=30_000)
         assert page.evaluate(_RELEASE_FT, [0.2917, 60_000]), "the re-solve came back"
-        assert tasks_done(cluster, "simulate_contact") == before + 2, "the re-solve ran on the cluster"
+        assert tasks_done(cluster, runs.SOLVE_TASK) == before + 2, "the re-solve ran on the cluster"
         assert errors == []
         page.close()
 
