@@ -182,14 +182,15 @@ def test_runs_bracket_the_grid_limit(inner, w, periods):
 
 @pytest.mark.parametrize("ft", [0.3, 0.6])
 def test_loading_of_a_long_frustum_is_cattaneos_line_contact(ft):
-    """Far from its apex and long (inner 0.95, L/a_m = 40) the frustum is a cylinder: the first step, Ft applied
+    """Far from its apex and long (inner 0.95, L/a_m = 20) the frustum is a cylinder: the first step, Ft applied
     at rest, is Cattaneo's partial slip of a line contact on the mid-length cut, the stick zone |x| < c with
     c/a_m = sqrt(1 - ft) (to the element: its edge is c rounded up to an element's edge) and the traction
     mu p0m (sqrt(1 - x^2) - sqrt(c^2 - x^2)) inside |x| < 0.9 (away from the contact edges, where an element holds
-    the mean of a square-root profile). Measured at a/10: 0.030 and 0.091 mu p0m at ft 0.3 and 0.6 (the 3D solve
-    of square elements against the plane closed form at element centres)."""
+    the mean of a square-root profile). Measured at a/10: 0.040 and 0.114 mu p0m at ft 0.3 and 0.6 (the 3D solve
+    of square elements against the plane closed form at element centres; 0.030 and 0.091 at L/a_m = 40, where
+    the run's Melan limit, a linear programme over the longer grid, takes a minute against 10 s)."""
     dx = 0.1
-    r = core.simulate_cycles(ft, 0.1, periods=1, dx=dx, body=Cone(inner=0.95, length=40.0))
+    r = core.simulate_cycles(ft, 0.1, periods=1, dx=dx, body=Cone(inner=0.95, length=20.0))
     x = 0.5 * (r.x_edges[1:] + r.x_edges[:-1])
     c = math.sqrt(1.0 - ft)
     stick = x[r.state[0] == core.State.STICK]
@@ -198,7 +199,7 @@ def test_loading_of_a_long_frustum_is_cattaneos_line_contact(ft):
         assert edge - dx < c <= edge, (edge, c)
     exact = np.sqrt(np.clip(1.0 - x**2, 0.0, None)) - np.sqrt(np.clip(c * c - x**2, 0.0, None))
     inner = np.abs(x) < 0.9
-    np.testing.assert_allclose(r.traction[0, 0][inner], exact[inner], rtol=0, atol=0.04 if ft < 0.5 else 0.11,
+    np.testing.assert_allclose(r.traction[0, 0][inner], exact[inner], rtol=0, atol=0.05 if ft < 0.5 else 0.125,
                                err_msg=f"ft {ft}: the mid-length cut against Cattaneo's line contact")
     np.testing.assert_allclose(r.traction[0, 1], 0.0, atol=0.02, err_msg="no traction across Ft on the mid cut")
     assert r.max_residual <= 10 * TOL_3D
