@@ -15,5 +15,11 @@ echo "test.sh: installing the package and its test extras into $(python -c 'impo
      "(pip's progress follows; a fresh environment takes a few minutes)"
 start=$SECONDS
 python -m pip install --disable-pip-version-check --progress-bar on -e ".[test]"
-echo "test.sh: installed in $((SECONDS - start)) s; running the test suite (python -m pytest $*)"
-exec python -m pytest "$@"
+# Two workers (pytest-xdist), an idle one taking tests from the other's queue (worksteal): a browser test mostly
+# waits (for the served app, for Chromium, for a solve), so two at once use the two cores of a small machine
+# (measured on 2 cores: 2141 s of tests in 1040 s; a file per worker, loadfile, 1106-1140 s; 3 workers no better).
+# SHAKEDOWN_TEST_WORKERS=0 runs everything in this process (one test, a debugger).
+WORKERS="${SHAKEDOWN_TEST_WORKERS:-2}"
+echo "test.sh: installed in $((SECONDS - start)) s; running the test suite on $WORKERS workers" \
+     "(python -m pytest -n $WORKERS --dist worksteal $*)"
+exec python -m pytest -n "$WORKERS" --dist worksteal "$@"
