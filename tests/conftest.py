@@ -84,14 +84,20 @@ def fresh_thread():
 # instance per process at a time, and while it lives it runs an asyncio loop in this thread: a session-wide
 # browser broke later modules that run an event loop of their own, e.g. the load test's Bokeh clients) ----
 @pytest.fixture(scope="session")
-def app_url():
+def app_log(tmp_path_factory):
+    """The file that receives the output of the served app of :func:`app_url` (its log, tracebacks included)."""
+    return tmp_path_factory.mktemp("served_app") / "server.log"
+
+
+@pytest.fixture(scope="session")
+def app_url(app_log):
     """``app/main.py`` served once for every browser test that needs no server of its own (each module started
     its own: 30-40 s of warm-up each, nine times). Sessions are independent, so sharing the server changes
     nothing a test sees; the solve budget (20 s by default) is raised because a point-contact run that takes 3 s
     alone takes 20 s on 2 cores shared with Chromium, and no browser test checks the budget."""
     from app.serving import served_app
 
-    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "300"}) as url:
+    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "300"}, log_path=app_log) as url:
         yield url
 
 
