@@ -42,7 +42,7 @@ import core
 from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WORKERS,  # noqa: F401
                      MAX_QUEUED_PER_SESSION, SCHEDULER, SOLVE_BUDGET_S, SOLVER_THREADS)
 
-__all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "SOLVE_TASK", "run_key", "runner", "solve", "submit", "Generation",
+__all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "SOLVE_TASK", "run_key", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
            "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend", "warming_seconds",
            "warmed", "on_warm"]
@@ -56,19 +56,17 @@ class SolveQueueFull(ValueError):
 
 def freeze(result: core.CycleResult) -> core.CycleResult:
     """Make every array of ``result`` read-only (also its per-step pressure), so sessions cannot alter a shared run."""
-    for value in (*(getattr(result, f.name) for f in fields(result)), result.pressure):
+    for value in (getattr(result, f.name) for f in fields(result)):
         if isinstance(value, np.ndarray):
             value.setflags(write=False)
     return result
 
 
 def result_nbytes(result: core.CycleResult) -> int:
-    """Approximate memory held by a result [bytes] (its arrays, and the per-step pressure it will cache)."""
-    total = sum(getattr(result, f.name).nbytes for f in fields(result)
-                if isinstance(getattr(result, f.name), np.ndarray))
-    # a line run whose march stopped at a repeated period caches its per-step pressure, of at most this size
-    per_step = getattr(result, "traction", None)
-    return int(total + (per_step.nbytes if isinstance(per_step, np.ndarray) else 0))
+    """Approximate memory held by a result [bytes]: its arrays (the per-step pressure is a view of its stored
+    distinct rows, ``pressures``, and caches nothing)."""
+    return int(sum(getattr(result, f.name).nbytes for f in fields(result)
+                   if isinstance(getattr(result, f.name), np.ndarray)))
 
 
 class ResultCache:
@@ -160,17 +158,8 @@ def run_key(contact, options: dict) -> tuple:
 SOLVE_TASK = "simulate"
 
 
-def runner(contact, options: dict | None = None):
-    """The run of ``contact`` as one callable of the solver options: :meth:`core.Contact.simulate`, the one run of
-    any body in physical units (a line contact's strip kernel, a point contact's half-space; the option ``body``
-    another body at the contact's scales); it needs only ``core``. ``options`` is kept for the callers' signature."""
-    return contact.simulate
-
-
 def _compute(contact, options, cancel=None, time_budget=SOLVE_BUDGET_S):
-    result = runner(contact, options)(**options, cancel=cancel, time_budget=time_budget)
-    result.pressure  # noqa: B018 - computed once here, off the UI thread
-    return result
+    return contact.simulate(**options, cancel=cancel, time_budget=time_budget)
 
 
 #: The warm-up runs: one small run per kernel loads (or compiles) all the solver's numba code. The explorer's
@@ -263,7 +252,7 @@ class _Cluster:
 
     def _remote(self, contact, options, time_budget) -> Future:
         # core's own run function, so that the workers need only ``core``; no cancel() across processes
-        return self.executor().submit(runner(contact, options), time_budget=time_budget, **options)
+        return self.executor().submit(contact.simulate, time_budget=time_budget, **options)
 
     def run(self, contact, options, cancel, time_budget) -> core.CycleResult:
         future = self._remote(contact, options, time_budget)
@@ -275,7 +264,6 @@ class _Cluster:
                 if cancel is not None and cancel():
                     future.cancel()
                     raise core.SolveCancelled("solve cancelled while it waited for the cluster") from None
-        result.pressure  # noqa: B018 - computed here, not in the event loop
         return result
 
     def warm(self) -> None:
@@ -306,7 +294,6 @@ class _Cluster:
                 out.set_exception(exc)
                 return
             result = f.result()
-            result.pressure  # noqa: B018 - computed here, not in the event loop
             cache.put(run_key(contact, options), result)
             out.set_result(result)
 

@@ -231,7 +231,6 @@ def measure_bodies(n: int = 3, only=None):
     page at its default grid, and the solver's own time for the first of those runs: yields
     ``(body, times, solver)`` as each body is measured."""
     from app import bodies as app_bodies
-    from app.runs import runner
 
     fts = [0.32 + 0.02 * i for i in range(n)]
     with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "120"}) as url, chromium() as browser:
@@ -249,7 +248,7 @@ def measure_bodies(n: int = 3, only=None):
             page.close()
             s = ExplorerState(body=body, ft=fts[0])
             options = s.solver_options()
-            yield body, times, runner(s.contact(), options)(**options).runtime * 1e3
+            yield body, times, s.contact().simulate(**options).runtime * 1e3
 
 
 def report_body(body: str, times: list, solver: float) -> str:

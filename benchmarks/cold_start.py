@@ -95,8 +95,8 @@ def time_cli() -> None:
 
 def count_signatures() -> None:
     with tempfile.TemporaryDirectory() as cache:
-        code = ("import core, core._jit as j; from app.state import ExplorerState; from app.runs import runner; "
-                "s = ExplorerState(); c, o = s.contact(), s.solver_options(); runner(c, o)(**o); "
+        code = ("import core, core._jit as j; from app.state import ExplorerState; "
+                "s = ExplorerState(); c, o = s.contact(), s.solver_options(); c.simulate(**o); "
                 "print(sum(len(d.signatures) for d in j.KERNELS.values()), "
                 "sum(1 for d in j.KERNELS.values() if d.signatures))")
         t0 = time.perf_counter()

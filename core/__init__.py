@@ -38,7 +38,7 @@ def _load_locked():
         from .limits import ft_limit, w_limit, fretting_energy  # noqa: F401 (any body's, by name or object: over analytical's eq 35)
         from .cone import Cone  # noqa: F401
         from .heightmap import HeightMap, HeightProfile  # noqa: F401
-        from .result import CycleResult, LineResult, StaticResult, SolverError, SolveCancelled  # noqa: F401
+        from .result import CycleResult, LineResult, PerStep, StaticResult, SolverError, SolveCancelled  # noqa: F401
         from .engine import run, STEP_SOLVERS  # noqa: F401
         from .solver import (simulate_cycles, solve_schedule, solve_static, shakedown_state,  # noqa: F401
                              simulate_point_contact)

@@ -477,7 +477,7 @@ def _cmd_run(args) -> int:
         ("increment, first period", _fmt(float(inc[0]) if inc.size else None, unit_u)),
         *_energy_rows(s, contact),
         *([("twist, last period", _fmt(s["twist_last_period"], "mu Fn/(E* a^2) rad"))]
-          if "twist_last_period" in s else []),
+          if s["twist_last_period"] is not None else []),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),
         *([("  paper's ansatz (eq 30)", _fmt(float(spec.shakedown_stick_halfwidth(ft, w)), "a"))] if line else []),
         (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),
@@ -486,7 +486,7 @@ def _cmd_run(args) -> int:
         ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in args_given(args) else " (the body's default)")),
         ("elements x steps", f"{s['elements']} x {s['steps']}"),
         ("max active-set iterations", str(s["max_iterations"])),
-        ("max KKT residual", _fmt(s.get("max_kkt_residual", s.get("max_residual")))),
+        ("max KKT residual", _fmt(s["max_kkt_residual"])),
         ("runtime", _fmt(s["runtime_s"], "s")),
     ]
     model = (f"{result.kernel} kernel" if line else f"{spec!r}, {result.kernel} kernel"

@@ -93,7 +93,7 @@ from .result import CycleResult, SolveCancelled, SolverError
 from .schedule import Schedule
 from .solver3d import PatchSolver
 
-__all__ = ["run", "STEP_SOLVERS", "SOLVER_CHOICES", "SOLVER_CHOICES_BY_GRID", "AUTO_CROSSOVER", "select_solver",
+__all__ = ["run", "solve_step", "STEP_SOLVERS", "SOLVER_CHOICES", "SOLVER_CHOICES_BY_GRID", "AUTO_CROSSOVER", "select_solver",
            "make_operator", "grid_shape", "Trajectory"]
 
 #: The per-step solvers by name: each is built as ``cls(operator, element_size=, tol=, maxiter=, **options)``
@@ -168,6 +168,48 @@ def make_operator(step_solver, n, dx, kernel="plane", **options):
     return elastic_operator(n, dx, kernel, form=step_solver.form, **options)
 
 
+def solve_step(operator, bound, target, *, solver="auto", element_size, tol, maxiter=None, solver_options=None):
+    """A static solve: one increment from zero tractions, on a line or a patch, by the grid's per-step solver.
+
+    The one path of :func:`core.solve_static` for both grids (a static solve
+    is a run of one step): the solver class of :data:`STEP_SOLVERS` that
+    :func:`select_solver` picks for the bound's shape, built as :func:`run`
+    builds it, and its ``step``.
+
+    Parameters
+    ----------
+    operator : object
+        The grid's elastic operator in the form the solver needs (:func:`make_operator` for a line, the
+        windowed half-space operator for a patch).
+    bound : ndarray, shape (n,) or (ny, nx)
+        Traction bound [mu p0].
+    target : float or array_like of 2
+        The load ``sum q`` (times the element measure on a patch) to carry.
+    solver, element_size, tol, maxiter, solver_options :
+        As in :func:`run` (``element_size``: ``dx`` on a line, ``dx^2`` on a patch).
+
+    Returns
+    -------
+    core.dense.StepReport
+
+    Raises
+    ------
+    SolverError
+        If the step's KKT residuals are not within the tolerance.
+    """
+    shape = "line" if np.ndim(bound) == 1 else "patch"
+    n = int(np.size(bound))
+    cls = select_solver(solver, n, shape)
+    announce_compile(*getattr(cls, "kernels", ()))  # once per process, before a first solve's compiling
+    step_solver = cls(operator, element_size=element_size, tol=tol,
+                      maxiter=cls.default_maxiter(n) if maxiter is None else maxiter, **dict(solver_options or {}))
+    report = step_solver.step(bound, target)
+    if not report.converged:
+        raise SolverError(0, 0.0, max(report.residuals.values()),
+                          getattr(step_solver, "failure", "") or "static partial slip")
+    return report
+
+
 def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_periodic=True, shakedown_rtol=1e-3,
         params=None, time_budget=None, cancel=None, progress=None, chunk=256, kernel="plane", u0=None,
         solver_options=None):
@@ -222,7 +264,7 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     load_scale = float(body.load_target(1.0))
     # the bound of every step, kept for the result: a line grid fills the rows of one array; a patch grid returns
     # one (ny, nx) array per step (shared between the steps with the same centre and load)
-    line_bounds = np.empty((steps, n)) if shape == "line" else None
+    line_bounds = _LineBounds(body, history) if shape == "line" else None
     patch_bounds = [] if shape == "patch" else None
     # mu p_min of the last period: tracked over the history's last block as it is marched (or, when the march
     # stops at a repeated period, over that period's bounds at the end)
@@ -231,8 +273,8 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     budget_end = None if time_budget is None else t0 + time_budget
     while done < steps:
         k1 = min(steps, done + chunk)
-        bounds = body.bounds(history.xc[done:k1], history.P[done:k1],
-                             out=None if line_bounds is None else line_bounds[done:k1])
+        bounds = (body.bounds(history.xc[done:k1], history.P[done:k1]) if line_bounds is None
+                  else line_bounds.rows(done, k1))
         reached, periodic_from, failed = step_solver.march(bounds, history.Q, history.period, load_scale, done, k1,
                                                            periodic, out)
         lowest.add(bounds, history.period[done:reached], last_block)
@@ -254,16 +296,16 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
                                      f"{done} of {steps}: use fewer periods or a coarser grid")
             if progress is not None:
                 progress(done / steps)
-    solved = done
     index = np.arange(steps)  # the row of the stored bounds of each step: a copied step's is its source's
     if done < steps:
         _repeat_last_period(history.period, done, periodic_from, out)
         block = np.flatnonzero(history.period == periodic_from)
         m = block.size
         index[done:] = block[0] + (np.arange(done, steps) - done) % m
-        rows = line_bounds[block] if line_bounds is not None else [patch_bounds[k] for k in block]
+        rows = (line_bounds.rows(block[0], block[-1] + 1) if line_bounds is not None
+                else [patch_bounds[k] for k in block])
         lowest.add(rows, history.period[block], periodic_from)
-    pressures, pressure_index = _stored_bounds(line_bounds, patch_bounds, solved, index)
+    pressures, pressure_index = _stored_bounds(line_bounds, patch_bounds, index)
     if progress is not None:
         progress(1.0)
     now = pressures[pressure_index[-1]] if steps else None
@@ -279,11 +321,41 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
         **out.result_fields())
 
 
-def _stored_bounds(line_bounds, patch_bounds, solved, index):
-    """The bounds a result keeps: ``(pressures, pressure_index)``, the distinct bounds the march used (its first
-    ``solved`` steps' rows on a line; on a patch each shared array once) and the row of each step."""
-    if line_bounds is not None:  # a march stopped at a repeated period: its rows alone (the buffer is freed)
-        return (line_bounds if solved == len(line_bounds) else line_bounds[:solved].copy()), index
+class _LineBounds:
+    """The bounds of a line grid, one row per distinct (centre, load) of the history, computed the first time a
+    chunk of steps needs them: a rocking history visits the same centres every period, so the rows a result keeps
+    are about one period's, not a row per step (12321 x 1418 floats at a/400), and the march's chunks are copies of
+    them. A step's bound depends on its (xc, P) alone: equal keys give equal rows, to the bit."""
+
+    def __init__(self, body, history):
+        self.body = body
+        keys = np.stack([history.xc, history.P], axis=1)
+        self.keys, inverse = np.unique(keys, axis=0, return_inverse=True)
+        self.index = inverse.reshape(-1)  # the row of each step
+        self.table = np.empty((len(self.keys), body.shape[0]))  # untouched rows cost no memory
+        self.ready = np.zeros(len(self.keys), dtype=bool)
+
+    def rows(self, k0, k1):
+        """The bounds of steps ``k0:k1``, shape (k1 - k0, n) (a new array)."""
+        ids = self.index[k0:k1]
+        need = np.unique(ids[~self.ready[ids]])
+        if need.size:
+            self.table[need] = self.body.bounds(self.keys[need, 0], self.keys[need, 1])
+            self.ready[need] = True
+        return self.table[ids]
+
+    def stored(self, index):
+        """``(pressures, pressure_index)``: the rows that the steps' sources ``index`` use, each once."""
+        used, of_step = np.unique(self.index[index], return_inverse=True)
+        return self.table[used], of_step.reshape(-1)
+
+
+def _stored_bounds(line_bounds, patch_bounds, index):
+    """The bounds a result keeps: ``(pressures, pressure_index)``, the distinct bounds the march used (a line's
+    distinct (centre, load) rows; on a patch each shared array once) and the row of each step (a copied step's is
+    its source's)."""
+    if line_bounds is not None:
+        return line_bounds.stored(index)
     rows, first = {}, []
     for field in patch_bounds:
         if id(field) not in rows:

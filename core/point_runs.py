@@ -5,7 +5,7 @@ the half-space operator's window and the patch solver (:class:`core.solver3d.Pat
 and runs them through :func:`core.engine.run`, the one march of every body;
 :func:`core.simulate_cycles` calls it for every point body and history. The
 static solves (Mindlin's partial slip, the shaken-down state under ``mu p_min``)
-are one step of the same per-step solver (:func:`core.solver3d.solve_increment`).
+are one step of the same per-step solver, through :func:`core.engine.solve_step` as a line's are.
 """
 
 from __future__ import annotations
@@ -15,16 +15,14 @@ import math
 import numpy as np
 
 from ._validate import check_int, check_range, check_scalar
-from .engine import check_solver, run
-from .halfspace import HalfSpaceOperator
+from .engine import check_solver, run, solve_step
 from .patch import MAX_GRID_ELEMENTS, PatchGrid, _grid, _normal_mode, _pressure
 from .point_contact import Ellipsoid
 from .registry import point_body
 from .resolution import GRID_DEFAULTS
 from .result import StaticResult
 from .schedule import Schedule
-from .solver3d import PERIODIC_TOL, TOL_3D, _Window, _WarmStart, solve_increment
-from .states import RESIDUAL_NAMES
+from .solver3d import PERIODIC_TOL, TOL_3D, _Window
 
 __all__ = ["solve_point_schedule", "solve_static_patch", "solve_static_3d", "mindlin_state", "shakedown_state_3d",
            "StaticResult3D"]
@@ -177,13 +175,13 @@ def _static_patch(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=T
     dA = h * h
     carried = float(bound.sum()) * dA / body.total_load
     ft = check_scalar("ft", ft, 0.0, carried, hi_closed=False)
-    op = HalfSpaceOperator(y_edges.size - 1, x_edges.size - 1, h, nu, body.kernel_scale)
-    warm = _WarmStart.empty(bound.shape)
+    operator = _Window(y_edges.size - 1, x_edges.size - 1, h, nu, body.kernel_scale)
     target = ft * body.total_load * np.array([math.cos(angle), math.sin(angle)])
-    q, s, lam, info = solve_increment(op, bound, np.zeros((2,) + bound.shape), target, dA, warm, tol)
-    return StaticResult(traction=q, displacement=lam, residuals={name: info[name] for name in RESIDUAL_NAMES},
+    step = solve_step(operator, np.ascontiguousarray(bound, dtype=float), target, solver="pcg3d", element_size=dA,
+                      tol=tol)
+    return StaticResult(traction=step.traction, displacement=step.displacement, residuals=step.residuals,
                         bound=bound, edges=x_edges, y_edges=y_edges,  # its states from the bound (StaticResult)
-                        iterations=int(info["iterations"]))
+                        iterations=step.iterations)
 
 
 def mindlin_state(ft, dx=0.05, body="sphere", *, ratio=None, nu=0.5, angle=0.0, tol=TOL_3D):

@@ -16,7 +16,7 @@ from .verdict import (MIN_FIT_PERIODS, REGIMES, SETTLED_FRACTION, VERDICT_SIGMAS
                       Trend, Verdict, classify_energy, classify_increments, combine_verdicts, fit_trend)
 
 __all__ = ["CycleResult", "PointContactResult", "LineResult", "STATE_RELEASED", "STATE_STICK", "STATE_SLIP_FORWARD", "STATE_SLIP_BACKWARD",
-           "STATE_NAMES", "SolverError", "SolveCancelled", "read_only", "classify_increments", "fit_trend", "Trend",
+           "STATE_NAMES", "PerStep", "SolverError", "SolveCancelled", "read_only", "classify_increments", "fit_trend", "Trend",
            "Verdict", "EnergyVerdict", "classify_energy", "combine_verdicts", "REGIMES", "FrettingLoop", "VERDICT_SIGMAS", "MIN_FIT_PERIODS", "SETTLED_FRACTION"]
 
 #: Element states recorded per step (``CycleResult.state``): aliases of :class:`core.states.State`.
@@ -34,6 +34,57 @@ ZERO_TRACTION = 1e-2
 
 # the static solves' record and the stick test (core/static_result.py), kept importable from here
 from .static_result import STICK_MARGIN, StaticResult, below_bound, central_halfwidth  # noqa: E402,F401
+
+
+class PerStep:
+    """A per-step array kept as its distinct rows: step ``k`` is ``rows[index[k]]`` (read-only).
+
+    A run's bounds repeat (a rocking history visits the same centres every
+    period; a translating patch body is solved once per offset and load), so a
+    result keeps each distinct one once. Indexing reads like the full
+    ``(steps, ...)`` array: ``p[k]``, ``p[k0:k1]``, ``p[k, i]``, ``len(p)``,
+    ``p.shape``; ``np.asarray(p)`` builds the full array. ``p(k)`` is ``p[k]``.
+    """
+
+    __slots__ = ("rows", "index")
+
+    def __init__(self, rows: np.ndarray, index: np.ndarray):
+        self.rows, self.index = rows, index
+
+    def __len__(self) -> int:
+        return int(self.index.size)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return (len(self), *self.rows.shape[1:])
+
+    @property
+    def ndim(self) -> int:
+        return self.rows.ndim
+
+    @property
+    def dtype(self):
+        return self.rows.dtype
+
+    def __getitem__(self, key):
+        step, rest = (key[0], key[1:]) if isinstance(key, tuple) else (key, ())
+        out = self.rows[self.index[step]]
+        if rest:
+            out = out[rest] if np.ndim(self.index[step]) == 0 else out[(slice(None), *rest)]
+        return read_only(out) if isinstance(out, np.ndarray) else out
+
+    def __call__(self, step) -> np.ndarray:
+        return self[step]
+
+    def __iter__(self):
+        return (self.rows[i] for i in self.index)
+
+    def __array__(self, dtype=None, copy=None):
+        out = self.rows[self.index]
+        return out if dtype is None else out.astype(dtype, copy=False)
+
+    def __repr__(self) -> str:
+        return f"PerStep(shape={self.shape}, distinct rows={self.rows.shape[0]})"
 
 
 class SolverError(RuntimeError):
@@ -431,28 +482,21 @@ class CycleResult(PeriodVerdict):
         return n if self.y_edges is None else n * (self.y_edges.size - 1)
 
     # ---- per step ----------------------------------------------------------
-    def _stored_pressures(self) -> np.ndarray:
+    @property
+    def pressure(self) -> "PerStep":
+        """The element pressure [p0] of every step, the traction bound [mu p0] the solver used, on either grid:
+        ``result.pressure[k]`` is step ``k``'s, shape (n,) on a line, (ny, nx) on a patch;
+        ``np.asarray(result.pressure)`` all of them, shape (steps, n) or (steps, ny, nx). A :class:`PerStep`
+        over the distinct bounds the run kept (``pressures``, ``pressure_index``); ``result.pressure(k)`` (the
+        former point-contact call) is ``result.pressure[k]``."""
         if self.pressures is None:
             raise ValueError("this result was built without its pressures (pressures, pressure_index): "
                              "core.engine.run keeps them")
-        return self.pressures
-
-    @property
-    def pressure(self):
-        """A line's element-mean pressure per step, shape (steps, n) [p0]: the traction bound [mu p0] the solver
-        used. On a patch, :meth:`pressure_at` (``result.pressure(step)``, the former point-contact call)."""
-        return self.pressure_at if self.is_patch else self._line_pressure
-
-    @cached_property
-    def _line_pressure(self) -> np.ndarray:
-        stored, index = self._stored_pressures(), self.pressure_index
-        if stored.shape[0] == index.size and np.array_equal(index, np.arange(index.size)):
-            return stored  # every step solved: the stored rows are the steps' (no copy)
-        return read_only(stored[index])
+        return PerStep(self.pressures, self.pressure_index)
 
     def pressure_at(self, step) -> np.ndarray:
-        """Element pressure [p0] at ``step``: shape (n,) on a line, (ny, nx) on a patch (the traction bound in mu p0)."""
-        return self._stored_pressures()[self.pressure_index[step]]
+        """Element pressure [p0] at ``step``: ``result.pressure[step]``."""
+        return self.pressure[step]
 
     @property
     def final_traction(self) -> np.ndarray:
@@ -591,7 +635,7 @@ class CycleResult(PeriodVerdict):
             ever = (self.state != State.RELEASED).any(axis=0)
         else:
             bound, magnitude = self.lowest_pressure, np.abs(self.traction[-1])
-            ever = (self._stored_pressures() > 0).any(axis=0)
+            ever = (self.pressure.rows > 0).any(axis=0)  # in contact at any step: any distinct bound positive
         stick = below_bound(magnitude, bound)
         loaded = (bound > 0) | (magnitude > ZERO_TRACTION)
         zones = np.where(stick, Zone.STICK, np.where(loaded, Zone.SLIP, np.where(ever, Zone.RELEASED, Zone.NONE)))
@@ -623,43 +667,36 @@ class CycleResult(PeriodVerdict):
                 "E_inf_error": self.E_inf_error, "energy_unit": self.energy_unit}
 
     def summary(self) -> dict:
-        """Scalar figures of the run (for tables, CSV headers, the CLI)."""
+        """Scalar figures of the run (for tables, CSV headers, the CLI): the same keys in the same order for every
+        body and grid; a figure that does not apply is None (a line's ``ratio`` and ``twist_last_period``, a
+        patch's ``u0``)."""
         inc = self.increment_per_period
-        last = float(inc[-1]) if inc.size else float("nan")
-        if self.is_patch:
-            return {"dx": self.dx, **self.params, "body": self.body_name, "solver": self.solver,
-                    "ratio": getattr(self.body, "ratio", None),
-                    "regime": self.regime, "regime_reason": self.regime_reason,
-                    "stick_halfwidth": self.stick_halfwidth, "increment_last_period": last,
-                    "D_inf": self.D_inf, "D_inf_error": self.D_inf_error, "decay_ratio": self.decay_ratio,
-                    "periods_to_decide": self.periods_to_decide, "shakedown_period": self.shakedown_period,
-                    **self._energy_summary(),
-                    "max_kkt_residual": self.max_kkt_residual, "elements": self.elements,
-                    "steps": int(self.xc.size), "periodic_from": self.periodic_from,
-                    "max_iterations": int(self.iterations.max()), "max_cg_iterations": int(self.cg_iterations.max()),
-                    "max_residual": self.max_residual, "runtime_s": self.runtime,
-                    **({} if self.rotation is None else {"twist_last_period": float(self.twist_per_period[-1])})}
+        twist = None if self.rotation is None else float(self.twist_per_period[-1])
         return {
             "dx": self.dx,
             **self.params,
             "body": self.body_name,
             "solver": self.solver,
+            "ratio": getattr(self.body, "ratio", None) if self.is_patch else None,
             "regime": self.regime,
             "regime_reason": self.regime_reason,
             "stick_halfwidth": self.stick_halfwidth,
             "shakedown_period": self.shakedown_period,
-            "increment_last_period": last,
+            "increment_last_period": float(inc[-1]) if inc.size else float("nan"),
             "D_inf": self.D_inf,
             "D_inf_error": self.D_inf_error,
             "decay_ratio": self.decay_ratio,
             "periods_to_decide": self.periods_to_decide,
             **self._energy_summary(),
+            "twist_last_period": twist,
             "periods": self.periods,
             "elements": self.elements,
             "steps": int(self.xc.size),
             "periodic_from": self.periodic_from,
             "max_iterations": int(self.iterations.max()) if self.iterations.size else 0,
+            "max_cg_iterations": int(self.cg_iterations.max()) if self.cg_iterations.size else 0,
             "max_kkt_residual": self.max_kkt_residual,
+            "max_residual": self.max_residual,
             "u0": self.u0,
             "runtime_s": self.runtime,
         }

@@ -27,9 +27,8 @@ from .resolution import DEFAULT_DX_LINE, GRID_DEFAULTS, default_dx
 from ._validate import check_int, check_scalar
 from .bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
-from .result import SolverError, StaticResult, read_only
-from ._jit import announce_compile
-from .engine import check_solver, make_operator, run, select_solver
+from .result import StaticResult, read_only
+from .engine import check_solver, make_operator, run, select_solver, solve_step
 from .registry import kind, point_body, resolve
 from . import histories
 from .schedule import Schedule
@@ -259,12 +258,8 @@ def solve_static(bound, Q, dx, kernel="plane", *, kernel_options=None, tol=None,
         edges = np.asarray(edges, dtype=float)
         if edges.shape != (n + 1,) or not np.allclose(np.diff(edges), dx, rtol=1e-9, atol=0.0):
             raise ValueError(f"edges must be {n + 1} edges dx = {dx:g} apart, got shape {edges.shape}")
-    step_solver = select_solver(solver, n)
-    announce_compile(*getattr(step_solver, "kernels", ()))  # once per process, before a first solve's compiling
-    operator = make_operator(step_solver, n, dx, kernel, **dict(kernel_options or {}))
-    step = step_solver(operator, element_size=dx, tol=tol, maxiter=50 + 2 * n).step(bound, target)
-    if not step.converged:
-        raise SolverError(0, 0.0, step.kkt_residual, "static partial slip")
+    operator = make_operator(select_solver(solver, n), n, dx, kernel, **dict(kernel_options or {}))
+    step = solve_step(operator, bound, target, solver=solver, element_size=dx, tol=tol, maxiter=50 + 2 * n)
     return StaticResult(traction=step.traction, displacement=step.displacement, residuals=step.residuals,
                         bound=bound, edges=dx * (np.arange(n + 1) - 0.5 * n) if edges is None else edges,
                         iterations=step.iterations)

@@ -13,7 +13,7 @@ os.environ.setdefault("BOKEH_VALIDATE_DOC", "true")
 def _check_invariants(result, tol=1e-9):
     """Coulomb's law, load balance, contact and dissipation at every step of a CycleResult."""
     q = result.traction
-    p = result.pressure  # element-mean Hertz pressure = the traction bound in mu p0
+    p = np.asarray(result.pressure)  # element-mean Hertz pressure = the traction bound in mu p0
     # |q| <= mu p
     excess = np.abs(q) - p
     assert excess.max() <= tol, f"|q| exceeds mu p by {excess.max():.3g} at step {np.unravel_index(excess.argmax(), q.shape)[0]}"

@@ -673,13 +673,12 @@ def test_the_oscillating_normal_force_is_a_loading_option():
 def test_every_body_takes_the_tangential_history(body):
     """The explorer offers every history for every body: 'tangential' fixes the centre and oscillates Ft by the
     amplitude's share of what is left to full sliding; the run carries it."""
-    from app.runs import runner
 
     s = ExplorerState(body=body, ft=0.4, w=0.3, periods=2, resolution=10, point_resolution=5, loading="tangential",
                       amplitude=0.5)
     opts = s.solver_options()
     assert opts["history"] == "tangential" and opts["amplitude"] == pytest.approx(0.3)
-    r = runner(s.contact(), opts)(**opts)
+    r = s.contact().simulate(**opts)
     assert r.params["history"] == "tangential" and r.is_patch == (body == "sphere")
     np.testing.assert_allclose([r.Q.min(), r.Q.max()], [0.1, 0.7], atol=1e-12)
     np.testing.assert_array_equal(r.xc, 0.0)

@@ -20,7 +20,6 @@ import pytest
 import core
 from app import bodies, plots
 from app import runs
-from app.runs import runner
 from app.cards import inputs_text, on_side
 from app.explorer import SLIDER_FORMAT, Explorer
 from app.state import URL_PARAMETERS, ExplorerState
@@ -31,10 +30,10 @@ RUNNABLE = [b for b in core.registry.REGISTRY if bodies.runs_cycles(b, ExplorerS
 
 
 def _run(**inputs):
-    """The run the explorer shows for ``inputs`` (app.runs.runner: each body the way the app runs it)."""
+    """The run the explorer shows for ``inputs`` (Contact.simulate: each body the way the app runs it)."""
     state = ExplorerState(**inputs)
     options = state.solver_options()
-    return runner(state.contact(), options)(**options)
+    return state.contact().simulate(**options)
 
 
 def _magnitude(result, k):
@@ -43,7 +42,7 @@ def _magnitude(result, k):
 
 
 def _bound(result, k):
-    p = result.pressure_at(k) if result.is_patch else result.pressure[k]
+    p = result.pressure[k]
     return p[result.cut_row] if result.is_patch else p
 
 

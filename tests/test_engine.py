@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from numpy.testing import assert_allclose
+from numpy.testing import assert_allclose, assert_array_equal
 
 import core
 from core.bodies import Cylinder
@@ -226,9 +226,19 @@ def test_one_result_type_keeps_the_body_object_for_both_shapes():
     assert isinstance(patch, core.PointContactResult) and not isinstance(line, core.PointContactResult)
     assert isinstance(line, core.LineResult) and not isinstance(patch, core.LineResult)
     assert patch.traction_cut is patch.traction and patch.x_edges is patch.edges
-    assert_allclose(patch.pressure(3), patch.pressure_at(3))
+    # the per-step pressure is the same kind of thing on both grids: indexed by step, a step's the grid's shape
+    for r in (line, patch):
+        assert type(r.pressure) is core.PerStep and len(r.pressure) == r.xc.size
+        assert r.pressure.shape == (r.xc.size, *r.final_state.shape) == np.asarray(r.pressure).shape
+        assert_array_equal(r.pressure[3], r.pressure(3))
+        assert_array_equal(r.pressure[3], r.pressure_at(3))
+        assert_array_equal(np.asarray(r.pressure)[2:5], r.pressure[2:5])
+        assert not r.pressure[3].flags.writeable and not r.pressure[2:5].flags.writeable
     assert line.pressure.shape == line.traction.shape
-    assert_allclose(line.pressure_at(3), line.pressure[3])
+    # one summary layout: the same keys in the same order on both grids
+    inputs = {*line.params, *patch.params}
+    assert [k for k in line.summary() if k not in inputs] == [k for k in patch.summary() if k not in inputs]
+    assert line.summary()["twist_last_period"] is None and patch.summary()["u0"] is None
 
 
 @pytest.mark.parametrize("body, dx", [(core.Punch(flat=0.5), 0.1), (core.Ellipsoid(2.0), 0.2)])

@@ -203,11 +203,15 @@ def test_result_is_frozen_and_its_arrays_read_only():
     with pytest.raises(dataclasses.FrozenInstanceError):
         r.traction = np.zeros_like(r.traction)  # type: ignore[misc]
     for name in ("edges", "xc", "P", "Q", "period", "traction", "state", "displacement", "dissipation",
-                 "iterations", "kkt_residual", "x", "pressure", "increment_per_period", "lowest_pressure",
+                 "iterations", "kkt_residual", "x", "pressures", "increment_per_period", "lowest_pressure",
                  "final_zones"):
         arr = getattr(r, name)
         with pytest.raises(ValueError, match="read-only"):
             arr[...] = 0
+    with pytest.raises(TypeError, match="does not support item assignment"):
+        r.pressure[0] = 0  # the per-step view of the stored bounds
+    with pytest.raises(ValueError, match="read-only"):
+        r.pressure[0][...] = 0
     strip = core.simulate_contact(core.PAPER_SIMULATION.replace(ft=0.1, w=0.2), periods=1)
     with pytest.raises(ValueError, match="read-only"):
         strip.u[0] = 1.0
