@@ -468,6 +468,7 @@ def _cmd_run(args) -> int:
     line = getattr(spec, "shakedown_stick_halfwidth", None) is not None
     line_body = not result.is_patch  # a line contact (the cylinder, the punch, any core.bodies.Body)
     unit_u = "mu P/E*" if line_body else "mu Fn/(E* a)"
+    rocking = result.params.get("history", "rocking") == "rocking"  # the closed forms are the rocking history's
     since = f" (from period {s['shakedown_period']})" if s.get("shakedown_period") is not None else ""
     rows = [
         ("regime", f"{s['regime']}{since}"),
@@ -479,9 +480,12 @@ def _cmd_run(args) -> int:
         *([("twist, last period", _fmt(s["twist_last_period"], "mu Fn/(E* a^2) rad"))]
           if s["twist_last_period"] is not None else []),
         ("stick half-width c_sd", _fmt(s["stick_halfwidth"], "a")),
-        *([("  paper's ansatz (eq 30)", _fmt(float(spec.shakedown_stick_halfwidth(ft, w)), "a"))] if line else []),
-        (f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),
-        (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=spec)), "= w_lim")),
+        *([("  paper's ansatz (eq 30)", _fmt(float(spec.shakedown_stick_halfwidth(ft, w)), "a"))]
+          if line and rocking else []),
+        # the limits of the rocking history (Melan over the rocking period): they say nothing of another history
+        *([(f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),
+           (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=spec)), "= w_lim"))]
+          if rocking else []),
         ("Melan's limit on this grid", _grid_limit_text(result)),
         ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in args_given(args) else " (the body's default)")),
         ("elements x steps", f"{s['elements']} x {s['steps']}"),

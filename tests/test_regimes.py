@@ -189,6 +189,11 @@ def test_the_cli_prints_the_regime_and_the_energy(capsys):
     A = 0.35  # the CLI's tangential amplitude: (1 - |ft|)/2
     np.testing.assert_allclose(energy, core.fretting_energy(A), rtol=0.05)  # a/20: +0.6 % at 0.5, +9 % at 0.2
     assert "E_inf (limit energy)" in out
+    # the rocking history's closed forms (eq 35, the paper's ansatz) are not printed for another history
+    assert "limit at this w" not in out and "eq 30" not in out
+    code = main(["run", "--ft", "0.3", "--w", "0.3", "--periods", "2", "--dx", "0.1"])
+    out = capsys.readouterr().out
+    assert code == 0 and "eq 35 limit at this w" in out and "eq 30" in out
 
 
 def test_the_explorer_map_takes_the_loading_history():
