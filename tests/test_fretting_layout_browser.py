@@ -42,7 +42,8 @@ _LEGEND = "(title) => {" + FIND_MODEL_JS + """
   const fig = find((m) => m.title != null && m.title.text === title);
   if (fig === null) return null;
   const items = {}, texts = [];
-  for (const c of fig.center) if (c.items) for (const it of c.items) {
+  const panels = [...fig.center, ...fig.below, ...fig.above, ...fig.left, ...fig.right];  // a legend may be outside
+  for (const c of panels) if (c.items) for (const it of c.items) {
     const label = it.label == null ? null : (it.label.value ?? it.label);
     if (label != null) items[label] = it.visible;
   }
