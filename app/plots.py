@@ -716,7 +716,8 @@ def map_lines(history: tuple, body=None) -> tuple:
     * rocking: the (ft, w) plane of the constant loads: eq 35, the sphere's and ellipsoid's exact limit, the
       regression and the closure's c_sd contours;
     * normal (amplitude ``A > 0``): the (ft, w) plane at the run's amplitude and phase: Melan's limit of
-      ``body`` under the oscillating force and gross sliding at the lowest force, ``ft = 1 - A``;
+      ``body`` (a line body; None: not drawn) under the oscillating force and gross sliding at the lowest
+      force, ``ft = 1 - A``;
     * tangential: the (mean ft, amplitude A) plane: the gross-sliding boundary ``|ft| + A = 1``, below which
       every run slips cyclically; no limit of the rocking applies.
     """
@@ -731,8 +732,7 @@ def map_lines(history: tuple, body=None) -> tuple:
     else:
         gross = _EMPTY
     curves = [tuple(base[n].dimension_values(i) for i in (0, 1)) if rocking else _EMPTY for n in _ROCKING_LINES]
-    melan = _normal_limit(body if body is not None else core.Cylinder(), A, phase, shape) if name == "normal" \
-        else _EMPTY
+    melan = _normal_limit(body, A, phase, shape) if name == "normal" and body is not None else _EMPTY
     scale = 1.0 - A if name == "normal" else 1.0
     names = tuple(np.array(c) for c in zip(*[(x * scale, y, t) for x, y, t in _REGION_NAMES[name]]))
     return (gross, contours.data if rocking else [], *curves, melan, _csd_levels() if rocking else (_EMPTY + ([],)),

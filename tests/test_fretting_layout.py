@@ -97,6 +97,8 @@ def test_the_map_draws_the_lines_of_each_history():
     np.testing.assert_allclose(ft_lim, core.melan.ft_limit_oscillating(w, core.Cylinder(), 0.3, math.pi / 2,
                                                                        dx=1 / 500, samples=200))
     assert np.all(ft_lim <= 0.7 + 1e-4)
+    # without a line body (a point contact's run) no Melan curve: not another body's under "this body"
+    assert _drawn(plots.map_lines(("normal", 0.3, math.pi / 2, "triangle")))["melan"] is False
 
 
 def test_the_map_reads_the_history_of_the_run():
