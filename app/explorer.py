@@ -100,6 +100,7 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self._when_shown = False
         self._cells: dict[str, pn.Column] = {}  # the served page's figures with their captions, once drawn
         self._places: dict[str, pn.Column] = {}  # the served page's places of the figures in their grids
+        self._captions: dict[str, pn.pane.HTML] = {}  # each cell's caption (hidden on the first screen)
         self.param.watch(self._redraw, list(FIGURE_INPUTS.values()))
         self._update_contact()
         served = self._doc is not None and self._doc.session_context is not None

@@ -19,7 +19,7 @@ from panel.io.state import set_curdoc
 
 from . import panes, plots, point_view, slides
 from .compare import Pins
-from .figures import GRID, KEY_FIGURES
+from .figures import ORDER
 from .limits import SOLVE_BUDGET_S
 from .paper_figures import paper_figures_tab
 from .state import MAX_POINT_RESOLUTION
@@ -68,7 +68,8 @@ class LayoutMixin:
 
         The first screen (1280x720 or 1024x768) shows the verdict, a strip of the key numbers (every number one
         click away, in a folded card built when first opened), the cycle player and, under it, the three figures
-        it drives that tell the story (:data:`app.figures.KEY_FIGURES`)."""
+        it drives that tell the story (:data:`app.figures.KEY_FIGURES`: by body and loading; under an oscillating
+        load the fretting loop is beside the displacement)."""
         live = dict(ft=self.param.ft_live, w=self.param.w_live)
         badge = panes.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error,
                                    pending=self.param.pending),
@@ -187,23 +188,18 @@ class LayoutMixin:
 
         doc.add_timeout_callback(later, _BUILD_DELAY_MS)
 
-    #: Every figure's place: the first-screen figures, then the others.
-    _GRID = (*KEY_FIGURES["cylinder"], *KEY_FIGURES["point"], *GRID)
+    #: Every figure's place, in the page's order (:data:`app.figures.ORDER`).
+    _GRID = ORDER
 
     def explorer_tab(self) -> pn.Column:
         """The player, under it the first-screen figures it drives, then the compare and SVG controls and the other
         figures, each with a one-line caption; the figures wrap to fewer columns when narrow. A figure, its
         caption and its controls are built when the browser first scrolls near their place."""
         self.figures(when_shown=True)
-        keys = (*KEY_FIGURES["cylinder"], *KEY_FIGURES["point"])
-        if self._when_shown:
-            self._key_grid = pn.FlexBox(*self._slots(True), flex_wrap="wrap", sizing_mode="stretch_width",
-                                        css_classes=["key-figures"])
-            self._grid = pn.FlexBox(*self._slots(False), flex_wrap="wrap", sizing_mode="stretch_width")
-        else:
-            self._key_grid = pn.FlexBox(*[self._cell(n) for n in keys], flex_wrap="wrap",
-                                        sizing_mode="stretch_width", css_classes=["key-figures"])
-            self._grid = pn.FlexBox(*[self._cell(n) for n in GRID], flex_wrap="wrap", sizing_mode="stretch_width")
+        # one place a figure, in the first screen's grid or the one below as the body and the loading have it
+        self._key_grid = pn.FlexBox(*self._slots(True), flex_wrap="wrap", sizing_mode="stretch_width",
+                                    css_classes=["key-figures"])
+        self._grid = pn.FlexBox(*self._slots(False), flex_wrap="wrap", sizing_mode="stretch_width")
         self.pins = Pins(self)
         svg = slides.save_svg(slides.figure_titles(), run=dict(ft=self.ft_slider, w=self.w_slider),
                               offered=self._svg_titles(self.state.body))

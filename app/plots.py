@@ -33,7 +33,7 @@ from core import approximations as approx
 
 from . import pinned, sketch
 from .live import Layer, Styled, overlay
-from .units import Units, make_units, time_axis
+from .units import Units, along_ft, make_units, time_axis
 
 __all__ = ["Units", "make_units", "Inputs", "FIGURES", "figure", "layers", "specs", "group",
            "pressure_curves", "pressure_step", "traction_zones", "traction_run", "traction_bounds",
@@ -496,9 +496,17 @@ def _displacement_layers(i: Inputs) -> tuple:
 # --------------------------------------------------------------------------
 # fretting loop
 # --------------------------------------------------------------------------
+def _loop_x_label(units: Units) -> str:
+    """The loop's horizontal axis, short enough for a first-screen figure: the displacement along Ft less ``k Q``
+    (the shear of :func:`loop_curves`), in the displacement's unit of ``units``."""
+    if units.system == "physical":
+        return "U − k·Ft [µm]"
+    unit = units.u_label.split("[")[-1].rstrip("]") if "[" in units.u_label else "U0"
+    return f"u − k·Q [{unit}]"
+
+
 def _loop_specs(units: Units) -> list:
-    kd, vd = _dim("u", f"{units.u_label.split(' [')[0]} − k·Ft (sheared by the last loop's secant)"
-                  + (f" [{units.u_label.split(' [')[1]}" if " [" in units.u_label else "")), _dim("Q", "Ft / (μ Fn)")
+    kd, vd = _dim("u", _loop_x_label(units)), _dim("Q", "Ft / (μ Fn)")
     return [
         Layer(hv.Curve, (kd,), (vd,), "first period", dict(color=_C["sky"], line_dash="dashed", line_width=2)),
         Layer(hv.Curve, (kd,), (vd,), "last period", dict(color=_C["vermillion"], line_width=LINE)),
@@ -508,7 +516,8 @@ def _loop_specs(units: Units) -> list:
 @_memo
 def loop_curves(result: core.CycleResult | None, units: Units) -> tuple:
     """The fretting loops of the first and the last period (:meth:`core.CycleResult.fretting_loop`): the
-    tangential load against the rigid-body displacement, from the stored steps."""
+    tangential load against the rigid-body displacement along it (a point contact's projected on Ft), from the
+    stored steps, for a run of any body."""
     if result is None or result.periods == 0:
         return _EMPTY, _EMPTY
     # the hysteresis is thin beside the elastic compliance (a strip kernel's especially): both loops are sheared by
@@ -520,10 +529,11 @@ def loop_curves(result: core.CycleResult | None, units: Units) -> tuple:
     if span > 1e-12:
         hi, lo = int(np.argmax(last.Q)), int(np.argmin(last.Q))
         k = float((last.displacement[hi] - last.displacement[lo]) / (last.Q[hi] - last.Q[lo]))
+    along = along_ft(result)
     out = []
     for period in (0, -1):
         loop = result.fretting_loop(period)
-        start = float(result.displacement[result.period == loop.period][0]) if loop.Q.size else 0.0
+        start = float(along[result.period == loop.period][0]) if loop.Q.size else 0.0
         out.append(((loop.displacement + start - k * loop.Q) * units.u, loop.Q))
     return tuple(out)
 
@@ -580,8 +590,9 @@ _MAP_DIMS = (hv.Dimension("ft", label=_MAP_X), hv.Dimension("w", label=_MAP_Y))
 
 @lru_cache(maxsize=1)
 def map_base() -> hv.Overlay:
-    """The (ft, w) plane: exact limits (the cylinder's eq 35, the sphere's and ellipsoid's
-    ``(1 - w)^2 (2 + w)/2``, the paper's Fig 14), the paper's regression (eq 36) and c_sd/a contours of the closure."""
+    """The (ft, w) plane of the rocking under constant loads: exact limits (the cylinder's eq 35, the sphere's and
+    ellipsoid's ``(1 - w)^2 (2 + w)/2``, the paper's Fig 14), the paper's regression (eq 36) and c_sd/a contours of
+    the closure (the map draws them under the rocking loading: :func:`map_lines`)."""
     kd = [hv.Dimension("ft", label=_MAP_X, range=(0, 1)), hv.Dimension("w", label=_MAP_Y, range=(0, 1))]
     ft = np.linspace(0.0, 1.0, 401)
     n = 161
@@ -601,8 +612,6 @@ def map_base() -> hv.Overlay:
         hv.Curve((ft, approx.w_limit_regression(ft)), kdims=kd[:1], vdims=kd[1:],
                  label="eq 36 regression").opts(color=_C["orange"], line_dash="dashed",
                                                                        line_width=LINE),
-        hv.Text(0.2, 0.25, "shakedown", fontsize=16).opts(color=_C["blue"]),
-        hv.Text(0.8, 0.5, "ratcheting", fontsize=16).opts(color=_C["vermillion"]),
     ])
 
 
@@ -633,8 +642,20 @@ def is_tangential(table) -> bool:
     return table is not None and "history" in table.columns and bool((table["history"] == "tangential").any())
 
 
+#: The region names of each history's map: (x, y, name) in its plane (the normal loading's x scaled by 1 - A).
+_REGION_NAMES = {"rocking": ((0.2, 0.25, "shakedown"), (0.8, 0.5, "ratcheting")),
+                 "normal": ((0.2, 0.25, "shakedown"), (0.8, 0.5, "ratcheting")),
+                 "tangential": ((0.3, 0.35, "cyclic slip"), (0.72, 0.62, "gross sliding"))}
+_REGION_DIMS = (*_MAP_DIMS, hv.Dimension("name"))
+
+
 def _map_specs(label: str = "solver") -> list:
     kd = _MAP_DIMS
+    base = {e.label: e for e in map_base() if isinstance(e, hv.Curve)}
+
+    def curve(name, **style):
+        return Layer(hv.Curve, kd[:1], kd[1:], name, style)
+
     return [
         *[Layer(hv.Points, kd, (), f"{regime}, {label}",
                 dict(color=REGIME_COLORS[regime], marker=REGIME_MARKERS[regime], size=8, alpha=0.7, line_alpha=0))
@@ -642,13 +663,95 @@ def _map_specs(label: str = "solver") -> list:
         # the grid resolves the limit to half a grid step: markers, not a line that would look like a staircase
         Layer(hv.Points, kd, (), "numerical limit ±½ step",
               dict(color="black", fill_color="white", marker="diamond", size=11, line_width=2)),
-        Layer(hv.Curve, kd[:1], kd[1:], "gross sliding |ft| + A = 1 (tangential)",
-              dict(color="black", line_width=LINE + 1, line_dash="dashed")),
-        *map_base(),
-        Layer(hv.Curve, kd[:1], kd[1:], "this body's exact limit (Melan)",
-              dict(color=_C["green"], line_width=LINE + 1, line_dash="solid")),
+        # each history's lines (:func:`map_lines`): the rocking's limits, the normal loading's Melan limit at its
+        # amplitude and phase, the gross-sliding boundary of the oscillating loads
+        curve("gross sliding: |Q| reaches μ Fn", color="black", line_width=LINE + 1, line_dash="dashed"),
+        Layer(hv.Contours, kd, (hv.Dimension("c_sd", label="c_sd / a (closure)"),), "",
+              dict(cmap="viridis", line_width=2, color="c_sd", clim=(0.0, 1.0), show_legend=False)),
+        *[curve(name, **dict(base[name].opts.get().kwargs)) for name in _ROCKING_LINES],
+        curve("Melan's limit, oscillating Fn (this body)", color=_C["green"], line_width=LINE + 1,
+              line_dash="dotdash"),
+        Layer(hv.Labels, kd, _REGION_DIMS[2:], "", dict(text_font_size="11px", text_color="#444444")),
+        Layer(hv.Labels, kd, _REGION_DIMS[2:], "", dict(text_font_size="16px", text_color="black")),
+        curve("this body's exact limit (Melan)", color=_C["green"], line_width=LINE + 1, line_dash="solid"),
         Layer(hv.Points, kd, (), "current point", dict(size=18, marker="circle", line_color="black", line_width=2)),
     ]
+
+
+#: The rocking plane's lines (of :func:`map_base`), drawn under the rocking loading only.
+_ROCKING_LINES = ("eq 35 (exact)", "sphere, ellipsoid (exact)", "eq 36 regression")
+
+
+def map_history(result) -> tuple:
+    """The loading history of a run as its map reads it: ``(name, amplitude, phase, shape)`` (rocking without a
+    run)."""
+    if result is None:
+        return ("rocking", 0.0, 0.0, "triangle")
+    p = result.params
+    history = str(p.get("history", "rocking"))
+    if history == "normal" and float(p.get("amplitude", 0.0)) == 0.0:
+        history = "rocking"  # no oscillation: the rocking's plane and limits
+    return (history, float(p.get("amplitude", 0.0)), float(p.get("phase", 0.0)), str(p.get("shape", "triangle")))
+
+
+@lru_cache(maxsize=8)
+def _normal_limit(body, amplitude: float, phase: float, shape: str) -> tuple:
+    """Melan's limit ``(ft_lim(w), w)`` of ``body`` rocked under the oscillating normal force
+    (:func:`core.melan.ft_limit_oscillating`), or empty for a body it has no pressure of (a point contact: its
+    integral over the plane takes seconds a point; the run's own limit is in its cards)."""
+    from core.melan import ft_limit_oscillating
+
+    if not isinstance(body, core.Body):
+        return _EMPTY
+    w = np.linspace(0.0, 0.98, 50)
+    return ft_limit_oscillating(w, body, amplitude, phase, shape=shape, dx=1 / 500, samples=200), w
+
+
+@_memo
+def map_lines(history: tuple, body=None) -> tuple:
+    """The data of the map's lines for a history (:func:`map_history`), in the order of their layers: the
+    gross-sliding boundary, the c_sd contours, the rocking limits (eq 35, the sphere's, eq 36), Melan's limit
+    under the oscillating normal force, the contours' values and the region names.
+
+    * rocking: the (ft, w) plane of the constant loads: eq 35, the sphere's and ellipsoid's exact limit, the
+      regression and the closure's c_sd contours;
+    * normal (amplitude ``A > 0``): the (ft, w) plane at the run's amplitude and phase: Melan's limit of
+      ``body`` (a line body; None: not drawn) under the oscillating force and gross sliding at the lowest
+      force, ``ft = 1 - A``;
+    * tangential: the (mean ft, amplitude A) plane: the gross-sliding boundary ``|ft| + A = 1``, below which
+      every run slips cyclically; no limit of the rocking applies.
+    """
+    name, A, phase, shape = history
+    base = {e.label: e for e in map_base() if isinstance(e, hv.Curve)}
+    contours = next(e for e in map_base() if isinstance(e, hv.Contours))
+    rocking = name == "rocking"
+    if name == "tangential":
+        gross = GROSS_SLIDING
+    elif name == "normal":
+        gross = (np.array([1.0 - A, 1.0 - A]), np.array([0.0, 1.0]))
+    else:
+        gross = _EMPTY
+    curves = [tuple(base[n].dimension_values(i) for i in (0, 1)) if rocking else _EMPTY for n in _ROCKING_LINES]
+    melan = _normal_limit(body, A, phase, shape) if name == "normal" and body is not None else _EMPTY
+    scale = 1.0 - A if name == "normal" else 1.0
+    names = tuple(np.array(c) for c in zip(*[(x * scale, y, t) for x, y, t in _REGION_NAMES[name]]))
+    return (gross, contours.data if rocking else [], *curves, melan, _csd_levels() if rocking else (_EMPTY + ([],)),
+            names)
+
+
+@lru_cache(maxsize=1)
+def _csd_levels() -> tuple:
+    """The c_sd / a value of each contour of :func:`map_base`, written at its point nearest w = 0.15 (where the
+    contours are furthest apart)."""
+    contours = next(e for e in map_base() if isinstance(e, hv.Contours))
+    xs, ys, texts = [], [], []
+    for path in contours.split():
+        ft, w = path.dimension_values(0), path.dimension_values(1)
+        k = int(np.argmin(np.abs(w - 0.15)))
+        xs.append(float(ft[k]))
+        ys.append(float(w[k]))
+        texts.append(f"{float(path.dimension_values(2)[0]):.1f}")
+    return np.array(xs), np.array(ys), np.array(texts)
 
 
 _NUMERICAL_MEMO: list = [None, None]  # (table, its layers): the map's numerical layers for the last table
@@ -656,8 +759,8 @@ _NUMERICAL_MEMO: list = [None, None]  # (table, its layers): the map's numerical
 
 def map_numerical(table) -> tuple:
     """Sweep results in the (ft, w) plane: each regime's runs and the grid's boundary between shakedown and
-    ratcheting (:func:`grid_boundary`); a tangential loading's table in the (mean ft, amplitude) plane, with the
-    gross-sliding boundary |ft| + A = 1 instead."""
+    ratcheting (:func:`grid_boundary`); a tangential loading's table in the (mean ft, amplitude) plane, without a
+    boundary (its gross-sliding line is the history's: :func:`map_lines`)."""
     table_seen, layers = _NUMERICAL_MEMO
     if table_seen is table and layers is not None:
         return layers
@@ -668,7 +771,7 @@ def map_numerical(table) -> tuple:
     runs = [Styled(_EMPTY if table is None else tuple(table.loc[table["regime"] == regime, c].to_numpy(float)
                                                      for c in ("ft", y)), {"size": size})
             for regime in _MAP_REGIMES]
-    layers = (*runs, _EMPTY if tangential else grid_boundary(table), GROSS_SLIDING if tangential else _EMPTY)
+    layers = (*runs, _EMPTY if tangential else grid_boundary(table))
     _NUMERICAL_MEMO[:] = [table, layers]
     return layers
 
@@ -700,8 +803,10 @@ def _map_layers(i: Inputs) -> tuple:
         table = None
     # the current point: (mean ft, amplitude) under the tangential loading
     y = float(i.result.params.get("amplitude", 0.0)) if tangential else i.w
-    return (*map_numerical(table), *[None] * len(map_base()), _EMPTY if tangential else body_limit(i.result),
-            map_point(i.ft, y, regime))
+    history = map_history(i.result)
+    body = None if i.result is None else getattr(i.result, "body_spec", None) or getattr(i.result, "body", None)
+    return (*map_numerical(table), *map_lines(history, body if isinstance(body, core.Body) else None),
+            body_limit(i.result) if history[0] == "rocking" else _EMPTY, map_point(i.ft, y, regime))
 
 
 def body_limit(result) -> tuple:
@@ -740,19 +845,27 @@ FIGURES = {
     "displacement": dict(opts=dict(title="Rigid-body displacement", **key_opts()),
                 caption="What you see: the body's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
-    "loop": dict(opts=dict(title="Fretting loop"),  # its legend under the plot (a loop fills its corners)
-                 caption="What you see: the tangential force against the rigid-body displacement in the first and "
-                         "the last period, sheared by the last loop's secant so that its thin hysteresis shows (the "
-                         "shear keeps the area); its area is the energy dissipated per period (the cards give it). It is "
-                         "a closed loop in cyclic slip (loading 'tangential'), a horizontal segment under a constant "
-                         "force (rocking: the walk).", specs=_loop_specs, layers=_loop_layers,
-                 inputs=("units", "result")),
+    "loop": dict(opts=dict(title="Fretting loop", **key_opts()),
+                 caption="What you see: the tangential force against the rigid-body displacement along it in the "
+                         "first and the last period, sheared by the last loop's secant k so that its thin "
+                         "hysteresis shows (the shear keeps the area); its area is the energy dissipated per "
+                         "period (the cards give it). A closed loop in cyclic slip (loading 'tangential'), a "
+                         "horizontal segment under a constant force (rocking, 'normal': the walk).",
+                 specs=_loop_specs, layers=_loop_layers, inputs=("units", "result"),
+                 result=(core.CycleResult,)),  # every body's run
     "increments": dict(opts=dict(title="Increment per period (log scale)", logy=True),
                 caption="What you see: how far the body walks in each period (periods numbered from 1); it falls to zero at shakedown.", specs=_increments_specs,
                        layers=_increments_layers, inputs=("units", "result", "pinned")),
     "map": dict(opts=dict(title="Regime map: (ft, w) or (ft, A)", xlim=(0, 1),
                           ylim=(0, 1)),
-                caption="What you see: below the black curve (eq 35, the cylinder), the purple one (sphere, ellipsoid) or the green one (the run's body, Melan's exact limit) the contact shakes down; the big marker is the current run (circle: shakedown, hexagon: cyclic slip, triangle: ratcheting). Under the tangential loading the computed map is the plane of the mean ft and the amplitude A (read the vertical axis as A): cyclic slip below the dashed gross-sliding line |ft| + A = 1, no run beyond it; the rocking limits do not apply there.",
+                caption="What you see: the lines of the run's loading. Rocking: below the black curve (eq 35, the "
+                        "cylinder), the purple one (sphere, ellipsoid) or the green one (the run's body, Melan's exact "
+                        "limit) the contact shakes down; thin coloured curves: the closure's c_sd/a (labelled). "
+                        "Oscillating normal force: Melan's limit at the run's amplitude and phase (green, dot-dash; a "
+                        "line body's) and gross sliding at the lowest force, ft = 1 − A (dashed). Tangential loading: "
+                        "the plane of the mean ft and the amplitude A (read the vertical axis as A): cyclic slip below "
+                        "the dashed gross-sliding line |ft| + A = 1, no run beyond it. The big marker is the current "
+                        "run (circle: shakedown, hexagon: cyclic slip, triangle: ratcheting).",
                 specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table"),
                 result=(core.CycleResult, core.PointContactResult)),
 }

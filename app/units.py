@@ -28,7 +28,8 @@ class Units:
     mu: float = 1.0
 
 
-def make_units(system: str, contact: core.Contact | None, kernel: str, u0: float | None = None) -> Units:
+def make_units(system: str, contact: core.Contact | None, kernel: str, u0: float | None = None,
+               point: bool = False) -> Units:
     """Units of the plots.
 
     Parameters
@@ -41,12 +42,16 @@ def make_units(system: str, contact: core.Contact | None, kernel: str, u0: float
         With the strip kernel, normalised displacements are shown as ``U/U0``.
     u0 : float, optional
         ``U0`` of the strip kernel [μ P/E*].
+    point : bool
+        A point contact's run: its normalised displacements are in μ Fn/(E* a).
     """
     mu = 1.0 if contact is None else contact.mu
     if system == "physical" and contact is not None:
         return Units("physical", x=contact.a * 1e3, x_label="x [mm]", p=contact.p0 / 1e6, p_label="p [MPa]",
                      q=contact.traction_unit / 1e6, q_label="q [MPa]", u=contact.displacement_unit * 1e6,
                      u_label="U [µm]", mu=mu)
+    if point:
+        return Units("normalised", u_label="u [μ Fn/(E* a)]", mu=mu)
     if kernel == "strip" and u0:
         return Units("normalised", u=1.0 / u0, u_label="u = U / U0", mu=mu)
     return Units("normalised", mu=mu)

@@ -37,7 +37,8 @@ from scipy.optimize import brentq
 
 from ._validate import check_scalar
 
-__all__ = ["ft_limit", "w_limit", "ft_limit_numerical", "lowest_pressure", "grid_limit", "MELAN_DX"]
+__all__ = ["ft_limit", "w_limit", "ft_limit_numerical", "ft_limit_oscillating", "lowest_pressure", "grid_limit",
+           "MELAN_DX"]
 
 #: Default sampling step [a] of the numerical limit: the pressure's points for a closed form, the normal
 #: solve's elements otherwise (the limit converges about as dx^1.5: 1e-5 at 1/4000, ``tests/test_melan.py``).
@@ -208,6 +209,95 @@ def w_limit(ft, body, *, normal="auto", dx=None):
         return brentq(lambda v: ft_limit_numerical(v, body, dx, normal) - f, 0.0, top, xtol=1e-7)
 
     return _each(one, ft)
+
+
+def ft_limit_oscillating(w, body, amplitude, phase=0.0, *, shape="triangle", dx=None, samples=400):
+    """Melan's limit of a body rocked while its normal force oscillates (the history ``"normal"``).
+
+    The rocking of :func:`core.histories.rocking` with ``P = 1 + A sin(2 pi t + phase)``: the bound of a
+    shaken-down traction is ``mu p_min(x)``, the lowest pressure over the centres and the loads of the period, so
+
+    ``ft_lim = integral p_min dA / integral p(P = 1) dA``
+
+    in units of the mean normal force (``ft = Ft / (mu Fn_mean)``). It is at most ``1 - A`` (gross sliding
+    at the lowest load) and, for ``A = 0``, the body's own limit (:func:`ft_limit`).
+
+    Parameters
+    ----------
+    w : array_like
+        ``W / a`` in [0, 1), ``a`` the half-width (a point contact: the semi-axis along x) under the mean load.
+    body : object
+        A line body with a closed-form ``pressure(x, xc, P)`` (:class:`core.Cylinder`, :class:`core.Punch`) or an
+        ellipsoid (:class:`core.Ellipsoid`: Hertz's pressure scaled by ``P^(1/3)``).
+    amplitude : float
+        ``A``, the normal force's relative amplitude, in [0, 1).
+    phase : float
+        Its phase [rad] to the rocking (``t = 1/4`` where the centre reaches ``+W``), finite.
+    shape : {"triangle", "sine"}
+        The centre's waveform.
+    dx : float, optional
+        Sampling step [a] along x (and y), default 1/1000 for a line, 1/100 for an ellipsoid.
+    samples : int
+        Steps of the period the minimum is taken over, in [8, 20000].
+
+    Returns
+    -------
+    ndarray
+        ``ft_lim``, of the shape of ``w``.
+
+    Raises
+    ------
+    ValueError
+        For an input out of its range, or a body with neither pressure.
+
+    Examples
+    --------
+    >>> import core
+    >>> from core.melan import ft_limit_oscillating
+    >>> round(float(ft_limit_oscillating(0.26, core.Cylinder(), 0.0)), 3)
+    0.673
+    >>> round(float(ft_limit_oscillating(0.26, core.Cylinder(), 0.2)), 3)  # the engine's run: 0.6486
+    0.649
+    """
+    from .schedule import SHAPES  # (histories layer, below this one)
+
+    A = check_scalar("amplitude", amplitude, 0.0, 1.0, hi_closed=False)
+    phi = check_scalar("phase", phase)
+    if shape not in SHAPES:
+        raise ValueError(f"shape must be one of {sorted(SHAPES)}, got {shape!r:.40}")
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 8 <= samples <= 20000:
+        raise ValueError(f"samples must be an integer in [8, 20000], got {samples!r:.40}")
+    point = getattr(body, "dim", 1) == 2
+    if point and not hasattr(body, "kappa") or not point and not hasattr(body, "half_width"):
+        raise ValueError(f"body {body!r:.60} has no closed-form pressure to take the lowest of "
+                         "(a line body or an ellipsoid)")
+    t = np.arange(samples) / samples
+    P = 1.0 + A * np.sin(2.0 * np.pi * t + phi)
+
+    def one(v):
+        v = check_scalar("w", v, 0.0, 1.0, hi_closed=False)
+        s = np.sin(2.0 * np.pi * t) if shape == "sine" else 4.0 * np.abs(((t - 0.25) % 1.0) - 0.5) - 1.0
+        xc = v * s  # both reach +W at t = 1/4
+        if point:
+            h = check_scalar("dx", 1.0 / 100.0 if dx is None else dx, 1e-4, 0.1)
+            scale = P ** (1.0 / 3.0)
+            kappa = float(body.kappa) * float(scale.max())
+            x = np.arange(-(1.0 + v) * scale.max() - h, (1.0 + v) * scale.max() + h, h)
+            y = np.arange(-kappa - h, kappa + h, h)
+            X, Y = np.meshgrid(x, y)
+            p_min = np.full(X.shape, np.inf)
+            for c, k in zip(xc, scale):
+                np.minimum(p_min, k * body.pressure(X / k, Y / k, c / k), out=p_min)
+            return float(p_min.sum() / body.pressure(X, Y, 0.0).sum())
+        h = check_scalar("dx", 1.0 / 1000.0 if dx is None else dx, 1e-5, 0.1)
+        reach = float(body.half_width(float(P.max()))) + v + h
+        x = np.arange(-reach, reach + h, h)
+        p_min = np.full(x.shape, np.inf)
+        for c, load in zip(xc, P):
+            np.minimum(p_min, body.pressure(x, float(c), float(load)), out=p_min)
+        return float(p_min.sum() / body.pressure(x, 0.0, 1.0).sum())
+
+    return _each(one, w)
 
 
 def _each(fn, x):

@@ -3,6 +3,7 @@
 Usage: python scripts/screenshot.py [--query "?ft=0.3&w=0.5"] [--pin 0.26 --pin 0.77] [--tab "Paper's figures"]
                                    [--width 1920 --height 1080] [--out docs/screenshot.png]
        python scripts/screenshot.py --first-screens   # docs/screenshot.png and docs/screenshot_{body}_{size}.png
+       python scripts/screenshot.py --fretting-screens benchmarks/results/screens_s3   # issue 30's loop and map
 
 ``--first-screens`` takes the first screen of the cylinder and of the sphere at 1280x720 and 1024x768
 (``docs/screenshot_cylinder_1280x720.png`` ...; ``docs/screenshot.png`` is the cylinder at 1280x720) and
@@ -24,10 +25,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from app.serving import ROOT, chromium, served_app, wait_until  # noqa: E402
+from app.serving import ROOT, VERDICT_SELECTOR, chromium, served_app, wait_until  # noqa: E402
 from app.slides import FIGURE_VIEWS_JS  # noqa: E402
 
-BADGE = "[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"
+#: A verdict of any regime (cyclic slip included: the tangential loading's).
+BADGE = VERDICT_SELECTOR
 #: The page's top (y) of the figure titled ``title`` once drawn (null before).
 _TOP = "(title) => {" + FIGURE_VIEWS_JS + """
   const v = figure_views().find((v) => v.model.title && v.model.title.text === title);
@@ -49,14 +51,20 @@ def main(argv=None) -> int:
     ap.add_argument("--pin", type=float, action="append", default=[], help="pin the run at this w first (repeatable)")
     ap.add_argument("--first-screens", action="store_true",
                     help="the first screens of the cylinder and the sphere at 1280x720 and 1024x768 (docs/)")
+    ap.add_argument("--fretting-screens", metavar="DIR",
+                    help="the first screens of every body under the tangential and the normal loading at 1280x720 "
+                         "(the fretting loop beside the displacement) and the regime map of each loading, into DIR")
     args = ap.parse_args(argv)
     if args.first_screens:
         return first_screens()
+    if args.fretting_screens:
+        return fretting_screens(Path(args.fretting_screens))
     with served_app() as url, chromium() as browser:
         page = browser.new_page(viewport={"width": args.width, "height": args.height})
         page.goto(url + args.query, timeout=180_000)
         page.locator(BADGE).first.wait_for(timeout=60_000)
-        _wait_key_figures(page, parse_qs(args.query.lstrip("?")).get("body", ["cylinder"])[0])
+        query = parse_qs(args.query.lstrip("?"))
+        _wait_key_figures(page, query.get("body", ["cylinder"])[0], query.get("loading", ["rocking"])[0])
         if args.pin:
             w0 = page.evaluate(_SLIDER.replace("SET", ""), None)
             for k, w in enumerate([*args.pin, w0]):
@@ -76,16 +84,16 @@ def main(argv=None) -> int:
     return 0
 
 
-def _titles(body: str) -> list[str]:
+def _titles(body: str, loading: str = "rocking") -> list[str]:
     from app.figures import key_figures
     from app.plots import FIGURES
 
-    return [FIGURES[name]["opts"]["title"] for name in key_figures(body)]
+    return [FIGURES[name]["opts"]["title"] for name in key_figures(body, loading)]
 
 
-def _wait_key_figures(page, body: str) -> list[float]:
-    """Wait until the first-screen figures of ``body`` are drawn; their tops (y) in the page."""
-    titles = _titles(body)
+def _wait_key_figures(page, body: str, loading: str = "rocking") -> list[float]:
+    """Wait until the first-screen figures of ``body`` under ``loading`` are drawn; their tops (y) in the page."""
+    titles = _titles(body, loading)
     return wait_until(lambda: (lambda ys: ys if all(y is not None for y in ys) else None)(
         [page.evaluate(_TOP, t) for t in titles]), 60, message="the first-screen figures")
 
@@ -121,6 +129,40 @@ def first_screens() -> int:
                 if body == "cylinder" and width == 1280:
                     _save(png, ROOT / "docs" / "screenshot.png")
                 page.close()
+    return 0
+
+
+#: The loadings of :func:`fretting_screens` (URL queries besides the body).
+_FRETTING = {"tangential": "loading=tangential&amplitude=0.5&ft=0.3&w=0.5",
+             "normal": "loading=normal&amplitude=0.3&phase=90&ft=0.3&w=0.5", "rocking": "ft=0.3&w=0.5"}
+
+
+def fretting_screens(out: Path) -> int:
+    """Issue 30's screens at 1280x720: every body's first screen under the tangential and the normal loading (the
+    fretting loop beside the displacement, the badge), and the regime map of each loading (the cylinder's)."""
+    from app.bodies import BODIES
+
+    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "300"}) as url, chromium() as browser:
+        for body in BODIES:
+            for loading in ("tangential", "normal"):
+                page = browser.new_page(viewport={"width": 1280, "height": 720})
+                page.goto(url + f"?body={body}&{_FRETTING[loading]}&periods=4", timeout=180_000)
+                page.locator(BADGE).first.wait_for(timeout=300_000)
+                _wait_key_figures(page, body, loading)
+                page.wait_for_timeout(1500)  # let the figures paint (one-off script, not a test)
+                regime = page.locator("[data-regime]").first.get_attribute("data-regime")
+                print(f"{body} {loading}: {regime}")
+                _save(page.screenshot(), out / f"{body}_{loading}_1280x720.png")
+                page.close()
+        for loading in ("rocking", "normal", "tangential"):
+            page = browser.new_page(viewport={"width": 1280, "height": 720})
+            page.goto(url + f"?{_FRETTING[loading]}&periods=4", timeout=180_000)
+            page.locator(BADGE).first.wait_for(timeout=300_000)
+            page.locator(".place-map").first.scroll_into_view_if_needed(timeout=60_000)
+            wait_until(lambda: page.evaluate(_TOP, "Regime map: (ft, w) or (ft, A)"), 120, message="the map")
+            page.wait_for_timeout(1500)
+            _save(page.screenshot(), out / f"map_{loading}_1280x720.png")
+            page.close()
     return 0
 
 

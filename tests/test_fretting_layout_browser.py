@@ -1,0 +1,162 @@
+"""Real-browser tests of issue 30, items 3 and 5: under an oscillating load the fretting loop is on the first screen,
+beside the displacement, for every body, at 1280x720 and 1024x768 (whole, not overlapping); under rocking it is
+below. The regime map draws each history's own lines.
+
+Served ``app/main.py`` (the session fixture ``app_url`` of ``tests/conftest.py``) and Debian Chromium (``browser``);
+the pages are opened by :func:`app.serving.open_page`, which records console and page errors.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from app.figures import key_figures
+from app.plots import FIGURES
+from app.serving import FIND_MODEL_JS, VERDICT_SELECTOR, open_page, wait_until
+from app.slides import FIGURE_BOX_JS
+from app.state import BODIES
+
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(1200)]
+
+SIZES = [(1280, 720), (1024, 768)]
+LOOP, MAP = FIGURES["loop"]["opts"]["title"], FIGURES["map"]["opts"]["title"]
+#: Each loading's URL query (besides the body): a small run, so that point contacts answer within a minute.
+QUERIES = {"tangential": "loading=tangential&amplitude=0.5&ft=0.3&w=0.5",
+           "normal": "loading=normal&amplitude=0.3&phase=90&ft=0.3&w=0.5",
+           "rocking": "ft=0.3&w=0.5"}
+_SMALL = "point_resolution=4&periods=3"
+#: How many points the curves of the figure titled ``title`` hold (null before it is drawn).
+_LOOP_POINTS = "(title) => {" + FIND_MODEL_JS + """
+  const fig = find((m) => m.title != null && m.title.text === title);
+  if (fig === null) return null;
+  let points = 0;
+  for (const r of fig.renderers) {
+    const d = r.data_source == null ? null : r.data_source.data;
+    const q = d == null ? null : (d instanceof Map ? d.get('Q') : d.Q);
+    if (q != null) points += q.length;
+  }
+  return points;
+}"""
+#: The legend of the figure titled ``title``: {label: shown}, and the texts of its labels (the map's region names).
+_LEGEND = "(title) => {" + FIND_MODEL_JS + """
+  const fig = find((m) => m.title != null && m.title.text === title);
+  if (fig === null) return null;
+  const items = {}, texts = [];
+  const panels = [...fig.center, ...fig.below, ...fig.above, ...fig.left, ...fig.right];  // a legend may be outside
+  for (const c of panels) if (c.items) for (const it of c.items) {
+    const label = it.label == null ? null : (it.label.value ?? it.label);
+    if (label != null) items[label] = it.visible;
+  }
+  for (const r of fig.renderers) {
+    const d = r.data_source == null ? null : r.data_source.data;
+    const n = d == null ? null : (d instanceof Map ? d.get('name') : d.name);
+    if (n != null) texts.push(...n);
+  }
+  return {items, texts};
+}"""
+_TOP = ("() => { for (const el of document.querySelectorAll('*')) if (el.scrollTop) el.scrollTop = 0;"
+        " window.scrollTo(0, 0); }")
+
+
+def _titles(body: str, loading: str) -> list[str]:
+    return [FIGURES[name]["opts"]["title"] for name in key_figures(body, loading)]
+
+
+def _overlap(a, b) -> bool:
+    return not (a["x"] + a["width"] <= b["x"] + 0.5 or b["x"] + b["width"] <= a["x"] + 0.5
+                or a["y"] + a["height"] <= b["y"] + 0.5 or b["y"] + b["height"] <= a["y"] + 0.5)
+
+
+def _first_screen(page, titles, width, height, what):
+    """The boxes of the figures ``titles`` on the unscrolled page at ``width`` x ``height``, once drawn; each
+    whole inside the viewport, none over another or over the badge."""
+    page.set_viewport_size({"width": width, "height": height})
+    page.evaluate(_TOP)
+    wait_until(lambda: all(page.evaluate(FIGURE_BOX_JS, t) for t in titles), 120, message=f"{what}: figures drawn")
+    page.wait_for_timeout(500)  # the layout settles after the resize
+    page.evaluate(_TOP)
+    boxes = {t: page.evaluate(FIGURE_BOX_JS, t) for t in titles}
+    badge = page.locator("[data-regime]").first.bounding_box()
+    assert badge is not None
+    for title, box in boxes.items():
+        assert box["x"] >= 0 and box["x"] + box["width"] <= width + 0.5, (what, title, box)
+        assert box["y"] >= 0 and box["y"] + box["height"] <= height + 0.5, (what, title, box)
+        assert box["width"] >= 200 and box["height"] >= 250, (what, title, box)
+        assert not _overlap(box, badge), (what, title, box, badge)
+    for i, a in enumerate(titles):
+        for b in titles[i + 1:]:
+            assert not _overlap(boxes[a], boxes[b]), (what, a, b, boxes[a], boxes[b])
+    return boxes
+
+
+@pytest.mark.parametrize("body", BODIES)
+def test_the_fretting_loop_is_beside_the_displacement_under_an_oscillating_load(browser, app_url, body):
+    """Tangential and normal loadings, both sizes: the three first-screen figures are whole in the first viewport,
+    the loop right of the displacement on the same row, holding the first and the last period; under rocking the
+    loop is not on the first screen (its place waits below)."""
+    page = None
+    try:
+        for loading in ("tangential", "normal"):
+            if page is not None:
+                page.close()
+            page = open_page(browser, f"{app_url}?body={body}&{QUERIES[loading]}&{_SMALL}", SIZES[0],
+                             ready=VERDICT_SELECTOR)
+            titles = _titles(body, loading)
+            displacement = next(t for n, t in zip(key_figures(body, loading), titles) if "displacement" in n)
+            assert LOOP in titles
+            points = wait_until(lambda: page.evaluate(_LOOP_POINTS, LOOP) or None, 60, message="the loop's data")
+            assert points >= 2 * 2, points  # the first and the last period, a few steps each at least
+            for width, height in SIZES:
+                what = f"{body}, {loading}, {width}x{height}"
+                boxes = _first_screen(page, titles, width, height, what)
+                loop, disp = boxes[LOOP], boxes[displacement]
+                assert abs(loop["y"] - disp["y"]) <= 2, (what, loop, disp)  # one row
+                assert loop["x"] >= disp["x"] + disp["width"] - 0.5, (what, loop, disp)  # right of it
+            assert page.get_by_text("Traceback").count() == 0
+            assert page.problems == [], page.problems
+        # rocking: the paper's first screen, the loop below it
+        page.close()
+        page = open_page(browser, f"{app_url}?body={body}&{QUERIES['rocking']}&{_SMALL}", SIZES[0],
+                         ready=VERDICT_SELECTOR)
+        titles = _titles(body, "rocking")
+        assert LOOP not in titles
+        _first_screen(page, titles, *SIZES[0], f"{body}, rocking")
+        assert page.locator(".place-loop").count() == 1
+        assert page.evaluate(FIGURE_BOX_JS, LOOP) is None  # not drawn until scrolled to
+        assert page.problems == [], page.problems
+    finally:
+        if page is not None:
+            page.close()
+
+
+def _map_lines(page, width, height):
+    """The regime map's legend and region names, the map scrolled into view at ``width`` x ``height``."""
+    page.set_viewport_size({"width": width, "height": height})
+    page.locator(".place-map").first.scroll_into_view_if_needed(timeout=60_000)
+    return wait_until(lambda: page.evaluate(_LEGEND, MAP), 120, message="the regime map drawn")
+
+
+@pytest.mark.parametrize("loading", ["rocking", "normal", "tangential"])
+def test_the_regime_map_draws_the_lines_of_the_history(browser, app_url, loading):
+    """The map's legend shows the lines of the run's loading and no other's, at both sizes: the rocking's eq 35,
+    sphere's limit and regression only under rocking; Melan's limit at the normal force's amplitude and phase and
+    gross sliding under the normal loading; gross sliding (|ft| + A = 1) alone under the tangential; the regions
+    named for the loading."""
+    rocking_lines = {"eq 35 (exact)", "sphere, ellipsoid (exact)", "eq 36 regression"}
+    normal_line, gross = "Melan's limit, oscillating Fn (this body)", "gross sliding: |Q| reaches μ Fn"
+    expected = {"rocking": rocking_lines, "normal": {normal_line, gross}, "tangential": {gross}}[loading]
+    names = {"rocking": {"shakedown", "ratcheting"}, "normal": {"shakedown", "ratcheting"},
+             "tangential": {"cyclic slip", "gross sliding"}}[loading]
+    page = open_page(browser, f"{app_url}?{QUERIES[loading]}&periods=3", SIZES[0], ready=VERDICT_SELECTOR)
+    try:
+        for width, height in SIZES:
+            legend = _map_lines(page, width, height)
+            shown = {label for label, visible in legend["items"].items() if visible}
+            lines = shown & (rocking_lines | {normal_line, gross})
+            assert lines == expected, (loading, width, legend)
+            assert names <= set(legend["texts"]), (loading, legend["texts"])
+            box = page.evaluate(FIGURE_BOX_JS, MAP)
+            assert box is not None and box["width"] >= 250 and box["x"] + box["width"] <= width + 0.5, box
+        assert page.problems == [], page.problems
+    finally:
+        page.close()
