@@ -19,7 +19,15 @@ import core
 from . import bodies
 
 __all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
-           "fmt", "count", "STRIP_KEYS", "on_side", "input_digits", "inputs_text", "NO_WALK", "energy_row"]
+           "fmt", "count", "STRIP_KEYS", "SOLVING_BADGE", "SPINNER_DELAY_MS", "on_side", "input_digits", "inputs_text", "NO_WALK", "energy_row"]
+
+#: A solve shows its spinner only after this long [ms] (one not over in a blink shows none).
+SPINNER_DELAY_MS = 150
+#: The badge's words while the current inputs' run is on its way, with a spinner that the browser shows after
+#: :data:`SPINNER_DELAY_MS` (a CSS animation, ``.solve-spinner`` of :data:`app.styles.CSS`: the server sends nothing
+#: to start or stop it, and the page's layout never changes for it).
+SOLVING_BADGE = (f'<span class="solve-spinner" style="animation-delay: 0s, {SPINNER_DELAY_MS}ms" '
+                 'aria-hidden="true"></span>SOLVING…')
 
 #: The rows of the cards shown in the strip, in its order, with their short names there (the first row of each
 #: group that is present).
@@ -358,7 +366,7 @@ class CardsMixin:
                     f'<div class="regime-note">{html.escape(error)}</div>')
         point = getattr(getattr(self, "state", None), "point", None)
         if pending or not self._shows(result, ft, w, point):
-            what = "SOLVING…" if pending or result is None else "RELEASE TO SOLVE"
+            what = SOLVING_BADGE if pending or result is None else "RELEASE TO SOLVE"
             text = html.escape(instead) if instead else f"{rule} predicts {predicted} for {inputs_text(ft, w, spec)}"
             return (f'<span class="regime-badge regime-none" data-regime="pending">{what}</span>'
                     f'<div class="regime-note">{text}</div>')

@@ -60,7 +60,8 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
     frame = param.Integer(default=0, bounds=(0, None), doc="Step of the run shown by the cycle player.")
     ft_live = param.Number(default=0.3, doc="ft while its slider moves (the analytical layers follow it) [-].")
     w_live = param.Number(default=0.5, doc="w while its slider moves (the analytical layers follow it) [-].")
-    solving = param.Boolean(default=False, doc="A solve for the current inputs is running (spinner shown).")
+    solving = param.Boolean(default=False, doc="A solve for the current inputs has run for longer than "
+                                                 "app.cards.SPINNER_DELAY_MS.")
     pending = param.Boolean(default=False, doc="The run shown is not the current inputs' run (a solve is on its way).")
     error = param.String(default="", doc="Why the current inputs cannot be solved, if they cannot.")
     notices = param.List(default=[], doc="Messages about rejected URL parameters.")
@@ -154,9 +155,12 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
             FloatSlider.from_param(s.param.amplitude, visible=s.param.loading.rx() != "rocking", **slider),
             FloatSlider.from_param(s.param.phase, visible=s.param.loading.rx() == "normal", **slider),
         ]
-        self.spinner = pn.indicators.LoadingSpinner(value=False, size=30, visible=False,
-                                                    css_classes=["solve-spinner"])
-        self.status = panes.HTML("", css_classes=["solve-status"], margin=(8, 4), visible=False)
+        # the solve's status line (while the server's warm-up compiles the solver): always in the page and empty
+        # when there is nothing to say, so that it changes only its text. Toggling a model's ``visible`` (or a
+        # LoadingSpinner's value, which sets its CSS classes) made the browser recompute the whole page's layout,
+        # six times a solve (0.3 to 2.4 s each on a loaded machine); the running solve's spinner is in the badge
+        # (app.cards.SOLVING_BADGE), a CSS animation that shows after SPINNER_DELAY_MS
+        self.status = panes.HTML("", css_classes=["solve-status"], margin=0)
         self._build_player()
         self._build_downloads()
 

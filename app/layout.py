@@ -89,7 +89,7 @@ class LayoutMixin:
             sizing_mode="stretch_width", stylesheets=[CSS])])
         self._warnings_pane = self._alerts(live)
         top = pn.FlexBox(
-            pn.Column(badge, pn.Row(self.spinner, self.status), self._grid_action(), sizing_mode="stretch_width",
+            pn.Column(badge, self.status, self._grid_action(), sizing_mode="stretch_width",
                       styles={"flex": "0 1 350px", "min-width": "250px"}, margin=0),
             pn.Column(details, *self._input_alerts, sizing_mode="stretch_width",
                       styles={"flex": "1 1 280px", "min-width": "250px"}, margin=0),

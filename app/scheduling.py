@@ -20,12 +20,11 @@ import core
 from core.convergence import increment_error
 
 from . import bodies, runs
+from .cards import SPINNER_DELAY_MS
 from .runs import RESULTS, run_key, solve, submit
 
 __all__ = ["SolveMixin", "SPINNER_DELAY_MS"]
 
-#: A solve shows the loading indicator only after this long [ms].
-SPINNER_DELAY_MS = 150
 
 
 class SolveMixin:
@@ -217,11 +216,12 @@ class SolveMixin:
         return self.result
 
     def _show_spinner(self, *_):
-        """Show the spinner while this session's solve runs (watches ``solving``)."""
+        """The status line under the badge: while the server's warm-up compiles the solver, what it does and for
+        how long; else empty (watches ``solving``). The running solve's spinner is the pending badge's
+        (:data:`app.cards.SOLVING_BADGE`, shown by the browser after :data:`SPINNER_DELAY_MS`): only this pane's
+        text changes, never a model's visibility, which made the browser lay out the whole page again."""
         compiling = self._compiling_line()
-        busy = self.solving or compiling is not None
-        self.spinner.param.update(value=busy, visible=busy)
-        self.status.param.update(object=compiling or ("solving…" if self.solving else ""), visible=busy)
+        self.status.object = "" if compiling is None else f"<div class='solve-status-line' style='padding: 6px 4px'>{compiling}</div>"
 
     def _solver_group(self) -> str:
         """Which of the server's warm-up groups (:func:`app.runs.on_warm`) solves the current inputs."""

@@ -148,6 +148,11 @@ CSS = """
                font-size: calc(23px * var(--shakedown-text-scale, 1)); font-weight: 700; letter-spacing: 0.04em;}
 .regime-none {background: #eeeeee; color: black;}
 .regime-none, .regime-undetermined {border: 2px dashed #555; padding: 3px 14px;}
+.solve-spinner {display: inline-block; width: 0.8em; height: 0.8em; margin-right: 0.4em; vertical-align: -0.05em;
+                border: 3px solid #555; border-right-color: transparent; border-radius: 50%; opacity: 0;
+                animation: solve-spin 0.9s linear infinite, solve-appear 0s linear forwards;}
+@keyframes solve-spin {to {transform: rotate(360deg);}}
+@keyframes solve-appear {to {opacity: 1;}}
 .regime-note {font-size: calc(13px * var(--shakedown-text-scale, 1)); color: #333; margin-top: 4px; line-height: 1.3;}
 .strip {display: flex; flex-wrap: wrap; gap: 2px 18px; font-size: calc(15px * var(--shakedown-text-scale, 1)); line-height: 1.35;}
 .strip .item {white-space: nowrap;} .strip .more {color: #1f5f99; cursor: pointer; white-space: nowrap;} .strip .k {color: #444;} .strip .v {font-weight: 600;}
