@@ -19,7 +19,7 @@ CORE = ROOT / "core"
 #: Each module of core/ and its layer (a new module must be given one: the test fails on an unknown module).
 LAYERS = {
     "utilities": ["_validate", "_jit", "_hertz", "states", "progress"],
-    "closed forms": ["analytical", "approximations", "punch", "point_contact"],
+    "closed forms": ["analytical", "approximations", "punch", "point_contact", "materials"],
     "histories": ["schedule", "histories"],
     "elasticity": ["kernels", "operators", "halfspace"],
     "normal": ["normal", "melan"],
