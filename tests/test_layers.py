@@ -21,7 +21,7 @@ LAYERS = {
     "utilities": ["_validate", "_jit", "_hertz", "states", "progress"],
     "closed forms": ["analytical", "approximations", "punch", "point_contact", "materials"],
     "histories": ["schedule", "histories"],
-    "elasticity": ["kernels", "operators", "halfspace"],
+    "elasticity": ["kernels", "operators", "halfspace", "coupling"],
     "normal": ["normal", "melan"],
     "bodies": ["bodies", "heightmap", "cone", "patch", "registry", "resolution"],
     "limits": ["limits"],
