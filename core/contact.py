@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from ._validate import check_scalar
-from .materials import dundurs_beta, material_pair
+from .materials import COUPLING_THRESHOLD, dundurs_beta, material_pair
 from .point_contact import Ellipsoid, _k_minus_e_over_e2
 from .bodies import Cylinder
 from .solver import DEFAULT_DX, simulate_cycles, simulate_point_contact
@@ -256,6 +256,12 @@ class Contact:
         for a rigid body on a compressible substrate)."""
         return dundurs_beta(self.E1, self.nu1, self.E2, self.nu2)
 
+    @property
+    def coupled(self) -> bool:
+        """A line contact whose ``|beta|`` reaches :data:`core.materials.COUPLING_THRESHOLD`: its runs solve the
+        normal and tangential problems together (:func:`simulate_contact`)."""
+        return not self.is_point and abs(self.beta) >= COUPLING_THRESHOLD
+
     # ---- Hertz (line: eqs 4-6; point: Johnson eqs 4.36-4.41) ----------------
     @property
     def P(self) -> float:
@@ -318,7 +324,10 @@ class Contact:
     def warnings(self) -> tuple[str, ...]:
         """Human-readable reasons to distrust the model for this contact."""
         out = []
-        if abs(self.beta) > BETA_WARNING_LEVEL:
+        if not self.is_point and self.coupled and abs(self.beta) > BETA_WARNING_LEVEL:
+            out.append(f"Dundurs beta = {self.beta:.3f}: the normal and tangential problems are solved together "
+                       "(plane strain); Melan's limit (eq 35) is then only the uncoupled reference.")
+        elif abs(self.beta) > BETA_WARNING_LEVEL:
             out.append(
                 f"Dundurs beta = {self.beta:.3f}: the model assumes uncoupled normal and tangential "
                 f"problems (beta = 0); |beta| > {BETA_WARNING_LEVEL} makes the results "
@@ -424,7 +433,7 @@ def strip_options(contact):
     return {"L_over_a": contact.L / contact.a, "nu": b / (2.0 + b)}  # 2 nu/(1 - nu) = b <=> nu = b/(2 + b)
 
 
-def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel="strip", **options):
+def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel=None, **options):
     """Simulate a :class:`~core.contact.Contact` given in physical units.
 
     Runs :func:`simulate_cycles` with the contact's ``ft``, ``w``, body and, for
@@ -438,8 +447,10 @@ def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel="strip", *
     contact : Contact
         The contact (``ft`` and ``w`` included).
     periods, dx, dW : see :func:`simulate_cycles` (``dx`` None: a line's ``DEFAULT_DX``, a point body's default).
-    kernel : {"strip", "plane"}
-        Default ``"strip"``: the truncated-3D model with the contact's length (a line contact only).
+    kernel : {"strip", "plane"}, optional
+        Default ``"strip"``: the truncated-3D model with the contact's length (a line contact only); a
+        coupled line contact (:attr:`Contact.coupled`: ``|beta| >= COUPLING_THRESHOLD``) runs with its
+        ``beta`` and ``mu`` on the plane-strain kernel (the coupled solver's, :mod:`core.coupled`).
     **options
         Further options of :func:`simulate_cycles`.
 
@@ -455,11 +466,16 @@ def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel="strip", *
     if not isinstance(contact, Contact):
         raise ValueError(f"contact must be a core.Contact, got {type(contact).__name__}")
     if contact.is_point:
-        if kernel != "strip":
+        if kernel not in (None, "strip"):
             raise ValueError(f"kernel does not apply to a point contact (the half-space's), got {kernel!r:.60}")
         return contact.simulate(periods, dx, dW=dW, **options)
     dx = check_scalar("dx", DEFAULT_DX if dx is None else dx, 1e-4, 0.5)
     options.setdefault("body", contact.body)
+    if contact.coupled:
+        options.setdefault("beta", contact.beta)
+        options.setdefault("mu", contact.mu)
+        kernel = "plane" if kernel is None else kernel
+    kernel = "strip" if kernel is None else kernel
     if kernel == "strip":
         for key, value in strip_options(contact).items():
             options.setdefault(key, value)

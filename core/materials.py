@@ -49,11 +49,15 @@ import numpy as np
 
 from ._validate import check_scalar
 
-__all__ = ["Material", "MaterialPair", "MATERIALS", "PAIRS", "MAX_BETA", "effective_modulus", "dundurs_beta",
+__all__ = ["Material", "MaterialPair", "MATERIALS", "PAIRS", "MAX_BETA", "COUPLING_THRESHOLD", "effective_modulus", "dundurs_beta",
            "check_beta", "material_pair", "spence_stick_ratio", "bufler_exponent", "bufler_pressure"]
 
 #: ``|beta|`` of every real pair is below 0.5 (it is 0.5 for a rigid body on a substrate with ``nu = 0``).
 MAX_BETA = 0.5
+#: ``|beta|`` from which a physical line contact (:class:`core.Contact`) runs coupled: below it (steel on rubber,
+#: ``|beta| ~ 1e-5``) the coupling's effect is far below the grid's error (Spence's stick zone is then the whole
+#: contact to double precision up to ``|beta|/mu ~ 0.07``), and the uncoupled solvers run, as before.
+COUPLING_THRESHOLD = 1e-3
 
 
 @dataclass(frozen=True)
