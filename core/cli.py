@@ -50,7 +50,7 @@ _PREFIX = "shakedown: error: "
 _KERNELS = ("plane", "strip")
 _SHAPES = ("triangle", "sine")
 _NORMALS = ("auto", "exact", "numerical")
-_SOLVERS = ("auto", "dense", "fft", "pcg3d")
+_SOLVERS = ("auto", "dense", "fft", "pcg3d", "coupled")
 # the body flags come from the registry (core/registry.py, the one list of the bodies and their parameters), read
 # when the parser is built: each body parameter and run option, with the bodies that take it (these two names are
 # what it held at import)
@@ -151,7 +151,8 @@ def _add_solver_options(parser, kernel_default="plane", mu_flag=True):
              "discrete normal problem on the grid)")
     add("--solver", type=_choice("solver", _SOLVERS), action=_Once,
         help="the per-step solver: auto (the default: dense or fft on a line by its size, pcg3d on a patch), "
-             "dense or fft (a line of elements), pcg3d (a patch: the point contacts, height maps and cones); "
+             "dense or fft (a line of elements), pcg3d (a patch: the point contacts, height maps and cones), "
+             "coupled (a line's normal and tangential problems together: what --beta picks); "
              "one that does not fit the body's grid is refused")
     add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
         help="the loading history, a name core.simulate_cycles accepts: rocking (the default: constant Ft, "

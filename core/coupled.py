@@ -98,6 +98,11 @@ class CoupledSolver:
         ``profile`` (the gap [P/E*] centred at 0).
     max_alternations : int
         Alternations allowed per step.
+
+    Notes
+    -----
+    Of the per-step solver protocol (:mod:`core.engine`) it has ``march`` but no bound-only ``step``: a coupled
+    step solves its own pressure, from the centre and load of the step (:meth:`start`).
     """
 
     name = "coupled"
@@ -297,10 +302,6 @@ class CoupledSolver:
         r[len(RESIDUALS) + 1] = max(0.0, -float(p.min()))
         r[len(RESIDUALS) + 2] = change if np.isfinite(change) else 0.0
         return r
-
-    def step(self, bound, target):
-        """Not offered: a coupled step needs its centre and load (the engine's :meth:`march`)."""
-        raise NotImplementedError("the coupled solver marches a history (core.engine.run); it has no bound-only step")
 
     def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out):
         """Solve steps ``k0:k1`` in order, writing each step's pressure into ``bounds[k - k0]`` (see

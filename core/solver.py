@@ -197,6 +197,8 @@ def _coupling(beta, mu, solver, kernel):
                          f"got solver={solver!r:.40}")
     if kernel != "plane":
         raise ValueError(f"beta = {beta:g}: the coupled solver is plane strain (kernel='plane'), got kernel={kernel!r:.40}")
+    if mu is None and beta == 0.0:  # the coupled solver by name at beta = 0: mu plays no part
+        mu = 1.0
     if mu is None:
         raise ValueError(f"mu is required with beta = {beta:g} (the coupling enters as beta mu and beta / mu): "
                          "give the friction coefficient, in (0, 10]")
