@@ -50,7 +50,7 @@ _PREFIX = "shakedown: error: "
 _KERNELS = ("plane", "strip")
 _SHAPES = ("triangle", "sine")
 _NORMALS = ("auto", "exact", "numerical")
-_SOLVERS = ("auto", "dense", "fft", "pcg3d")
+_SOLVERS = ("auto", "dense", "fft", "pcg3d", "coupled")
 # the body flags come from the registry (core/registry.py, the one list of the bodies and their parameters), read
 # when the parser is built: each body parameter and run option, with the bodies that take it (these two names are
 # what it held at import)
@@ -123,9 +123,22 @@ def _body_flag(name, bodies) -> dict:
                 help=f"{only}{p.doc}, in {span}{default}")
 
 
-def _add_solver_options(parser, kernel_default="plane"):
+def _add_solver_options(parser, kernel_default="plane", mu_flag=True):
     g = parser.add_argument_group("solver options (normalised: lengths in a, the Hertz half-width)")
     add = g.add_argument
+    add("--beta", type=_number("beta", -0.5, 0.5, lo_closed=False, hi_closed=False), action=_Once,
+        help="Dundurs' beta of the pair, the rocking body being body 1 (> 0 for a rigid body on a compressible "
+             "substrate), in (-0.5, 0.5) (default 0: uncoupled); beta != 0 solves the normal and tangential "
+             "problems together (a line contact on the plane kernel; needs --mu); eq 35 is then the uncoupled "
+             "reference")
+    add("--materials", type=_arg(lambda text: _text("materials", text)), action=_Once, metavar="BODY/SUBSTRATE",
+        help="the pair instead of --beta: steel/steel, steel/aluminium, steel/titanium, steel/PMMA, steel/rubber, "
+             "rigid/incompressible, or BODY/SUBSTRATE of steel, aluminium, titanium, PMMA, rubber, rigid "
+             "(core/materials.py)")
+    if mu_flag:
+        add("--mu", type=_number("mu", 0.0, 10.0, lo_closed=False), action=_Once,
+            help="friction coefficient [-], in (0, 10]: needed with --beta or --materials (accepted and unused "
+                 "without)")
     add("--body", type=_arg(lambda text: _text("body", text)), action=_Once, metavar="NAME",
         help=f"the rocking body: {', '.join(_registry.REGISTRY)} (core/registry.py; default {_DEFAULT_BODY}); its "
              "parameters: " + "; ".join(f"--{name.replace('_', '-')} ({' or '.join(bodies)})"
@@ -138,7 +151,8 @@ def _add_solver_options(parser, kernel_default="plane"):
              "discrete normal problem on the grid)")
     add("--solver", type=_choice("solver", _SOLVERS), action=_Once,
         help="the per-step solver: auto (the default: dense or fft on a line by its size, pcg3d on a patch), "
-             "dense or fft (a line of elements), pcg3d (a patch: the point contacts, height maps and cones); "
+             "dense or fft (a line of elements), pcg3d (a patch: the point contacts, height maps and cones), "
+             "coupled (a line's normal and tangential problems together: what --beta picks); "
              "one that does not fit the body's grid is refused")
     add("--history", type=_arg(lambda text: _text("history", text)), action=_Once, metavar="NAME",
         help="the loading history, a name core.simulate_cycles accepts: rocking (the default: constant Ft, "
@@ -172,9 +186,9 @@ def _add_solver_options(parser, kernel_default="plane"):
 
 
 _SOLVER_DESTS = ("body", "normal", "solver", "history", "periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu",
-                 "shakedown_rtol", "time_budget")
+                 "shakedown_rtol", "time_budget", "beta")
 # every parameter name a library message may use, spelled as a flag by flag_names
-_FLAGGED = (*_SOLVER_DESTS, "ft", "w", "tol", "max_runs", "workers", "max_workers", "scheduler", "R1", "L", "Fn",
+_FLAGGED = (*_SOLVER_DESTS, "materials", "ft", "w", "tol", "max_runs", "workers", "max_workers", "scheduler", "R1", "L", "Fn",
             "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W")
 
 
@@ -249,7 +263,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="tangential force [N], in [0, mu Fn) (or give --ft)")
     g.add_argument("--W", type=_number("W", 0.0, None), action=_Once,
                    help="rocking amplitude of the contact centre [m], in [0, a) (or give --w)")
-    _add_solver_options(run, kernel_default="plane; strip for a physical contact")
+    _add_solver_options(run, kernel_default="plane; strip for a physical contact", mu_flag=False)
     run.add_argument("--out", type=_output((".csv", ".json")), action=_Once, metavar="FILE",
                      help="also write the result: FILE.csv (one row of scalars) or FILE.json "
                           "(scalars, increments per period, contact)")
@@ -339,6 +353,15 @@ def _solver_options(args) -> dict:
 
     options = {k: getattr(args, k) for k in _SOLVER_DESTS if getattr(args, k, None) is not None}
     _body_options(args, options)
+    materials = getattr(args, "materials", None)
+    if materials is not None and not _physical(args):  # a physical contact takes the pair itself (_contact)
+        if "beta" in options:
+            raise ValueError("give --beta or --materials, not both")
+        from .materials import material_pair
+
+        options["beta"] = material_pair(materials).beta
+    if getattr(args, "mu", None) is not None and not _physical(args):
+        options["mu"] = args.mu
     accepted = solver_defaults()
     for name, only in _PASS_THROUGH.items():
         if name in options and name not in accepted:
@@ -375,14 +398,23 @@ def _write_json(obj, path: Path) -> None:
     atomic_write(path, lambda tmp: tmp.write_text(json.dumps(_jsonable(obj), indent=2, allow_nan=False) + "\n"))
 
 
+_PHYSICAL = ("R1", "L", "Fn", "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W")
+
+
+def _physical(args) -> dict:
+    """The physical inputs given (``run``); ``--mu`` alone is the normalised run's friction coefficient."""
+    physical = {k: getattr(args, k) for k in _PHYSICAL if getattr(args, k, None) is not None}
+    return {} if set(physical) <= {"mu"} else physical
+
+
 def _contact(args):
-    physical = {k: getattr(args, k) for k in ("R1", "L", "Fn", "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W")
-                if getattr(args, k) is not None}
+    physical = _physical(args)
     if not physical:
         if args.ft is None or args.w is None:
             raise ValueError("give --ft and --w, or a physical contact (--R1 --L --Fn --mu --E2 ...)")
         return None
-    missing = [f"--{k}" for k in ("R1", "L", "Fn", "mu", "E2") if k not in physical]
+    needed = ("R1", "L", "Fn", "mu") + (() if getattr(args, "materials", None) is not None else ("E2",))
+    missing = [f"--{k}" for k in needed if k not in physical]
     if missing:
         raise ValueError(f"a physical contact needs {' '.join(missing)} too")
     for big, small in (("Ft", "ft"), ("W", "w")):
@@ -390,6 +422,16 @@ def _contact(args):
             raise ValueError(f"give exactly one of --{big} and --{small} with a physical contact")
     from .contact import Contact
 
+    materials = getattr(args, "materials", None)
+    if materials is not None:
+        clash = sorted(set(physical) & {"E1", "nu1", "E2", "nu2"})
+        if clash or args.beta is not None:
+            raise ValueError(f"--materials sets the moduli: give it or {', '.join('--' + k for k in clash) or '--beta'}"
+                             ", not both")
+        return Contact(**physical, ft=args.ft, w=args.w, materials=materials)
+    if args.beta is not None:
+        raise ValueError("--beta is the normalised run's: a physical contact's beta follows from --E1 --nu1 --E2 "
+                         "--nu2 (or --materials)")
     physical.setdefault("nu2", 0.5)
     return Contact(**physical, ft=args.ft, w=args.w)
 
@@ -413,6 +455,9 @@ def _grid_limit_text(result) -> str:
         return "- (the tangential load varies over the last period)"
     lo, hi = limit
     text = f"{lo:.6g}" if hi - lo <= 1e-12 * hi else f"between {lo:.6g} and {hi:.6g}"
+    if getattr(result, "coupled", False):
+        return (f"{text} = ft_lim of the elements run, uncoupled: a reference only (beta = {result.beta:g}: "
+                "Melan's theorem does not hold; shakedown limit --beta finds the coupled one)")
     return f"{text} = ft_lim of the elements run (the verdict's check)"
 
 
@@ -454,7 +499,8 @@ def _cmd_run(args) -> int:
     contact = _contact(args)
     ft, w = (args.ft, args.w) if contact is None else (contact.ft, contact.w)
     # the same checks as a sweep: ranges, and the size of the run against the caps
-    sweep_grid(ft, w, **options)
+    sweep_grid(ft, w, **options, **({"beta": contact.beta, "mu": contact.mu} if contact is not None and contact.coupled
+                                    else {}))
     if contact is None:
         result = simulate_cycles(ft, w, **options)
     else:
@@ -469,6 +515,7 @@ def _cmd_run(args) -> int:
     line_body = not result.is_patch  # a line contact (the cylinder, the punch, any core.bodies.Body)
     unit_u = "mu P/E*" if line_body else "mu Fn/(E* a)"
     rocking = result.params.get("history", "rocking") == "rocking"  # the closed forms are the rocking history's
+    ref = " (uncoupled reference)" if getattr(result, "coupled", False) else ""
     since = f" (from period {s['shakedown_period']})" if s.get("shakedown_period") is not None else ""
     rows = [
         ("regime", f"{s['regime']}{since}"),
@@ -483,8 +530,8 @@ def _cmd_run(args) -> int:
         *([("  paper's ansatz (eq 30)", _fmt(float(spec.shakedown_stick_halfwidth(ft, w)), "a"))]
           if line and rocking else []),
         # the limits of the rocking history (Melan over the rocking period): they say nothing of another history
-        *([(f"{'eq 35' if line else 'exact'} limit at this w", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),
-           (f"{'eq 35' if line else 'exact'} limit at this ft", _fmt(float(w_limit(ft, body=spec)), "= w_lim"))]
+        *([(f"{'eq 35' if line else 'exact'} limit at this w{ref}", _fmt(float(ft_limit(w, body=spec)), "= ft_lim")),
+           (f"{'eq 35' if line else 'exact'} limit at this ft{ref}", _fmt(float(w_limit(ft, body=spec)), "= w_lim"))]
           if rocking else []),
         ("Melan's limit on this grid", _grid_limit_text(result)),
         ("element width dx", _fmt(s["dx"], "a") + ("" if "dx" in args_given(args) else " (the body's default)")),
@@ -501,6 +548,8 @@ def _cmd_run(args) -> int:
         history, f"{s['shape']} rocking")
     head = (f"ft = {ft:.6g}, w = {w:.6g}: {model}, {loading}, "
             f"{s['periods']} periods, dx = {s['dx']:.6g} a")
+    if getattr(result, "coupled", False):
+        head += f"\ncoupled: Dundurs beta = {result.beta:.4g}, mu = {result.mu:g} (normal and tangential solved together)"
     if contact is not None:
         unit = contact.displacement_unit
         rows[3:3] = [("  in metres", _fmt(s["increment_last_period"] * unit, "m"))]

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from ._validate import check_scalar
+from .materials import COUPLING_THRESHOLD, dundurs_beta, material_pair
 from .point_contact import Ellipsoid, _k_minus_e_over_e2
 from .bodies import Cylinder
 from .solver import DEFAULT_DX, simulate_cycles, simulate_point_contact
@@ -91,12 +92,17 @@ class Contact:
         object for a line contact (default :class:`core.Cylinder`), a point
         body object for a point contact (default :class:`core.Ellipsoid` of
         ``Ry/Rx``); kept as :attr:`body`.
+    materials : str or core.materials.MaterialPair, optional
+        A preset of :data:`core.materials.PAIRS` (``"steel/aluminium"``) or
+        ``"body/substrate"``: sets ``E1, nu1, E2, nu2`` (then give none of them).
 
     Notes
     -----
-    The model assumes uncoupled normal and tangential problems (Dundurs
-    ``beta = 0``); :attr:`warnings` says when ``|beta|`` exceeds
-    :data:`BETA_WARNING_LEVEL`. ``core.PointContact(Rx, Ry, Fn, mu, E2, ...)``,
+    :attr:`beta` is Dundurs' with body 1 the rocking body (``> 0`` for a rigid
+    body on a compressible substrate, :mod:`core.materials`). A line contact's
+    :meth:`simulate` runs coupled (:mod:`core.coupled`) when ``beta != 0``;
+    a point contact assumes uncoupled problems, and :attr:`warnings` says when
+    ``|beta|`` exceeds :data:`BETA_WARNING_LEVEL`. ``core.PointContact(Rx, Ry, Fn, mu, E2, ...)``,
     the former point-contact class, builds a point :class:`Contact` with a
     DeprecationWarning, and ``isinstance(c, core.PointContact)`` is ``c.is_point``.
 
@@ -129,8 +135,13 @@ class Contact:
     body: object
 
     def __init__(self, R1=None, L=None, Fn=None, mu=None, E2=None, nu2=None, R2=math.inf, E1=math.inf, nu1=0.3,
-                 Ft=None, ft=None, W=None, w=None, *, Rx=None, Ry=None, angle=0.0, body=None):
+                 Ft=None, ft=None, W=None, w=None, *, Rx=None, Ry=None, angle=0.0, body=None, materials=None):
         set_ = object.__setattr__
+        if materials is not None:
+            if E2 is not None or nu2 is not None or E1 != math.inf or nu1 != 0.3:
+                raise ValueError("materials: give the materials or E1, nu1, E2, nu2, not both")
+            pair = material_pair(materials)
+            E1, nu1, E2, nu2 = pair.body.E, pair.body.nu, pair.substrate.E, pair.substrate.nu
         point = Rx is not None or Ry is not None
         if point:
             if R1 is not None or L is not None or R2 != math.inf:
@@ -241,10 +252,15 @@ class Contact:
 
     @property
     def beta(self) -> float:
-        """Dundurs' second constant [-]; the model assumes 0."""
-        num = (1 - 2 * self.nu1) / self.G1 - (1 - 2 * self.nu2) / self.G2
-        den = 2.0 * ((1 - self.nu1) / self.G1 + (1 - self.nu2) / self.G2)
-        return num / den
+        """Dundurs' second constant [-] with body 1 the rocking body (:func:`core.materials.dundurs_beta`: ``> 0``
+        for a rigid body on a compressible substrate)."""
+        return dundurs_beta(self.E1, self.nu1, self.E2, self.nu2)
+
+    @property
+    def coupled(self) -> bool:
+        """A line contact whose ``|beta|`` reaches :data:`core.materials.COUPLING_THRESHOLD`: its runs solve the
+        normal and tangential problems together (:func:`simulate_contact`)."""
+        return not self.is_point and abs(self.beta) >= COUPLING_THRESHOLD
 
     # ---- Hertz (line: eqs 4-6; point: Johnson eqs 4.36-4.41) ----------------
     @property
@@ -308,10 +324,14 @@ class Contact:
     def warnings(self) -> tuple[str, ...]:
         """Human-readable reasons to distrust the model for this contact."""
         out = []
-        if abs(self.beta) > BETA_WARNING_LEVEL:
+        if not self.is_point and self.coupled and abs(self.beta) > BETA_WARNING_LEVEL:
+            out.append(f"Dundurs beta = {self.beta:.3f}: the normal and tangential problems are solved together "
+                       "(plane strain); Melan's limit (eq 35) is then only the uncoupled reference.")
+        elif abs(self.beta) > BETA_WARNING_LEVEL:
             out.append(
                 f"Dundurs beta = {self.beta:.3f}: the model assumes uncoupled normal and tangential "
-                f"problems (beta = 0); |beta| > {BETA_WARNING_LEVEL} makes the results approximate."
+                f"problems (beta = 0); |beta| > {BETA_WARNING_LEVEL} makes the results "
+                f"approximate."
             )
         if not self.is_point and self.L < 10 * self.a:
             out.append(f"L/a = {self.L / self.a:.1f}: the strip is short; end effects are not modelled.")
@@ -413,7 +433,7 @@ def strip_options(contact):
     return {"L_over_a": contact.L / contact.a, "nu": b / (2.0 + b)}  # 2 nu/(1 - nu) = b <=> nu = b/(2 + b)
 
 
-def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel="strip", **options):
+def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel=None, **options):
     """Simulate a :class:`~core.contact.Contact` given in physical units.
 
     Runs :func:`simulate_cycles` with the contact's ``ft``, ``w``, body and, for
@@ -427,8 +447,10 @@ def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel="strip", *
     contact : Contact
         The contact (``ft`` and ``w`` included).
     periods, dx, dW : see :func:`simulate_cycles` (``dx`` None: a line's ``DEFAULT_DX``, a point body's default).
-    kernel : {"strip", "plane"}
-        Default ``"strip"``: the truncated-3D model with the contact's length (a line contact only).
+    kernel : {"strip", "plane"}, optional
+        Default ``"strip"``: the truncated-3D model with the contact's length (a line contact only); a
+        coupled line contact (:attr:`Contact.coupled`: ``|beta| >= COUPLING_THRESHOLD``) runs with its
+        ``beta`` and ``mu`` on the plane-strain kernel (the coupled solver's, :mod:`core.coupled`).
     **options
         Further options of :func:`simulate_cycles`.
 
@@ -444,11 +466,16 @@ def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel="strip", *
     if not isinstance(contact, Contact):
         raise ValueError(f"contact must be a core.Contact, got {type(contact).__name__}")
     if contact.is_point:
-        if kernel != "strip":
+        if kernel not in (None, "strip"):
             raise ValueError(f"kernel does not apply to a point contact (the half-space's), got {kernel!r:.60}")
         return contact.simulate(periods, dx, dW=dW, **options)
     dx = check_scalar("dx", DEFAULT_DX if dx is None else dx, 1e-4, 0.5)
     options.setdefault("body", contact.body)
+    if contact.coupled:
+        options.setdefault("beta", contact.beta)
+        options.setdefault("mu", contact.mu)
+        kernel = "plane" if kernel is None else kernel
+    kernel = "strip" if kernel is None else kernel
     if kernel == "strip":
         for key, value in strip_options(contact).items():
             options.setdefault(key, value)

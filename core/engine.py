@@ -86,6 +86,7 @@ import numpy as np
 from . import melan
 from ._jit import announce_compile
 from .bodies import MAX_ELEMENTS
+from .coupled import CoupledSolver
 from .dense import DenseSolver, Trajectory
 from .matrix_free import FFTSolver
 from .operators import elastic_operator
@@ -100,11 +101,13 @@ __all__ = ["run", "solve_step", "STEP_SOLVERS", "SOLVER_CHOICES", "SOLVER_CHOICE
 #: and has ``name``, ``form`` (the operator form it needs), ``grid`` (the grid shape it solves), ``march``,
 #: ``step`` and ``residuals`` (the protocol in the module docstring; :class:`core.dense.DenseSolver`,
 #: :class:`core.matrix_free.FFTSolver`, :class:`core.solver3d.PatchSolver`).
-STEP_SOLVERS = {"dense": DenseSolver, "fft": FFTSolver, "pcg3d": PatchSolver}
+STEP_SOLVERS = {"dense": DenseSolver, "fft": FFTSolver, "pcg3d": PatchSolver, "coupled": CoupledSolver}
 #: The values of the ``solver`` keyword for a line contact.
 SOLVER_CHOICES = ("auto", "dense", "fft")
-#: The values of the ``solver`` keyword by grid shape (``"auto"`` picks one of the others).
-SOLVER_CHOICES_BY_GRID = {"line": SOLVER_CHOICES, "patch": ("auto", "pcg3d")}
+#: The values of the ``solver`` keyword by grid shape (``"auto"`` picks one of the others). ``"coupled"``
+#: (:class:`core.coupled.CoupledSolver`) solves the normal and tangential problems together: chosen by the
+#: entry points when Dundurs' ``beta != 0``; given by name at ``beta = 0`` it reproduces the uncoupled run.
+SOLVER_CHOICES_BY_GRID = {"line": SOLVER_CHOICES + ("coupled",), "patch": ("auto", "pcg3d")}
 #: Elements above which ``solver="auto"`` picks "fft", measured by ``benchmarks/solver.py`` (docs/dev/
 #: benchmarks.md): the dense solver (interval inverses of the Toeplitz matrix, FFT residuals) is faster per
 #: rocking step at every size up to its grid cap (about 5x at 3800 elements: 1.1 ms against 5.6 ms a step,
@@ -254,8 +257,11 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     maxiter = cls.default_maxiter(n) if maxiter is None else maxiter
     announce_compile(*getattr(cls, "kernels", ()))  # once per process, before a first run's minute of compiling
     element_size = body.dx if shape == "line" else body.dx * body.dx
-    step_solver = cls(operator, element_size=element_size, tol=tol, maxiter=maxiter,
-                      **dict(solver_options or {}))
+    options = dict(solver_options or {})
+    coupled = bool(getattr(cls, "coupled", False))
+    if coupled:  # it solves the pressure on the body's grid, from the body's profile
+        options["grid"] = body
+    step_solver = cls(operator, element_size=element_size, tol=tol, maxiter=maxiter, **options)
     if hasattr(step_solver, "start"):
         step_solver.start(history)
     steps = len(history)
@@ -309,13 +315,20 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     if progress is not None:
         progress(1.0)
     now = pressures[pressure_index[-1]] if steps else None
+    if coupled and steps:  # Melan's limit of the uncoupled contact, the reference (it does not hold with coupling)
+        last = np.flatnonzero(history.period == history.period[-1])
+        uncoupled = body.bounds(history.xc[last], history.P[last])
+        reference, now = uncoupled.min(axis=0), uncoupled[-1]
+    else:
+        reference = lowest.value
     return CycleResult(
         edges=body.edges, xc=history.xc, P=history.P, Q=history.Q, period=history.period, kernel=kernel, u0=u0,
         periodic_from=None if periodic_from < 0 else int(periodic_from), params=dict(params or {}), tol=tol,
         shakedown_rtol=shakedown_rtol, runtime=time.perf_counter() - t0, body=body.body_spec,
         solver=step_solver.name, residuals=out.residuals(), lowest_pressure=lowest.value,
         pressures=pressures, pressure_index=pressure_index,
-        melan_limit=melan_limit(body, history, lowest.value, now, params or {}),
+        melan_limit=melan_limit(body, history, reference, now, params or {}),
+        beta=float(options.get("beta", 0.0)) if coupled else 0.0, mu=options.get("mu") if coupled else None,
         y_edges=getattr(body, "y_edges", None) if shape == "patch" else None,
         nu=operator.nu if shape == "patch" else None, angle=float(getattr(step_solver, "angle", 0.0)),
         **out.result_fields())

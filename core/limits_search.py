@@ -165,6 +165,9 @@ def _limit_search(ft: float, tol: float, options: dict) -> LimitResult:
 
     def result(w_sd, w_r, converged, message):
         mid = 0.5 * (w_sd + w_r) if converged else float("nan")
+        if options.get("beta", 0.0):  # coupled: Melan's theorem does not hold, the exact limit is the uncoupled one
+            message += (f"; coupled (beta = {options['beta']:g}, mu = {options.get('mu')}): w_limit_eq35 is the "
+                        "uncoupled reference, not the limit")
         return LimitResult(ft, lo_start, hi_start, w_sd, w_r, mid, tol, float(w_limit_eq35(ft, body=options.get("body", "cylinder"))), converged, message,
                            tidy(runs, columns), most_periods)
 

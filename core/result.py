@@ -160,7 +160,8 @@ class PeriodVerdict:
 
     @cached_property
     def _walk(self) -> Verdict:
-        checked = hasattr(type(self), "melan_limit") and self.Q.size > 0
+        # Melan's theorem decides only an uncoupled contact: a coupled run's limit is a reference, not a check
+        checked = hasattr(type(self), "melan_limit") and self.Q.size > 0 and not getattr(self, "coupled", False)
         return classify_increments(self.increment_per_period, self.shakedown_rtol, self.periodic_from,
                                    floor=10.0 * self.tol, unit=self.increment_unit,
                                    load=float(self.Q[-1]) if checked else None,
@@ -350,7 +351,13 @@ class CycleResult(PeriodVerdict):
         ``sum mu p_min dA`` over the lowest pressure of the last period with no
         moment to balance, ``lo = hi``; a body free to turn about the normal,
         the cone, solves its linear programme; None when the tangential load
-        varies over the last period).
+        varies over the last period). A coupled run's (:attr:`coupled`) is the
+        uncoupled contact's, a reference only: Melan's theorem does not hold
+        with coupling, and the verdict does not use it.
+    beta : float
+        Dundurs' ``beta`` of the run (:mod:`core.materials`; 0: uncoupled).
+    mu : float or None
+        The friction coefficient of a coupled run (None when uncoupled: it plays no part).
 
     Every array, the cached ones included, is read-only: a result may be
     shared between sessions of the app.
@@ -390,6 +397,14 @@ class CycleResult(PeriodVerdict):
     pressures: np.ndarray | None = None
     pressure_index: np.ndarray | None = None
     melan_limit: tuple[float, float] | None = None
+    beta: float = 0.0
+    mu: float | None = None
+
+    @property
+    def coupled(self) -> bool:
+        """Whether the normal and tangential problems were solved together (``beta != 0``): then
+        :attr:`melan_limit` is the uncoupled reference, not the limit."""
+        return self.beta != 0.0
 
     def __post_init__(self):
         if self.body is None or isinstance(self.body, str):

@@ -25,7 +25,8 @@ import numpy as np
 
 from .resolution import DEFAULT_DX_LINE, GRID_DEFAULTS, default_dx
 from ._validate import check_int, check_scalar
-from .bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, resolve_body
+from .bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, _edges_for_reach, resolve_body
+from .materials import check_beta
 from .kernels import KERNELS, strip_b_coefficient, strip_u0
 from .result import StaticResult, read_only
 from .engine import check_solver, make_operator, run, select_solver, solve_step
@@ -73,7 +74,7 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
                    maxiter=None, detect_periodic=True, shakedown_rtol=1e-3, params=None,
                    time_budget=None, cancel=None, progress=None, chunk=GRID_DEFAULTS["line"].chunk, solver="auto",
                    body="cylinder",
-                   normal="auto"):
+                   normal="auto", beta=0.0, mu=None):
     """Run the incremental solver over any :class:`~core.schedule.Schedule`.
 
     Parameters
@@ -159,7 +160,13 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     # the dense solver's grid cap, or the matrix-free one's where that solver may run
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
-    body = resolve_body(body).grid(schedule, dx, MAX_ELEMENTS if solver == "dense" else MAX_FFT_ELEMENTS, normal)
+    solver, solver_options = _coupling(beta, mu, solver, kernel)
+    spec = resolve_body(body)
+    body = spec.grid(schedule, dx, MAX_ELEMENTS if solver in ("dense", "coupled") else MAX_FFT_ELEMENTS, normal)
+    if solver == "coupled":  # the coupled contact is wider than Hertz's and shifted: room for it
+        margin = 0.1 * float(np.sqrt(np.max(schedule.P))) + 2 * body.dx
+        body = spec.on_grid(_edges_for_reach(float(body.edges[-1]) - body.dx + margin, body.dx, MAX_ELEMENTS),
+                            normal)
     n = body.size
     maxiter = check_int("maxiter", 50 + 2 * n if maxiter is None else maxiter, 1, 10**7)
     chunk = check_int("chunk", chunk, 1, 10**7)
@@ -173,7 +180,28 @@ def solve_schedule(schedule, dx=DEFAULT_DX, kernel="plane", *, kernel_options=No
     u0 = strip_u0(kernel_options["L_over_a"], kernel_options["b_coefficient"]) if kernel == "strip" else None
     return run(body, operator, schedule, solver=solver, tol=tol, maxiter=maxiter, detect_periodic=detect_periodic,
                shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget, cancel=cancel,
-               progress=progress, chunk=chunk, kernel=kernel, u0=u0)
+               progress=progress, chunk=chunk, kernel=kernel, u0=u0, solver_options=solver_options)
+
+
+def _coupling(beta, mu, solver, kernel):
+    """``(solver, solver_options)`` of a line run with Dundurs' ``beta`` and friction ``mu`` (validated, naming
+    them): the coupled solver when ``beta != 0`` or asked for by name, else ``solver`` and no options."""
+    beta = check_beta(beta)
+    if mu is not None:
+        mu = check_scalar("mu", mu, 0.0, 10.0, lo_closed=False)
+    if beta == 0.0 and solver != "coupled":
+        return solver, None
+    if solver not in ("auto", "dense", "coupled"):
+        raise ValueError(f"beta = {beta:g} needs the coupled solver (solver 'auto', 'dense' or 'coupled'), "
+                         f"got solver={solver!r:.40}")
+    if kernel != "plane":
+        raise ValueError(f"beta = {beta:g}: the coupled solver is plane strain (kernel='plane'), got kernel={kernel!r:.40}")
+    if mu is None and beta == 0.0:  # the coupled solver by name at beta = 0: mu plays no part
+        mu = 1.0
+    if mu is None:
+        raise ValueError(f"mu is required with beta = {beta:g} (the coupling enters as beta mu and beta / mu): "
+                         "give the friction coefficient, in (0, 10]")
+    return "coupled", {"beta": beta, "mu": mu}
 
 
 #: The former names of :class:`core.result.StaticResult` (a line's static solution, its shaken-down state).
@@ -330,7 +358,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
                     load_steps=1, L_over_a=None, nu=0.5, tol=None, detect_periodic=True,
                     shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, solver="auto",
                     body="cylinder", ratio=None, angle=0.0, history="rocking", amplitude=None, phase=0.0,
-                    normal="auto", periodic_tol=None):
+                    normal="auto", periodic_tol=None, beta=0.0, mu=None):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -413,6 +441,15 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     periodic_tol : float, optional
         The patch solver's periodic tolerance [mu p0] (point contacts only; default
         ``core.resolution.GRID_DEFAULTS["patch"].periodic_tol``).
+    beta : float
+        Dundurs' ``beta`` of the pair, body 1 the rocking body (:mod:`core.materials`; a rigid
+        cylinder on a compressible substrate has ``beta > 0``), ``|beta| < 0.5``. ``beta != 0``
+        solves the normal and tangential problems together (:mod:`core.coupled`; line contacts on
+        the plane-strain kernel only: a point contact refuses it); lengths stay in Hertz's ``a`` and
+        increments in ``mu P/E*``. The result's ``melan_limit`` is then the uncoupled reference.
+    mu : float, optional
+        The friction coefficient, in (0, 10]: required with ``beta != 0`` (Spence's parameter is
+        ``beta/mu``), accepted and irrelevant at ``beta = 0``.
 
     Returns
     -------
@@ -432,6 +469,12 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     line = _is_line_body(body)
     if normal not in NORMAL_CHOICES:
         raise ValueError(f"normal must be one of {NORMAL_CHOICES}, got {normal!r:.60}")
+    beta = check_beta(beta)
+    if mu is not None:
+        mu = check_scalar("mu", mu, 0.0, 10.0, lo_closed=False)
+    if beta != 0.0 and not line:
+        raise ValueError(f"beta = {beta:g}: coupled normal and tangential contact is solved for line contacts only "
+                         f"(3D coupling does not exist yet); a point contact ({body!r:.40}) runs with beta = 0")
     if line:
         if ratio is not None or angle != 0.0:
             raise ValueError(f"ratio and angle are the point contacts' (body='ellipsoid' or 'sphere'), not "
@@ -453,6 +496,8 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
             params.update(spec.parameters, normal=spec.normal_mode(normal))
         if kernel == "strip":
             params.update(L_over_a=options["L_over_a"], nu=float(nu))
+        if beta != 0.0:
+            params.update(beta=beta, mu=mu)
     else:
         params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, body=spec.name,
                       ratio=getattr(spec, "ratio", None), angle=float(angle), nu=float(nu), shape=shape,
@@ -467,7 +512,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     common = dict(tol=tol, detect_periodic=detect_periodic, shakedown_rtol=shakedown_rtol, params=params,
                   time_budget=time_budget, cancel=cancel, progress=progress, solver=solver, normal=normal)
     if line:
-        return solve_schedule(schedule, dx, kernel, kernel_options=options, body=spec, **common)
+        return solve_schedule(schedule, dx, kernel, kernel_options=options, body=spec, beta=beta, mu=mu, **common)
     from .point_runs import solve_point_schedule
     if periodic_tol is not None:
         common["periodic_tol"] = periodic_tol

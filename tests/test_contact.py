@@ -37,7 +37,7 @@ def test_hertz_identities():
 
 def test_beta_warning_for_rigid_on_compressible():
     c = Contact(R1=0.01, L=0.05, Fn=100.0, mu=0.5, E2=1e9, nu2=0.2)
-    assert c.beta == pytest.approx(-(1 - 2 * 0.2) / (2 * (1 - 0.2)))
+    assert c.beta == pytest.approx((1 - 2 * 0.2) / (2 * (1 - 0.2)))  # body 1 (rigid) on body 2: beta > 0
     assert any("beta" in w for w in c.warnings)
 
 

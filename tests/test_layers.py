@@ -19,14 +19,14 @@ CORE = ROOT / "core"
 #: Each module of core/ and its layer (a new module must be given one: the test fails on an unknown module).
 LAYERS = {
     "utilities": ["_validate", "_jit", "_hertz", "states", "progress"],
-    "closed forms": ["analytical", "approximations", "punch", "point_contact"],
+    "closed forms": ["analytical", "approximations", "punch", "point_contact", "materials"],
     "histories": ["schedule", "histories"],
-    "elasticity": ["kernels", "operators", "halfspace"],
+    "elasticity": ["kernels", "operators", "halfspace", "coupling"],
     "normal": ["normal", "melan"],
     "bodies": ["bodies", "heightmap", "cone", "patch", "registry", "resolution"],
     "limits": ["limits"],
     "results": ["verdict", "static_result", "result"],
-    "solvers": ["_pdas", "_pcg", "_pcg3d", "dense", "matrix_free", "solver3d"],
+    "solvers": ["_pdas", "_pcg", "_pcg3d", "dense", "matrix_free", "solver3d", "coupled"],
     "engine": ["engine"],
     "api": ["solver", "point_runs", "contact", "convergence", "export"],
     "maps": ["grid", "tasks", "tables", "limits_search", "sweeps", "paper_figures"],

@@ -1,0 +1,107 @@
+"""The coupled per-step solver (core/coupled.py) in the one engine: beta = 0 reproduces today's runs, the coupled
+solver at beta = 0 reproduces the dense solver on its own pressures to round-off, Spence's stick zone under a
+growing normal load, the refusals (point contacts, bad beta or mu), and a coupled result's Melan reference."""
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import core
+from core import histories
+from core.bodies import Cylinder
+from core.engine import make_operator, run, select_solver
+from core.materials import spence_stick_ratio
+
+
+def test_beta_zero_is_today_s_run_and_mu_is_irrelevant():
+    today = core.simulate_cycles(0.4, 0.5, periods=4)
+    for mu in (None, 0.2, 3.0):
+        r = core.simulate_cycles(0.4, 0.5, periods=4, beta=0.0, mu=mu)
+        assert r.solver == today.solver and not r.coupled and r.mu is None
+        assert np.array_equal(r.displacement, today.displacement)
+        assert np.array_equal(r.traction, today.traction)
+        assert r.params == today.params and r.melan_limit == today.melan_limit
+
+
+class _Replay(Cylinder):
+    """A cylinder's grid whose bounds are given pressures by centre and load (the coupled run's own)."""
+
+    def __init__(self, edges, rows):
+        super().__init__(edges)
+        self.rows = rows
+
+    def bounds(self, xc, P, out=None):
+        out = np.empty((len(xc), self.size)) if out is None else out
+        for i, key in enumerate(zip(np.round(xc, 12), np.round(P, 12))):
+            out[i] = self.rows[key]
+        return out
+
+
+def test_coupled_solver_at_beta_zero_is_the_dense_solver_to_round_off():
+    """At beta = 0 the alternation is one pass: the dense solver's increment on the numerically solved pressure.
+    Replaying that pressure through the dense solver gives the same steps to round-off."""
+    ft, w, periods, dx = 0.45, 0.4, 3, 1 / 40
+    coupled = core.simulate_cycles(ft, w, periods=periods, dx=dx, solver="coupled", mu=0.5)
+    assert coupled.solver == "coupled" and coupled.residuals["alternation"] == 0.0
+    schedule = histories.for_run("rocking", ft, w, periods=periods, dW=dx)
+    rows = {(round(float(x), 12), round(float(P), 12)): coupled.pressures[coupled.pressure_index[k]]
+            for k, (x, P) in enumerate(zip(schedule.xc, schedule.P))}
+    grid = _Replay(coupled.edges, rows)
+    cls = select_solver("dense", grid.size)
+    dense = run(grid, make_operator(cls, grid.size, grid.dx), schedule, solver="dense", tol=1e-10)
+    assert_allclose(dense.displacement, coupled.displacement, rtol=0, atol=1e-12)
+    assert_allclose(dense.traction, coupled.traction, rtol=0, atol=1e-12)
+    assert np.array_equal(dense.state, coupled.state)
+    # and the numerical pressure is Hertz's to the discretisation: the increments agree with today's run to 0.1 %
+    today = core.simulate_cycles(ft, w, periods=periods, dx=dx)
+    assert_allclose(coupled.increment_per_period, today.increment_per_period, rtol=2e-3)
+
+
+@pytest.mark.parametrize("beta, mu", [(0.1, 0.1), (-0.15, 0.1), (0.05, 0.1)])
+def test_spence_stick_zone_under_growing_normal_load(beta, mu):
+    """Pressed from 2 % to the full load in 60 steps with no tangential load, the contact keeps a central stick
+    zone of Spence's c/a (a function of |beta|/mu; here beta mu <= 0.015, so the traction's effect on the pressure,
+    which the closed form neglects, is small) within 1.5 elements; the edges slip outwards on the substrate for
+    beta > 0 (q = mu p sign(x)) and inwards for beta < 0."""
+    dx = 1 / 80
+    P = np.linspace(0.02, 1.0, 60)
+    r = core.simulate_cycles(0.0, 0.0, history=dict(xc=np.zeros(P.size), P=P, Q=np.zeros(P.size)), dx=dx,
+                             beta=beta, mu=mu)
+    x, q, p = r.x, r.traction[-1], r.pressures[r.pressure_index[-1]]
+    contact = p > 0
+    a = x[contact].max() + dx / 2
+    c = np.abs(x[contact & (np.abs(q) < p - 1e-9)]).max() + dx / 2
+    assert abs(c - spence_stick_ratio(abs(beta) / mu) * a) <= 1.5 * dx, (c, a)
+    edge = contact & (np.abs(x) > c + dx)
+    assert_allclose(q[edge], np.sign(beta) * np.sign(x[edge]) * p[edge], atol=1e-9)
+    assert max(r.residuals.values()) < 1e-7
+
+
+def test_refusals_name_the_input():
+    with pytest.raises(ValueError, match="line contacts only"):
+        core.simulate_cycles(0.2, 0.3, periods=2, body="sphere", beta=0.1, mu=0.3)
+    with pytest.raises(ValueError, match="beta"):
+        core.simulate_cycles(0.2, 0.3, periods=2, beta=0.5, mu=0.3)
+    with pytest.raises(ValueError, match="mu is required"):
+        core.simulate_cycles(0.2, 0.3, periods=2, beta=0.1)
+    with pytest.raises(ValueError, match="mu"):
+        core.simulate_cycles(0.2, 0.3, periods=2, beta=0.1, mu=-1.0)
+    with pytest.raises(ValueError, match="kernel='plane'"):
+        core.simulate_cycles(0.2, 0.3, periods=2, beta=0.1, mu=0.3, kernel="strip", L_over_a=50)
+    with pytest.raises(ValueError, match="coupled solver"):
+        core.simulate_cycles(0.2, 0.3, periods=2, beta=0.1, mu=0.3, solver="fft")
+
+
+def test_a_coupled_run_keeps_melan_as_the_uncoupled_reference():
+    r = core.simulate_cycles(0.5, 0.3, periods=6, beta=0.25, mu=0.3)
+    today = core.simulate_cycles(0.5, 0.3, periods=6)
+    assert r.coupled and r.solver == "coupled" and r.beta == 0.25 and r.mu == 0.3
+    assert r.params["beta"] == 0.25 and r.params["mu"] == 0.3
+    assert r.melan_limit == pytest.approx(today.melan_limit, rel=1e-12)  # the uncoupled contact's
+    assert "Melan" not in r.regime_reason
+    assert set(r.residuals) >= {"gap", "pressure", "alternation", "stick_slip", "bound"}
+    assert max(r.residuals.values()) < 1e-7
+    # the coupled pressure is not Hertz's: the lowest pressure differs
+    common = np.isin(np.round(r.x, 9), np.round(today.x, 9))  # the coupled grid is wider
+    assert common.sum() == today.x.size
+    assert np.abs(r.lowest_pressure[common] - today.lowest_pressure).max() > 1e-2
