@@ -102,42 +102,47 @@ def _strip_csd(page) -> float:
 
 
 # ---------------------------------------------------------------- item 3: shading agrees with curve and numbers
-@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
 @pytest.mark.parametrize("query, title", [("?ft=0.74&w=0.8", "Traction vs closure"),
                                           ("?body=sphere&ft=0.35", "Traction on y = 0"),
                                           ("?body=sphere", "Traction on y = 0")],
                          ids=["cylinder-ratcheting", "sphere-ratcheting", "sphere-default"])
-def test_the_shading_at_the_last_step_agrees_with_the_curve_and_the_strip(browser, app_url, query, title, size):
-    page = _open(browser, app_url + query, size)
+def test_the_shading_at_the_last_step_agrees_with_the_curve_and_the_strip(browser, app_url, query, title):
+    """At 1280x720 and 1024x768 (one page, resized)."""
+    page = _open(browser, app_url + query, SIZES[0])
     try:
-        shading = wait_until(lambda: (d := page.evaluate(_SHADING, title)) and d["curve"] and len(d["curve"][0]) > 10
-                             and d, 120, message=f"the figure {title!r} drawn")
-        x, q = shading["curve"]
-        zero = shading["zones"].get("zero traction", [])
-        loaded = [(xi, qi) for xi, qi in zip(x, q) if abs(qi) > core.result.ZERO_TRACTION]
-        crossing = [(xi, qi) for xi, qi in loaded for lo, hi in zero if lo < xi < hi]
-        assert not crossing, f"'zero traction' shaded under traction: {crossing[:5]}"
-        stick = shading["zones"].get("stick", [])
-        csd = _strip_csd(page)
-        central = [(lo, hi) for lo, hi in stick if lo <= 0.0 <= hi]
-        width = 0.5 * (central[0][1] - central[0][0]) if central else 0.0
-        assert abs(width - csd) <= 0.01, f"stick shaded over ±{width:.3f} a, the strip says c_sd = {csd} a"
+        for width, height in SIZES:
+            page.set_viewport_size({"width": width, "height": height})
+            shading = wait_until(lambda: (d := page.evaluate(_SHADING, title)) and d["curve"]
+                                 and len(d["curve"][0]) > 10 and d, 120, message=f"the figure {title!r} drawn")
+            x, q = shading["curve"]
+            zero = shading["zones"].get("zero traction", [])
+            loaded = [(xi, qi) for xi, qi in zip(x, q) if abs(qi) > core.result.ZERO_TRACTION]
+            crossing = [(xi, qi) for xi, qi in loaded for lo, hi in zero if lo < xi < hi]
+            assert not crossing, f"{width}x{height}: 'zero traction' shaded under traction: {crossing[:5]}"
+            stick = shading["zones"].get("stick", [])
+            csd = _strip_csd(page)
+            central = [(lo, hi) for lo, hi in stick if lo <= 0.0 <= hi]
+            half = 0.5 * (central[0][1] - central[0][0]) if central else 0.0
+            assert abs(half - csd) <= 0.01, \
+                f"{width}x{height}: stick shaded over ±{half:.3f} a, the strip says c_sd = {csd} a"
         assert page.problems == [], page.problems
     finally:
         page.close()
 
 
 # ---------------------------------------------------------------- item 4: digits that keep their side
-@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
-def test_ft_near_the_limit_reads_on_its_side_of_it(browser, app_url, size):
-    page = _open(browser, app_url + "?ft=0.206&w=0.678", size)
+def test_ft_near_the_limit_reads_on_its_side_of_it(browser, app_url):
+    """At 1280x720 and 1024x768 (one page, resized)."""
+    assert float(core.ft_limit(0.678)) == pytest.approx(0.2084, abs=5e-5)
+    page = _open(browser, app_url + "?ft=0.206&w=0.678", SIZES[0])
     try:
-        assert float(core.ft_limit(0.678)) == pytest.approx(0.2084, abs=5e-5)
-        note = page.locator(".regime-note").first.inner_text()
-        assert "ft = 0.206" in note and "ft = 0.21," not in note, note
-        slider = page.locator(".bk-slider-title", has_text="ft = Ft/(μ Fn)").first.inner_text()
-        assert "0.206" in slider, slider
-        assert page.evaluate(_VALUE, "ft = Ft/(μ Fn)") == 0.206
+        for width, height in SIZES:
+            page.set_viewport_size({"width": width, "height": height})
+            note = page.locator(".regime-note").first.inner_text()
+            assert "ft = 0.206" in note and "ft = 0.21," not in note, (width, note)
+            slider = page.locator(".bk-slider-title", has_text="ft = Ft/(μ Fn)").first.inner_text()
+            assert "0.206" in slider, (width, slider)
+            assert page.evaluate(_VALUE, "ft = Ft/(μ Fn)") == 0.206
     finally:
         page.close()
 
@@ -176,50 +181,52 @@ _TEXTS = "() => {" + FIND_MODEL_JS + """
 }"""
 
 
-@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
-def test_the_cone_s_inputs_and_the_body_tooltip_speak_a_users_words(browser, app_url, size):
-    page = _open(browser, app_url + "?body=cone&periods=2", size)
+def test_the_cone_s_inputs_and_the_body_tooltip_speak_a_users_words(browser, app_url):
+    """At 1280x720 and 1024x768 (one page, resized)."""
+    page = _open(browser, app_url + "?body=cone&periods=2", SIZES[0])
     try:
-        page.locator(".body-inputs").first.wait_for(timeout=60_000)
-        texts = " | ".join(page.evaluate(_TEXTS)) + page.locator("body").inner_text()
-        for word in ("load_at (cone)", "core/cone.py", "core.registry", "(core/", "SHAKEDOWN_MAX"):
-            assert word not in texts, word
-        assert "Where Ft acts (0 inner end, 1 outer end)" in texts
-        # the body selector's tooltip: one short sentence (it listed the registry's bodies with their docs, ran
-        # off the screen over the player and the tabs)
-        tip = page.evaluate("() => {" + FIND_MODEL_JS + """
-          const m = find((m) => (m.css_classes ?? []).includes('body-select'));
-          const t = m && m.tooltip;  // Panel's description becomes a Bokeh Tooltip on the button group
-          const c = t && t.content;
-          return c == null ? null : (typeof c === 'string' ? c : (c.text ?? JSON.stringify(c)));
-        }""")
-        assert tip is not None and len(tip) < 80 and "core" not in tip, tip
+        for width, height in SIZES:
+            page.set_viewport_size({"width": width, "height": height})
+            page.locator(".body-inputs").first.wait_for(timeout=60_000)
+            texts = " | ".join(page.evaluate(_TEXTS)) + page.locator("body").inner_text()
+            for word in ("load_at (cone)", "core/cone.py", "core.registry", "(core/", "SHAKEDOWN_MAX"):
+                assert word not in texts, (width, word)
+            assert "Where Ft acts (0 inner end, 1 outer end)" in texts, width
+            # the body selector's tooltip: one short sentence (it listed the registry's bodies with their docs, ran
+            # off the screen over the player and the tabs)
+            tip = page.evaluate("() => {" + FIND_MODEL_JS + """
+              const m = find((m) => (m.css_classes ?? []).includes('body-select'));
+              const t = m && m.tooltip;  // Panel's description becomes a Bokeh Tooltip on the button group
+              const c = t && t.content;
+              return c == null ? null : (typeof c === 'string' ? c : (c.text ?? JSON.stringify(c)));
+            }""")
+            assert tip is not None and len(tip) < 80 and "core" not in tip, (width, tip)
     finally:
         page.close()
 
 
 # ---------------------------------------------------------------- item 10: typed geometry
-@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
-def test_a_typed_length_below_the_contact_is_named_in_mm_and_no_run_stays(browser, app_url, size):
-    page = _open(browser, app_url + "?ft=0.25&w=0.37", size)
+def test_a_typed_length_below_the_contact_is_named_in_mm_and_no_run_stays(browser, app_url):
+    """At 1280x720, then at 1024x768 (one page, resized: the whole sequence again)."""
+    page = _open(browser, app_url + "?ft=0.25&w=0.37", SIZES[0])
     try:
         page.get_by_text("Geometry and materials").first.click()
         wait_until(lambda: page.evaluate(_VALUE, "L [mm]") is not None, 30, message="the geometry's boxes")
-        assert page.evaluate(_SET, ["R [mm]", 0.5])  # beyond the old slider range: taken, solved
-        wait_until(lambda: "R=0.5" in page.evaluate("() => window.location.search"), 60, message="R taken")
-        page.locator(VERDICT).first.wait_for(timeout=120_000)
-        assert page.evaluate(_SET, ["R [mm]", 40.0])
-        assert page.evaluate(_SET, ["L [mm]", 3.0])
-        page.locator("[data-regime='invalid']").first.wait_for(timeout=60_000)
-        note = page.locator(".regime-note").first.inner_text()
-        assert re.search(r"L must exceed the contact width 2a = [\d.]+ mm, got 3 mm", note), note
-        title = "Rigid-body displacement"
-        wait_until(lambda: not any(len(c[1] or []) > 0 for c in [page.evaluate(_SHADING, "Traction vs closure")["curve"]
-                                                                  or [[], []]]), 30,
-                   message="the old run's traction gone")
-        assert page.evaluate(_SET, ["L [mm]", 500.0])
-        page.locator(VERDICT).first.wait_for(timeout=120_000)
-        assert title  # the displacement figure's title, for a reader of this test
+        for width, height in SIZES:
+            page.set_viewport_size({"width": width, "height": height})
+            assert page.evaluate(_SET, ["R [mm]", 0.5])  # beyond the old slider range: taken, solved
+            wait_until(lambda: "R=0.5" in page.evaluate("() => window.location.search"), 60, message="R taken")
+            page.locator(VERDICT).first.wait_for(timeout=120_000)
+            assert page.evaluate(_SET, ["R [mm]", 40.0])
+            assert page.evaluate(_SET, ["L [mm]", 3.0])
+            page.locator("[data-regime='invalid']").first.wait_for(timeout=60_000)
+            note = page.locator(".regime-note").first.inner_text()
+            assert re.search(r"L must exceed the contact width 2a = [\d.]+ mm, got 3 mm", note), (width, note)
+            wait_until(lambda: not any(len(c[1] or []) > 0 for c in [page.evaluate(_SHADING, "Traction vs closure")
+                                                                      ["curve"] or [[], []]]), 30,
+                       message="the old run's traction gone")
+            assert page.evaluate(_SET, ["L [mm]", 500.0])
+            page.locator(VERDICT).first.wait_for(timeout=120_000)
         assert page.problems == [], page.problems
     finally:
         page.close()
