@@ -19,7 +19,7 @@ import core
 from . import bodies
 
 __all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
-           "fmt", "count", "STRIP_KEYS", "SOLVING_BADGE", "SPINNER_DELAY_MS", "on_side", "input_digits", "inputs_text", "NO_WALK", "energy_row"]
+           "fmt", "count", "coupled_beta", "STRIP_KEYS", "SOLVING_BADGE", "SPINNER_DELAY_MS", "on_side", "input_digits", "inputs_text", "NO_WALK", "energy_row"]
 
 #: A solve shows its spinner only after this long [ms] (one not over in a blink shows none).
 SPINNER_DELAY_MS = 150
@@ -243,6 +243,16 @@ def grid_error_text(estimate, inc: float, scale: float = 1.0, unit: str = "", re
     return f"±{100 * rel:.0f} % ({absolute})" if math.isfinite(rel) else absolute
 
 
+def coupled_beta(contact) -> float | None:
+    """Dundurs' β of a contact whose runs are coupled (:attr:`core.Contact.coupled`), else None."""
+    return float(contact.beta) if getattr(contact, "coupled", False) else None
+
+
+def _limit_label(label: str, contact) -> str:
+    """A limit's row label, marked as the uncoupled reference when the contact is coupled."""
+    return label if coupled_beta(contact) is None else f"{label[:-1]}, uncoupled)"  # "... (eq 35, uncoupled)"
+
+
 def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=10**6, body="cylinder") -> list:
     """The rows of a line body's cards: inputs in physical units (the cylinder's Hertz scales), the closure's
     (the cylinder's only) and the solver's numbers, the exact limits and the margins (``wait``: why the solver's
@@ -263,8 +273,8 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
     scale, unit = (c.a * 1e3, "mm") if (physical and c is not None) else (1.0, "a")
     rows += [("c_sd closure (eq 30)", fmt(csd * scale, unit, 3) if math.isfinite(csd) else "none (ft > ft_lim)"),
              ("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
-             ("ft_lim(w) (eq 35)", _limit(ft_lim, ft)),
-             ("w_lim(ft) (eq 35)", _limit(w_lim, w))]
+             (_limit_label("ft_lim(w) (eq 35)", c), _limit(ft_lim, ft)),
+             (_limit_label("w_lim(ft) (eq 35)", c), _limit(w_lim, w))]
     return rows + _line_tail(ft, w, ft_lim, w_lim, result, wait, c if physical else None, cycles)
 
 
@@ -281,8 +291,9 @@ def _line_rows(ft, w, mu, contact, result, wait, units, cycles, body) -> list:
     physical = units == "physical" and c is not None
     scale, unit = (c.a * 1e3, "mm") if physical else (1.0, "a")
     rows += [("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
-             (f"ft_lim(w), {name} (exact)", _limit(lim, ft)), (f"w_lim(ft), {name} (exact)", _limit(wlim, w)),
-             ("ft_lim(w), cylinder (eq 35)", _limit(float(core.ft_limit(w)), ft))]
+             (_limit_label(f"ft_lim(w), {name} (exact)", c), _limit(lim, ft)),
+             (_limit_label(f"w_lim(ft), {name} (exact)", c), _limit(wlim, w)),
+             (_limit_label("ft_lim(w), cylinder (eq 35)", c), _limit(float(core.ft_limit(w)), ft))]
     return rows + _line_tail(ft, w, lim, wlim, result, wait, c if physical else None, cycles)
 
 
@@ -355,6 +366,9 @@ class CardsMixin:
     def _badge(self, ft, w, result, error, pending=False):
         spec = CardsMixin._body_spec(self)  # self may be the class (headless tests)
         predicted, rule = prediction(ft, w, spec)
+        beta = coupled_beta(getattr(self, "contact", None))
+        if beta is not None:  # Melan's theorem does not decide a coupled contact: its limit is a reference
+            rule = f"{rule} (the uncoupled reference; this contact is coupled, β = {beta:.3g})"
         state = getattr(self, "state", None)
         instead = tangential_note(state.history_options() if state is not None else {}, spec)
         if error.startswith("limit only"):  # a body whose cycles the explorer cannot run yet: its limit only

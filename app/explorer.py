@@ -141,6 +141,7 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         s.param.watch(self._preset_edited, list(URL_PARAMETERS))
         geometry = ["R", "L", "Fn", "E2", "nu2"]
         self.geometry_inputs = [self._typed_input(p) for p in geometry]
+        self.materials_select = pn.widgets.Select.from_param(s.param.materials, sizing_mode="stretch_width")
         self.rigid_box = pn.widgets.Checkbox.from_param(s.param.rigid)
         self.cylinder_inputs = [self._typed_input(p) for p in ("E1", "nu1")]
         for w in self.cylinder_inputs:

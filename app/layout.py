@@ -231,7 +231,7 @@ class LayoutMixin:
             filled_when(pn.Column(sizing_mode="stretch_width", margin=0, visible=physical), physical,
                          lambda: [self.engineer]),
             filled_when(geometry_card, geometry_card.param.collapsed.rx.not_(),
-                        lambda: [*self.geometry_inputs, self.rigid_box, *self.cylinder_inputs]),
+                        lambda: [*self.geometry_inputs, self.materials_select, self.rigid_box, *self.cylinder_inputs]),
             filled_when(solver_card, solver_card.param.collapsed.rx.not_(), lambda: self.solver_inputs),
             pn.pane.Markdown("### Download the run"), self.csv_table, self.csv_download, self.json_download,
             pn.pane.Markdown(_APPLIES, styles={"font-size": "14px"}, css_classes=["model-applies"]),

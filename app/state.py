@@ -80,6 +80,11 @@ class ExplorerState(param.Parameterized):
                       doc="Young's modulus of the cylinder E1 [MPa], in (0, 1e7]; used when not rigid.")
     nu1 = param.Number(0.3, bounds=(0.0, 0.5), softbounds=(0.0, 0.5), step=0.01, label="ν cylinder",
                        doc="Poisson ratio of the cylinder ν1 [-], in [0, 0.5]; used when not rigid.")
+    materials = param.Selector(default="custom", objects=["custom", *core.materials.PAIRS], label="Materials",
+                               doc="A pair of common materials, the cylinder's on the substrate's: sets E and ν of "
+                                   "both ('custom': the values typed). Dissimilar materials (Dundurs β ≠ 0) couple a "
+                                   "line contact's normal and tangential problems: they are then solved together, "
+                                   "and eq 35 (Melan's limit) is only the uncoupled reference.")
     # ---- solver -------------------------------------------------------------
     periods = param.Integer(10, bounds=(1, MAX_PERIODS), softbounds=(1, min(30, MAX_PERIODS)), step=1,
                             label="Periods",
@@ -130,6 +135,35 @@ class ExplorerState(param.Parameterized):
             if _within(spec, rounded) == _within(spec, value):  # rounding never carries a value across a bound
                 value = rounded
         super().__setattr__(name, value)
+
+    # ---- materials ----------------------------------------------------------
+    def _pair_values(self, name: str) -> dict:
+        """The inputs a materials pair of :data:`core.materials.PAIRS` sets (E in MPa)."""
+        pair = core.materials.material_pair(name)
+        rigid = math.isinf(pair.body.E)
+        return dict(rigid=rigid, E2=pair.substrate.E / _MPA, nu2=pair.substrate.nu,
+                    **({} if rigid else dict(E1=pair.body.E / _MPA, nu1=pair.body.nu)))
+
+    @param.depends("materials", watch=True)
+    def _apply_materials(self):
+        if self.materials != "custom":
+            self.param.update(**self._pair_values(self.materials))
+
+    @param.depends("rigid", "E1", "nu1", "E2", "nu2", watch=True)
+    def _typed_materials(self):
+        """A value typed over a pair's makes the picker say 'custom' (the pair no longer describes the inputs)."""
+        if self.materials != "custom" and any(getattr(self, k) != v
+                                              for k, v in self._pair_values(self.materials).items()):
+            self.materials = "custom"
+
+    def _coupled(self) -> bool:
+        """Whether a line contact of these materials runs coupled (:attr:`core.Contact.coupled`)."""
+        rigid = self.rigid
+        try:
+            return abs(core.materials.dundurs_beta(math.inf if rigid else self.E1 * _MPA, 0.3 if rigid else self.nu1,
+                                                   self.E2 * _MPA, self.nu2)) >= core.materials.COUPLING_THRESHOLD
+        except ValueError:
+            return False
 
     # ---- derived ------------------------------------------------------------
     @property
@@ -216,7 +250,10 @@ class ExplorerState(param.Parameterized):
                 dx = float(body.default_dx) if bodies.own_grid(body) else self.dx
                 options = dict(periods=self.periods, dx=dx, shape=self.schedule, body=body)
         else:
-            options = dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
+            # the coupled solver (dissimilar materials, Dundurs beta != 0) is plane strain: the strip kernel's U/U0
+            # does not apply to it (the model's warnings say so)
+            options = dict(periods=self.periods, dx=self.dx, kernel="plane" if self._coupled() else self.kernel,
+                           shape=self.schedule)
             if self.body != bodies.DEFAULT:  # another line body: the cylinder's engine with this body's gap
                 options["body"] = self.body_object()
         return dict(options, **self.history_options())
