@@ -270,7 +270,7 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     load_scale = float(body.load_target(1.0))
     # the bound of every step, kept for the result: a line grid fills the rows of one array; a patch grid returns
     # one (ny, nx) array per step (shared between the steps with the same centre and load)
-    line_bounds = _LineBounds(body, history) if shape == "line" else None
+    line_bounds = None if shape != "line" else (_StepBounds if coupled else _LineBounds)(body, history)
     patch_bounds = [] if shape == "patch" else None
     # mu p_min of the last period: tracked over the history's last block as it is marched (or, when the march
     # stops at a repeated period, over that period's bounds at the end)
@@ -361,6 +361,31 @@ class _LineBounds:
         """``(pressures, pressure_index)``: the rows that the steps' sources ``index`` use, each once."""
         used, of_step = np.unique(self.index[index], return_inverse=True)
         return self.table[used], of_step.reshape(-1)
+
+
+class _StepBounds:
+    """The bounds of a line grid, a row per step, for a per-step solver that writes its own pressure into them (the
+    coupled solver, :class:`core.coupled.CoupledSolver`): each chunk's rows are a view of one (steps, n) array,
+    filled with the body's bounds before the solver overwrites them, and kept as they were solved."""
+
+    def __init__(self, body, history):
+        self.body, self.xc, self.P = body, history.xc, history.P
+        self.table = np.empty((len(history), body.shape[0]))
+        self.filled = 0
+
+    def rows(self, k0, k1):
+        """The rows of steps ``k0:k1`` (a view: what the solver writes is kept); those not solved yet are the
+        body's bounds."""
+        if k1 > self.filled:
+            start = max(k0, self.filled)
+            self.body.bounds(self.xc[start:k1], self.P[start:k1], out=self.table[start:k1])
+            self.filled = k1
+        return self.table[k0:k1]
+
+    def stored(self, index):
+        """``(pressures, pressure_index)``: the rows of the steps solved (a copied step's index is its source's)."""
+        solved = int(index.max()) + 1 if index.size else 0
+        return (self.table if solved == len(self.table) else self.table[:solved].copy()), index
 
 
 def _stored_bounds(line_bounds, patch_bounds, index):

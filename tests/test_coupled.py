@@ -105,3 +105,6 @@ def test_a_coupled_run_keeps_melan_as_the_uncoupled_reference():
     common = np.isin(np.round(r.x, 9), np.round(today.x, 9))  # the coupled grid is wider
     assert common.sum() == today.x.size
     assert np.abs(r.lowest_pressure[common] - today.lowest_pressure).max() > 1e-2
+    # and the result keeps that pressure, step by step: the last period's lowest is the stored steps' lowest
+    last = r.period == r.period[-1]
+    np.testing.assert_array_equal(np.asarray(r.pressure)[last].min(axis=0), r.lowest_pressure)
