@@ -19,7 +19,8 @@ import core
 from . import bodies
 
 __all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
-           "fmt", "count", "coupled_beta", "STRIP_KEYS", "SOLVING_BADGE", "SPINNER_DELAY_MS", "on_side", "input_digits", "inputs_text", "NO_WALK", "energy_row"]
+           "fmt", "count", "coupled_beta", "STRIP_KEYS", "on_side", "input_digits", "inputs_text", "NO_WALK",
+           "energy_row", "SOLVING_BADGE", "SPINNER_DELAY_MS"]
 
 #: A solve shows its spinner only after this long [ms] (one not over in a blink shows none).
 SPINNER_DELAY_MS = 150

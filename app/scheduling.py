@@ -26,7 +26,6 @@ from .runs import RESULTS, run_key, solve, submit
 __all__ = ["SolveMixin", "SPINNER_DELAY_MS"]
 
 
-
 class SolveMixin:
     """Solving the explorer's inputs (methods of :class:`app.explorer.Explorer`)."""
 
@@ -221,7 +220,8 @@ class SolveMixin:
         (:data:`app.cards.SOLVING_BADGE`, shown by the browser after :data:`SPINNER_DELAY_MS`): only this pane's
         text changes, never a model's visibility, which made the browser lay out the whole page again."""
         compiling = self._compiling_line()
-        self.status.object = "" if compiling is None else f"<div class='solve-status-line' style='padding: 6px 4px'>{compiling}</div>"
+        self.status.object = ("" if compiling is None else
+                              f"<div class='solve-status-line' style='padding: 6px 4px'>{compiling}</div>")
 
     def _solver_group(self) -> str:
         """Which of the server's warm-up groups (:func:`app.runs.on_warm`) solves the current inputs."""

@@ -455,6 +455,38 @@ def test_badge_and_cards_never_mix_an_old_verdict_with_new_inputs():
     assert " N<" in cards and "µm" in cards and "creep per period" in cards and " mm" in cards
 
 
+#: The properties of a Bokeh model whose change makes the browser lay out the whole page again (Bokeh's
+#: LayoutDOMView.invalidate_layout: the view, then every parent up to the root, is measured and laid out anew).
+_LAYOUT_PROPERTIES = ("visible", "css_classes", "width", "height", "min_width", "min_height", "max_width",
+                      "max_height", "margin", "sizing_mode", "stylesheets")
+
+
+def test_a_solve_changes_no_layout_property_of_the_page():
+    """Issue 31 item 15: a solve's spinner and status line were shown and hidden by their models' ``visible`` (and
+    the LoadingSpinner's value, which sets its CSS classes); each change made the browser recompute the layout of
+    the whole page, six times a release (0.3 to 2.4 s each in a loaded headless Chromium): the 2 s beyond its solve
+    that every point body paid. A solve on its way and its end now change texts only; the badge's spinner is a CSS
+    animation that the browser starts after SPINNER_DELAY_MS."""
+    from app.cards import SPINNER_DELAY_MS
+
+    ex = Explorer(query="?body=sphere&periods=2")
+    root = ex.main_area().get_root()
+
+    def layout():
+        return {m.id: tuple(repr(getattr(m, p)) for p in _LAYOUT_PROPERTIES if hasattr(m, p))
+                for m in root.references()}
+
+    before = layout()
+    ex.param.update(pending=True)  # a release: the badge says SOLVING at once
+    ex.param.update(solving=True)  # the server's delayed start, SPINNER_DELAY_MS later
+    during = layout()
+    badge = ex._badge(0.3, 0.5, ex.result, "", pending=True)
+    ex.param.update(solving=False, pending=False)  # the run arrived
+    assert during == before and layout() == before
+    assert "solve-spinner" in badge and f"{SPINNER_DELAY_MS}ms" in badge and "SOLVING" in badge
+    assert "solve-spinner" not in ex._badge(0.3, 0.5, ex.result, "")
+
+
 def test_preset_box_follows_edits_and_notes_the_fig7_case():
     ex = Explorer()
     ex.preset.value = "Fig 7: ft = 0.58, w = 0.26"
