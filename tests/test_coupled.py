@@ -105,3 +105,17 @@ def test_a_coupled_run_keeps_melan_as_the_uncoupled_reference():
     common = np.isin(np.round(r.x, 9), np.round(today.x, 9))  # the coupled grid is wider
     assert common.sum() == today.x.size
     assert np.abs(r.lowest_pressure[common] - today.lowest_pressure).max() > 1e-2
+
+
+def test_a_contact_of_two_intervals_takes_the_general_normal_solve():
+    """Two bumps: the contact is two intervals, which the compiled alternation hands to the Python one (the general
+    normal solve, core.normal.solve_line): solved to the tolerance with every named residual."""
+    from core.heightmap import HeightProfile
+
+    x = np.linspace(-3, 3, 1201)
+    body = HeightProfile(4 * (x ** 2 - 0.5) ** 2, 0.005)
+    r = core.simulate_cycles(0.3, 0.2, periods=2, dx=1 / 20, body=body, beta=0.2, mu=0.4)
+    p = r.pressures[r.pressure_index[-1]]
+    assert np.count_nonzero(np.diff((p > 0).astype(int)) == 1) == 2
+    assert r.coupled and max(r.residuals.values()) < 1e-7
+    assert np.all(np.abs(r.traction) <= r.pressures[r.pressure_index] + 1e-9)
