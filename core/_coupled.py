@@ -21,7 +21,7 @@ import numpy as np
 from ._jit import jit
 from ._pdas import solve_step
 
-__all__ = ["alternate", "interval_normal", "cross", "STATUS_DONE", "STATUS_TANGENTIAL", "STATUS_GENERAL"]
+__all__ = ["alternate", "interval_normal", "cross", "gap_residual", "STATUS_DONE", "STATUS_TANGENTIAL", "STATUS_GENERAL"]
 
 #: :func:`alternate`'s status: solved (or the alternation did not settle: see its change), the tangential solve
 #: failed, the normal problem needs the general solve.
@@ -190,3 +190,31 @@ def alternate(K, C, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, t
     for k in range(n):
         st.q_prev[k] = q_true[k]
     return status, lam, it, change, i0, i1
+
+
+@jit
+def gap_residual(K, gap0, p, q, cn, dx, work):
+    """The worst gap residual of a solved step [P/E*]: ``|gap|`` where ``p > 0`` and the penetration elsewhere,
+    the approach ``delta`` being the gap's mean over the contact."""
+    n = gap0.size
+    shift, gap = work[5], work[6]
+    cross(q, dx, shift)
+    total = 0.0
+    m = 0
+    for i in range(n):
+        g = gap0[i] + cn * shift[i]
+        for j in range(n):
+            if p[j] != 0.0:
+                g += K[i, j] * p[j]
+        gap[i] = g
+        if p[i] > 0.0:
+            total += g
+            m += 1
+    delta = total / m if m else 0.0
+    worst = 0.0
+    for i in range(n):
+        if p[i] > 0.0:
+            worst = max(worst, abs(gap[i] - delta))
+        else:
+            worst = max(worst, delta - gap[i])
+    return worst

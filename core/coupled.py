@@ -326,11 +326,8 @@ class CoupledSolver:
         """The named residuals of a solved step (the tangential ones from the active-set solve)."""
         r = self.residual_values
         r[: len(RESIDUALS)] = self.inner.state.residuals
-        gap = self.profile(self.x - self.xc[k]) + self.K @ p + self.normal_factor * cross_apply(q, self.dx)
-        inside = p > 0
-        delta = float(gap[inside].mean()) if inside.any() else 0.0
-        gap = gap - delta
-        r[len(RESIDUALS)] = max(float(np.abs(gap[inside]).max(initial=0.0)), float((-gap[~inside]).max(initial=0.0)))
+        r[len(RESIDUALS)] = _coupled.gap_residual(self.K, self.profile(self.x - self.xc[k]), p, q,
+                                                  self.normal_factor, self.dx, self._work)
         r[len(RESIDUALS) + 1] = max(0.0, -float(p.min()))
         r[len(RESIDUALS) + 2] = change if np.isfinite(change) else 0.0
         return r
