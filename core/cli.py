@@ -499,8 +499,8 @@ def _cmd_run(args) -> int:
     contact = _contact(args)
     ft, w = (args.ft, args.w) if contact is None else (contact.ft, contact.w)
     # the same checks as a sweep: ranges, and the size of the run against the caps
-    sweep_grid(ft, w, **options, **({"beta": contact.beta, "mu": contact.mu} if contact is not None and contact.coupled
-                                    else {}))
+    coupled = contact is not None and contact.coupled and "kernel" not in options  # as simulate_contact decides
+    sweep_grid(ft, w, **options, **({"beta": contact.beta, "mu": contact.mu} if coupled else {}))
     if contact is None:
         result = simulate_cycles(ft, w, **options)
     else:

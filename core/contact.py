@@ -325,8 +325,9 @@ class Contact:
         """Human-readable reasons to distrust the model for this contact."""
         out = []
         if not self.is_point and self.coupled and abs(self.beta) > BETA_WARNING_LEVEL:
-            out.append(f"Dundurs beta = {self.beta:.3f}: the normal and tangential problems are solved together "
-                       "(plane strain); Melan's limit (eq 35) is then only the uncoupled reference.")
+            out.append(f"Dundurs beta = {self.beta:.3f}: simulate() solves the normal and tangential problems together "
+                       "(plane strain), where Melan's limit (eq 35) is only the uncoupled reference; a run with "
+                       "a kernel given (and no beta) assumes them uncoupled.")
         elif abs(self.beta) > BETA_WARNING_LEVEL:
             out.append(
                 f"Dundurs beta = {self.beta:.3f}: the model assumes uncoupled normal and tangential "
@@ -450,7 +451,9 @@ def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel=None, **op
     kernel : {"strip", "plane"}, optional
         Default ``"strip"``: the truncated-3D model with the contact's length (a line contact only); a
         coupled line contact (:attr:`Contact.coupled`: ``|beta| >= COUPLING_THRESHOLD``) runs with its
-        ``beta`` and ``mu`` on the plane-strain kernel (the coupled solver's, :mod:`core.coupled`).
+        ``beta`` and ``mu`` on the plane-strain kernel (the coupled solver's, :mod:`core.coupled`) when no
+        kernel is given (or ``beta`` is given in ``options``). A kernel given without ``beta`` runs the
+        uncoupled model, as before coupling existed (the explorer's runs, which name their kernel).
     **options
         Further options of :func:`simulate_cycles`.
 
@@ -471,7 +474,7 @@ def simulate_contact(contact, periods=10, dx=None, dW=None, *, kernel=None, **op
         return contact.simulate(periods, dx, dW=dW, **options)
     dx = check_scalar("dx", DEFAULT_DX if dx is None else dx, 1e-4, 0.5)
     options.setdefault("body", contact.body)
-    if contact.coupled:
+    if contact.coupled and (kernel is None or "beta" in options):
         options.setdefault("beta", contact.beta)
         options.setdefault("mu", contact.mu)
         kernel = "plane" if kernel is None else kernel

@@ -49,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
-from . import _pdas
+from . import _coupled, _pdas
 from .coupling import coupling_factors, cross_apply, cross_matrix
 from .dense import RESIDUALS, DenseSolver, Trajectory
 from .normal import solve_line
@@ -106,7 +106,7 @@ class CoupledSolver:
     """
 
     name = "coupled"
-    kernels = DenseSolver.kernels
+    kernels = DenseSolver.kernels + ("core._coupled.alternate",)
     form = "dense"
     grid = "line"
     #: :func:`core.engine.run` passes the discretised body as ``grid`` and keeps Melan's limit as the uncoupled
@@ -140,6 +140,12 @@ class CoupledSolver:
         self.p_prev = np.zeros(self.n)
         self._inverses = {}
         self._interval = None
+        # the lower Cholesky factor of K: its leading L x L block factors K on any interval of L elements
+        self.C = np.ascontiguousarray(np.linalg.cholesky(self.K))
+        self._work = np.zeros((10, self.n))
+        self._ones_inv = np.zeros((self.n + 1, self.n))  # K_L^-1 1 of each interval width L met
+        self._known = np.zeros(self.n + 1, dtype=np.bool_)
+        self._dq_last = np.zeros(self.n)  # the last step's traction increment: the next step's first guess
         self.residual_values = np.zeros(len(RESIDUALS) + len(COUPLED_RESIDUALS))
         self.xc = self.P = None
         self.failure = ""
@@ -250,7 +256,33 @@ class CoupledSolver:
 
     def solve(self, k, target):
         """Solve step ``k`` (its centre and load from :meth:`start`) from the current state; the tractions
-        ``q_prev`` and pressure are not advanced. Returns ``(lam, p, ok, alternations)``."""
+        ``q_prev`` and pressure are not advanced. Returns ``(lam, p, ok, alternations, change)``.
+
+        The compiled alternation (:func:`core._coupled.alternate`) solves it when the contact is one interval;
+        otherwise :meth:`_solve_general` (the general normal solve) does."""
+        gap0 = self.profile(self.x - self.xc[k])
+        load = self.load_factor * float(self.P[k])
+        has_prev = bool(self.p_prev.any())
+        if has_prev:
+            inside = np.flatnonzero(self.p_prev > 0)
+            i0, i1 = int(inside[0]), int(inside[-1]) + 1
+        else:  # around the profile's lowest point, Hertz's width
+            m = int(np.argmin(gap0))
+            half = int(np.ceil(np.sqrt(max(load, 1e-12) / (0.5 * np.pi)) / self.dx)) + 1
+            i0, i1 = max(0, m - half), min(self.n, m + half + 1)
+        p = np.zeros(self.n)
+        status, lam, it, change, i0, i1 = _coupled.alternate(
+            self.K, self.C, gap0, load, self.dx, self.normal_factor, self.tangential_factor, self.beta != 0.0,
+            self.p_prev, has_prev, float(target), self.tol, self.maxiter, self.max_alternations, self.inner.state,
+            i0, i1, p, self._work, self._ones_inv, self._known, self.inner.state.q_prev + self._dq_last)
+        if status == _coupled.STATUS_GENERAL:
+            return self._solve_general(k, target)
+        ok = status == _coupled.STATUS_DONE
+        return lam, p, ok and change <= self.tol, it, change
+
+    def _solve_general(self, k, target):
+        """:meth:`solve` by the Python alternation, with the general normal solve where the contact is not one
+        interval (Anderson's mixing of the last two passes)."""
         st = self.inner.state
         q_true = st.q_prev.copy()
         gap0 = self.profile(self.x - self.xc[k])
@@ -294,11 +326,8 @@ class CoupledSolver:
         """The named residuals of a solved step (the tangential ones from the active-set solve)."""
         r = self.residual_values
         r[: len(RESIDUALS)] = self.inner.state.residuals
-        gap = self.profile(self.x - self.xc[k]) + self.K @ p + self.normal_factor * cross_apply(q, self.dx)
-        inside = p > 0
-        delta = float(gap[inside].mean()) if inside.any() else 0.0
-        gap = gap - delta
-        r[len(RESIDUALS)] = max(float(np.abs(gap[inside]).max(initial=0.0)), float((-gap[~inside]).max(initial=0.0)))
+        r[len(RESIDUALS)] = _coupled.gap_residual(self.K, self.profile(self.x - self.xc[k]), p, q,
+                                                  self.normal_factor, self.dx, self._work)
         r[len(RESIDUALS) + 1] = max(0.0, -float(p.min()))
         r[len(RESIDUALS) + 2] = change if np.isfinite(change) else 0.0
         return r
@@ -332,6 +361,7 @@ class CoupledSolver:
             out.kkt_residual[k] = worst_step
             np.maximum(out.worst, res, out=out.worst)
             out.alternations[k] = alternations
+            self._dq_last = q - st.q_prev
             st.q_prev[:] = q
             self.p_prev = p
             if k + 1 < steps and period[k + 1] != period[k]:

@@ -108,3 +108,28 @@ def test_a_coupled_run_keeps_melan_as_the_uncoupled_reference():
     # and the result keeps that pressure, step by step: the last period's lowest is the stored steps' lowest
     last = r.period == r.period[-1]
     np.testing.assert_array_equal(np.asarray(r.pressure)[last].min(axis=0), r.lowest_pressure)
+
+
+def test_a_contact_of_two_intervals_takes_the_general_normal_solve():
+    """Two bumps: the contact is two intervals, which the compiled alternation hands to the Python one (the general
+    normal solve, core.normal.solve_line): solved to the tolerance with every named residual."""
+    from core.heightmap import HeightProfile
+
+    x = np.linspace(-3, 3, 1201)
+    body = HeightProfile(4 * (x ** 2 - 0.5) ** 2, 0.005)
+    r = core.simulate_cycles(0.3, 0.2, periods=2, dx=1 / 20, body=body, beta=0.2, mu=0.4)
+    p = r.pressures[r.pressure_index[-1]]
+    assert np.count_nonzero(np.diff((p > 0).astype(int)) == 1) == 2
+    assert r.coupled and max(r.residuals.values()) < 1e-7
+    assert np.all(np.abs(r.traction) <= r.pressures[r.pressure_index] + 1e-9)
+
+
+def test_a_physical_contact_runs_coupled_unless_it_names_its_kernel():
+    """Contact.simulate() of a coupled pair (|beta| >= 1e-3) runs coupled on the plane kernel with its own beta and
+    mu; a run that names its kernel without beta (the explorer's) stays the uncoupled model it was."""
+    c = core.Contact(R1=0.02, L=0.1, Fn=1e3, mu=0.3, materials="steel/aluminium", ft=0.4, w=0.3)
+    assert c.coupled and not core.Contact(R1=0.02, L=0.1, Fn=1e3, mu=0.3, materials="steel/rubber").coupled
+    r = c.simulate(periods=2, dx=0.1)
+    assert r.coupled and r.kernel == "plane" and r.beta == pytest.approx(c.beta) and r.mu == 0.3
+    u = c.simulate(periods=2, dx=0.1, kernel="strip")
+    assert not u.coupled and u.kernel == "strip"

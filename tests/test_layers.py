@@ -26,7 +26,7 @@ LAYERS = {
     "bodies": ["bodies", "heightmap", "cone", "patch", "registry", "resolution"],
     "limits": ["limits"],
     "results": ["verdict", "static_result", "result"],
-    "solvers": ["_pdas", "_pcg", "_pcg3d", "dense", "matrix_free", "solver3d", "coupled"],
+    "solvers": ["_pdas", "_pcg", "_pcg3d", "_coupled", "dense", "matrix_free", "solver3d", "coupled"],
     "engine": ["engine"],
     "api": ["solver", "point_runs", "contact", "convergence", "export"],
     "maps": ["grid", "tasks", "tables", "limits_search", "sweeps", "paper_figures"],
