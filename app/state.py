@@ -156,14 +156,16 @@ class ExplorerState(param.Parameterized):
                                               for k, v in self._pair_values(self.materials).items()):
             self.materials = "custom"
 
-    def _coupled(self) -> bool:
-        """Whether a line contact of these materials runs coupled (:attr:`core.Contact.coupled`)."""
+    def _coupled_beta(self) -> float | None:
+        """Dundurs' beta of these materials when a line contact of them runs coupled (:attr:`core.Contact.coupled`),
+        else None."""
         rigid = self.rigid
         try:
-            return abs(core.materials.dundurs_beta(math.inf if rigid else self.E1 * _MPA, 0.3 if rigid else self.nu1,
-                                                   self.E2 * _MPA, self.nu2)) >= core.materials.COUPLING_THRESHOLD
+            beta = core.materials.dundurs_beta(math.inf if rigid else self.E1 * _MPA, 0.3 if rigid else self.nu1,
+                                               self.E2 * _MPA, self.nu2)
         except ValueError:
-            return False
+            return None
+        return beta if abs(beta) >= core.materials.COUPLING_THRESHOLD else None
 
     # ---- derived ------------------------------------------------------------
     @property
@@ -252,8 +254,10 @@ class ExplorerState(param.Parameterized):
         else:
             # the coupled solver (dissimilar materials, Dundurs beta != 0) is plane strain: the strip kernel's U/U0
             # does not apply to it (the model's warnings say so)
-            options = dict(periods=self.periods, dx=self.dx, kernel="plane" if self._coupled() else self.kernel,
-                           shape=self.schedule)
+            beta = self._coupled_beta()
+            options = dict(periods=self.periods, dx=self.dx, kernel=self.kernel, shape=self.schedule)
+            if beta is not None:  # solved together, on the coupled solver's plane-strain kernel, with its own mu
+                options.update(kernel="plane", beta=beta, mu=self.mu)
             if self.body != bodies.DEFAULT:  # another line body: the cylinder's engine with this body's gap
                 options["body"] = self.body_object()
         return dict(options, **self.history_options())

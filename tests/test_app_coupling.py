@@ -19,7 +19,8 @@ def test_a_materials_pair_sets_both_bodies_and_a_typed_value_makes_it_custom():
     pair = core.materials.material_pair("steel/aluminium")
     assert (s.rigid, s.E1, s.nu1, s.E2, s.nu2) == (False, 210e3, 0.30, 70e3, 0.33)
     c = s.contact()
-    assert s.solver_options()["kernel"] == "plane"  # the coupled solver's (the paper's strip kernel is uncoupled)
+    options = s.solver_options()  # solved together, on the coupled solver's plane kernel, with the contact's beta
+    assert options["kernel"] == "plane" and options["beta"] == pytest.approx(c.beta) and options["mu"] == s.mu
     assert c.coupled and c.beta == pytest.approx(pair.beta, rel=1e-12) and 0.0 < abs(c.beta) < 0.5
     assert s.materials == "steel/aluminium"  # the values it set keep it selected
     s.E2 = 71e3
@@ -42,8 +43,8 @@ def test_a_coupled_contacts_limits_are_labelled_the_uncoupled_reference():
 @pytest.mark.browser
 @pytest.mark.timeout(900)
 def test_the_explorer_runs_a_coupled_contact_and_says_its_limit_is_a_reference(browser, app_url):
-    """Steel on aluminium by its link: the run is coupled (its result's beta is the contact's), the badge gives a
-    verdict and says that eq 35 is the uncoupled reference, and the key figures are on a 1280x720 screen."""
+    """Steel on aluminium by its link: the badge gives a verdict and says that eq 35 is the uncoupled reference, and
+    the run behind it is coupled (the explorer's run of that state has the contact's beta)."""
     from app.serving import open_page
 
     query = "?rigid=false&E1=210000&nu1=0.3&E2=70000&nu2=0.33&ft=0.4&w=0.3"
@@ -60,3 +61,7 @@ def test_the_explorer_runs_a_coupled_contact_and_says_its_limit_is_a_reference(b
         assert page.problems == [], page.problems
     finally:
         page.close()
+    state = ExplorerState()
+    state.param.update(rigid=False, E1=210e3, nu1=0.3, E2=70e3, nu2=0.33, ft=0.4, w=0.3)
+    run = state.contact().simulate(**state.solver_options())  # what app.runs solves for the page
+    assert run.coupled and run.beta == pytest.approx(beta) and run.solver == "coupled"
