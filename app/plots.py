@@ -80,6 +80,15 @@ def title_over_axis(plot, element) -> None:
         title.offset = -KEY_SHIFT
 
 
+def few_x_ticks(plot, element) -> None:
+    """A render hook after :func:`title_over_axis`: three ticks on the x axis, for an axis whose tick labels are long
+    (the fretting loop's displacements, e.g. 0.032 to 0.036 on a narrow first-screen figure: four ran together)."""
+    for axis in plot.state.xaxis:
+        ticker = getattr(axis, "ticker", None)
+        if ticker is not None and hasattr(ticker, "desired_num_ticks"):
+            ticker.desired_num_ticks = 3
+
+
 #: How far left of the frame a first-screen figure's title and legend start [px] (:func:`title_over_axis`).
 KEY_SHIFT = 45
 
@@ -845,7 +854,7 @@ FIGURES = {
     "displacement": dict(opts=dict(title="Rigid-body displacement", **key_opts()),
                 caption="What you see: the body's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
-    "loop": dict(opts=dict(title="Fretting loop", **key_opts()),
+    "loop": dict(opts=dict(title="Fretting loop", **{**key_opts(), "hooks": [title_over_axis, few_x_ticks]}),
                  caption="What you see: the tangential force against the rigid-body displacement along it in the "
                          "first and the last period, sheared by the last loop's secant k so that its thin "
                          "hysteresis shows (the shear keeps the area); its area is the energy dissipated per "
