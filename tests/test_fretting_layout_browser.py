@@ -76,8 +76,8 @@ def _first_screen(page, titles, width, height, what):
     page.wait_for_timeout(500)  # the layout settles after the resize
     page.evaluate(_TOP)
     boxes = {t: page.evaluate(FIGURE_BOX_JS, t) for t in titles}
-    badge = page.locator("[data-regime]").first.bounding_box()
-    assert badge is not None
+    # (the badge is re-rendered when the run's verdict comes: its box is read once it is in the page again)
+    badge = wait_until(lambda: page.locator("[data-regime]").first.bounding_box(), 30, message=f"{what}: badge")
     for title, box in boxes.items():
         assert box["x"] >= 0 and box["x"] + box["width"] <= width + 0.5, (what, title, box)
         assert box["y"] >= 0 and box["y"] + box["height"] <= height + 0.5, (what, title, box)
