@@ -810,12 +810,32 @@ def _map_layers(i: Inputs) -> tuple:
     tangential = i.result is not None and i.result.params.get("history") == "tangential"
     if tangential != is_tangential(table):  # a (ft, w) map beside a tangential run, or the other way round
         table = None
+    if i.result is not None and not _same_loading(table, map_history(i.result)):
+        table = None  # a sweep under another loading (the shipped constant-load map beside a 'normal' run)
     # the current point: (mean ft, amplitude) under the tangential loading
     y = float(i.result.params.get("amplitude", 0.0)) if tangential else i.w
     history = map_history(i.result)
     body = None if i.result is None else getattr(i.result, "body_spec", None) or getattr(i.result, "body", None)
     return (*map_numerical(table), *map_lines(history, body if isinstance(body, core.Body) else None),
             body_limit(i.result) if history[0] == "rocking" else _EMPTY, map_point(i.ft, y, regime))
+
+
+def _same_loading(table, history: tuple) -> bool:
+    """Whether a sweep table was run under the loading ``history`` (:func:`map_history`; a table without a
+    'history' column is the rocking's, the shipped map's), the normal force's amplitude and phase included."""
+    if table is None or len(table) == 0:
+        return True
+    name, A, phase, _ = history
+    columns = getattr(table, "columns", ())
+    own = str(table["history"].iloc[0]) if "history" in columns else "rocking"
+    if own == "normal" and "amplitude" in columns and float(table["amplitude"].iloc[0]) == 0.0:
+        own = "rocking"
+    if own != name:
+        return False
+    if name != "normal":
+        return True
+    return (math.isclose(float(table["amplitude"].iloc[0]), A, abs_tol=1e-9)
+            and math.isclose(float(table["phase"].iloc[0]), phase, abs_tol=1e-9))
 
 
 def body_limit(result) -> tuple:
