@@ -654,7 +654,7 @@ def is_tangential(table) -> bool:
 #: The region names of each history's map: (x, y, name) in its plane (the normal loading's x scaled by 1 - A).
 _REGION_NAMES = {"rocking": ((0.2, 0.25, "shakedown"), (0.8, 0.5, "ratcheting")),
                  "normal": ((0.2, 0.25, "shakedown"), (0.8, 0.5, "ratcheting")),
-                 "tangential": ((0.3, 0.35, "cyclic slip"), (0.72, 0.62, "gross sliding"))}
+                 "tangential": ((0.15, 0.12, "cyclic slip"), (0.72, 0.62, "gross sliding"))}
 _REGION_DIMS = (*_MAP_DIMS, hv.Dimension("name"))
 
 
