@@ -82,7 +82,9 @@ _CELL_STYLE = {"flex": "1 1 560px", "min-width": "min(300px, 100%)"}
 #: one) in a row below.
 _KEY_STYLE = {"flex": "1 1 220px", "min-width": "min(220px, 100%)"}
 #: The contact maps: no padding (a padding of 10 % on y only made their equal axis scales unequal by 10 %).
-_PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "map": None,
+#: The loop: padded on x too, so that a loop's ends (under a constant load a short segment: the last period's walk)
+#: are not drawn on the frame's edge.
+_PADDING = {"states": (0.0, 0.0), "increments": (0.05, 0.1), "loop": (0.05, 0.1), "map": None,
             **dict.fromkeys(("point_pressure", "point_traction", "point_zones"), (0.0, 0.0))}
 
 

@@ -80,6 +80,15 @@ def title_over_axis(plot, element) -> None:
         title.offset = -KEY_SHIFT
 
 
+def few_x_ticks(plot, element) -> None:
+    """A render hook after :func:`title_over_axis`: three ticks on the x axis, for an axis whose tick labels are long
+    (the fretting loop's displacements, e.g. 0.032 to 0.036 on a narrow first-screen figure: four ran together)."""
+    for axis in plot.state.xaxis:
+        ticker = getattr(axis, "ticker", None)
+        if ticker is not None and hasattr(ticker, "desired_num_ticks"):
+            ticker.desired_num_ticks = 3
+
+
 #: How far left of the frame a first-screen figure's title and legend start [px] (:func:`title_over_axis`).
 KEY_SHIFT = 45
 
@@ -645,7 +654,7 @@ def is_tangential(table) -> bool:
 #: The region names of each history's map: (x, y, name) in its plane (the normal loading's x scaled by 1 - A).
 _REGION_NAMES = {"rocking": ((0.2, 0.25, "shakedown"), (0.8, 0.5, "ratcheting")),
                  "normal": ((0.2, 0.25, "shakedown"), (0.8, 0.5, "ratcheting")),
-                 "tangential": ((0.3, 0.35, "cyclic slip"), (0.72, 0.62, "gross sliding"))}
+                 "tangential": ((0.15, 0.12, "cyclic slip"), (0.72, 0.62, "gross sliding"))}
 _REGION_DIMS = (*_MAP_DIMS, hv.Dimension("name"))
 
 
@@ -801,12 +810,32 @@ def _map_layers(i: Inputs) -> tuple:
     tangential = i.result is not None and i.result.params.get("history") == "tangential"
     if tangential != is_tangential(table):  # a (ft, w) map beside a tangential run, or the other way round
         table = None
+    if i.result is not None and not _same_loading(table, map_history(i.result)):
+        table = None  # a sweep under another loading (the shipped constant-load map beside a 'normal' run)
     # the current point: (mean ft, amplitude) under the tangential loading
     y = float(i.result.params.get("amplitude", 0.0)) if tangential else i.w
     history = map_history(i.result)
     body = None if i.result is None else getattr(i.result, "body_spec", None) or getattr(i.result, "body", None)
     return (*map_numerical(table), *map_lines(history, body if isinstance(body, core.Body) else None),
             body_limit(i.result) if history[0] == "rocking" else _EMPTY, map_point(i.ft, y, regime))
+
+
+def _same_loading(table, history: tuple) -> bool:
+    """Whether a sweep table was run under the loading ``history`` (:func:`map_history`; a table without a
+    'history' column is the rocking's, the shipped map's), the normal force's amplitude and phase included."""
+    if table is None or len(table) == 0:
+        return True
+    name, A, phase, _ = history
+    columns = getattr(table, "columns", ())
+    own = str(table["history"].iloc[0]) if "history" in columns else "rocking"
+    if own == "normal" and "amplitude" in columns and float(table["amplitude"].iloc[0]) == 0.0:
+        own = "rocking"
+    if own != name:
+        return False
+    if name != "normal":
+        return True
+    return (math.isclose(float(table["amplitude"].iloc[0]), A, abs_tol=1e-9)
+            and math.isclose(float(table["phase"].iloc[0]), phase, abs_tol=1e-9))
 
 
 def body_limit(result) -> tuple:
@@ -845,7 +874,7 @@ FIGURES = {
     "displacement": dict(opts=dict(title="Rigid-body displacement", **key_opts()),
                 caption="What you see: the body's rigid-body displacement over the periods: it levels off (shakedown) or keeps walking (ratcheting).", specs=_displacement_specs,
                          layers=_displacement_layers, inputs=("units", "result", "frame", "pinned")),
-    "loop": dict(opts=dict(title="Fretting loop", **key_opts()),
+    "loop": dict(opts=dict(title="Fretting loop", **{**key_opts(), "hooks": [title_over_axis, few_x_ticks]}),
                  caption="What you see: the tangential force against the rigid-body displacement along it in the "
                          "first and the last period, sheared by the last loop's secant k so that its thin "
                          "hysteresis shows (the shear keeps the area); its area is the energy dissipated per "

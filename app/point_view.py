@@ -6,7 +6,9 @@ the traction as maps over the contact plane at the player's step, the
 element zones (stick, slip, released) as a map, the cut along ``y = 0``
 beside the closed forms, the displacement over the run and per period.
 Adding a figure is one layers function under :func:`_figure` (with its
-specs) here and one layout line in :meth:`app.explorer.Explorer.explorer_tab`.
+specs) here and its name in the page's order, :data:`app.figures.ORDER`
+(and in :data:`app.figures.KEY_FIGURES` for the loadings whose first
+screen shows it).
 
 A figure's ``result`` entry names the kind of run it draws
 (:class:`core.CycleResult` for the cylinder's figures, by default,

@@ -51,6 +51,9 @@ def main(argv=None) -> int:
     ap.add_argument("--pin", type=float, action="append", default=[], help="pin the run at this w first (repeatable)")
     ap.add_argument("--first-screens", action="store_true",
                     help="the first screens of the cylinder and the sphere at 1280x720 and 1024x768 (docs/)")
+    ap.add_argument("--bodies", nargs="*", default=None, help="--fretting-screens of these bodies only (default all)")
+    ap.add_argument("--verdict-wait", type=float, default=180.0,
+                    help="--fretting-screens: seconds to wait for a run's verdict before the screenshot is taken anyway")
     ap.add_argument("--fretting-screens", metavar="DIR",
                     help="the first screens of every body under the tangential and the normal loading at 1280x720 "
                          "(the fretting loop beside the displacement) and the regime map of each loading, into DIR")
@@ -58,7 +61,7 @@ def main(argv=None) -> int:
     if args.first_screens:
         return first_screens()
     if args.fretting_screens:
-        return fretting_screens(Path(args.fretting_screens))
+        return fretting_screens(Path(args.fretting_screens), args.bodies, args.verdict_wait)
     with served_app() as url, chromium() as browser:
         page = browser.new_page(viewport={"width": args.width, "height": args.height})
         page.goto(url + args.query, timeout=180_000)
@@ -137,18 +140,23 @@ _FRETTING = {"tangential": "loading=tangential&amplitude=0.5&ft=0.3&w=0.5",
              "normal": "loading=normal&amplitude=0.3&phase=90&ft=0.3&w=0.5", "rocking": "ft=0.3&w=0.5"}
 
 
-def fretting_screens(out: Path) -> int:
+def fretting_screens(out: Path, bodies=None, verdict_wait: float = 180.0) -> int:
     """Issue 30's screens at 1280x720: every body's first screen under the tangential and the normal loading (the
-    fretting loop beside the displacement, the badge), and the regime map of each loading (the cylinder's)."""
+    fretting loop beside the displacement, the badge), and the regime map of each loading (the cylinder's). A run
+    that has no verdict after ``verdict_wait`` seconds is shot as it is (the badge says SOLVING), and said so."""
     from app.bodies import BODIES
 
     with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "300"}) as url, chromium() as browser:
-        for body in BODIES:
+        for body in BODIES if bodies is None else bodies:
             for loading in ("tangential", "normal"):
                 page = browser.new_page(viewport={"width": 1280, "height": 720})
                 page.goto(url + f"?body={body}&{_FRETTING[loading]}&periods=4", timeout=180_000)
-                page.locator(BADGE).first.wait_for(timeout=300_000)
+                page.locator("[data-regime]").first.wait_for(timeout=180_000)
                 _wait_key_figures(page, body, loading)
+                try:
+                    page.locator(BADGE).first.wait_for(timeout=verdict_wait * 1000)
+                except Exception:  # noqa: BLE001 - Playwright's TimeoutError: shot without a verdict
+                    print(f"{body} {loading}: no verdict after {verdict_wait:.0f} s")
                 page.wait_for_timeout(1500)  # let the figures paint (one-off script, not a test)
                 regime = page.locator("[data-regime]").first.get_attribute("data-regime")
                 print(f"{body} {loading}: {regime}")

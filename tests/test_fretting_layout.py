@@ -113,3 +113,23 @@ def test_the_map_reads_the_history_of_the_run():
         eq35 = data[[getattr(s, "label", None) for s in plots.specs("map", u)].index("eq 35 (exact)")]
         assert (len(eq35[0]) > 0) == (name == "rocking"), kwargs
     assert plots.map_history(None)[0] == "rocking"
+
+
+def test_the_map_draws_a_sweep_only_beside_a_run_of_its_loading():
+    """The shipped map (constant loads) is not drawn beside a run under the oscillating normal force: its regimes
+    are not that loading's (they read shakedown beyond gross sliding, ft > 1 - A)."""
+    u = plots.make_units("normalised", None, "plane")
+    shipped = core.load_default_map()
+    rocking = core.simulate_cycles(0.3, 0.3, periods=1, dx=0.05)
+    normal = core.simulate_cycles(0.3, 0.3, periods=1, dx=0.05, history="normal", amplitude=0.2, phase=0.5)
+
+    def runs(result, table):
+        return sum(len(layer.data[0]) for layer in plots.layers("map", plots.Inputs(0.3, 0.3, u, result, None,
+                                                                                      table))[:4])
+
+    assert runs(rocking, shipped) == len(shipped) > 0
+    assert runs(normal, shipped) == 0
+    swept = core.sweep([0.2, 0.4], [0.3], history="normal", amplitude=0.2, phase=0.5, periods=1, dx=0.05)
+    assert runs(normal, swept) == 2
+    other = core.simulate_cycles(0.3, 0.3, periods=1, dx=0.05, history="normal", amplitude=0.3, phase=0.5)
+    assert runs(other, swept) == 0  # another amplitude

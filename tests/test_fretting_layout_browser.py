@@ -76,8 +76,8 @@ def _first_screen(page, titles, width, height, what):
     page.wait_for_timeout(500)  # the layout settles after the resize
     page.evaluate(_TOP)
     boxes = {t: page.evaluate(FIGURE_BOX_JS, t) for t in titles}
-    badge = page.locator("[data-regime]").first.bounding_box()
-    assert badge is not None
+    # (the badge is re-rendered when the run's verdict comes: its box is read once it is in the page again)
+    badge = wait_until(lambda: page.locator("[data-regime]").first.bounding_box(), 30, message=f"{what}: badge")
     for title, box in boxes.items():
         assert box["x"] >= 0 and box["x"] + box["width"] <= width + 0.5, (what, title, box)
         assert box["y"] >= 0 and box["y"] + box["height"] <= height + 0.5, (what, title, box)
@@ -92,20 +92,19 @@ def _first_screen(page, titles, width, height, what):
 @pytest.mark.parametrize("body", BODIES)
 def test_the_fretting_loop_is_beside_the_displacement_under_an_oscillating_load(browser, app_url, body):
     """Tangential and normal loadings, both sizes: the three first-screen figures are whole in the first viewport,
-    the loop right of the displacement on the same row, holding the first and the last period; under rocking the
-    loop is not on the first screen (its place waits below)."""
+    the loop right of the displacement on the same row; under rocking the loop is not on the first screen (its
+    place waits below). The layout does not wait for the run (the figures are drawn with the page, the badge says
+    SOLVING meanwhile): the cone's run under the tangential loading alone takes minutes (issue 31)."""
     page = None
     try:
         for loading in ("tangential", "normal"):
             if page is not None:
                 page.close()
             page = open_page(browser, f"{app_url}?body={body}&{QUERIES[loading]}&{_SMALL}", SIZES[0],
-                             ready=VERDICT_SELECTOR)
+                             ready="[data-regime]")
             titles = _titles(body, loading)
             displacement = next(t for n, t in zip(key_figures(body, loading), titles) if "displacement" in n)
             assert LOOP in titles
-            points = wait_until(lambda: page.evaluate(_LOOP_POINTS, LOOP) or None, 60, message="the loop's data")
-            assert points >= 2 * 2, points  # the first and the last period, a few steps each at least
             for width, height in SIZES:
                 what = f"{body}, {loading}, {width}x{height}"
                 boxes = _first_screen(page, titles, width, height, what)
@@ -117,7 +116,7 @@ def test_the_fretting_loop_is_beside_the_displacement_under_an_oscillating_load(
         # rocking: the paper's first screen, the loop below it
         page.close()
         page = open_page(browser, f"{app_url}?body={body}&{QUERIES['rocking']}&{_SMALL}", SIZES[0],
-                         ready=VERDICT_SELECTOR)
+                         ready="[data-regime]")
         titles = _titles(body, "rocking")
         assert LOOP not in titles
         _first_screen(page, titles, *SIZES[0], f"{body}, rocking")
@@ -127,6 +126,21 @@ def test_the_fretting_loop_is_beside_the_displacement_under_an_oscillating_load(
     finally:
         if page is not None:
             page.close()
+
+
+@pytest.mark.parametrize("body", ["cylinder", "sphere"])
+def test_the_loop_beside_the_displacement_draws_the_run(browser, app_url, body):
+    """A line and a point contact under the tangential loading: the verdict is cyclic slip and the loop on the
+    first screen holds the first and the last period of the run, the badge and the loop whole at 1280x720."""
+    page = open_page(browser, f"{app_url}?body={body}&{QUERIES['tangential']}&periods=4", SIZES[0],
+                     ready="[data-regime='cyclic slip']")
+    try:
+        points = wait_until(lambda: page.evaluate(_LOOP_POINTS, LOOP) or None, 60, message="the loop's data")
+        assert points >= 2 * 10, points  # the first and the last period, 10 steps each at least
+        _first_screen(page, _titles(body, "tangential"), *SIZES[0], f"{body}, tangential, run")
+        assert page.problems == [], page.problems
+    finally:
+        page.close()
 
 
 def _map_lines(page, width, height):
