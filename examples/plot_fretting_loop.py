@@ -42,7 +42,7 @@ ax.legend(fontsize=8)
 runs = {"tangential, A = 0.5": fretting,
         "rocking ft = 0.2, w = 0.5": core.simulate_cycles(0.2, 0.5, periods=8),
         "rocking ft = 0.5, w = 0.5": core.simulate_cycles(0.5, 0.5, periods=8)}
-for (name, r), color in zip(runs.items(), ("#E69F00", "#0072B2", "#7F2704")):
+for (name, r), color in zip(runs.items(), ("#E69F00", "#0072B2", "#631E03")):
     energy = r.dissipation_per_period
     ax2.semilogy(np.arange(1, energy.size + 1), np.maximum(energy, 1e-16), "o-", color=color,
                  label=f"{name}: {r.regime}")
