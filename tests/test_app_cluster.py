@@ -68,11 +68,13 @@ def test_a_shared_result_cannot_be_written():
     cache = runs.ResultCache()
     result = runs.solve(contact.replace(w=0.33), dict(options, periods=2), cache=cache)
     assert cache.get(runs.run_key(contact.replace(w=0.33), dict(options, periods=2))) is result
-    for name in ("traction", "state", "displacement", "xc", "edges", "pressure"):
+    for name in ("traction", "state", "displacement", "xc", "edges", "pressures"):
         array = getattr(result, name)
         assert not array.flags.writeable, name
         with pytest.raises(ValueError, match="read-only"):
             array[0] = 1
+    with pytest.raises(ValueError, match="read-only"):  # a step's pressure: a view of the stored rows
+        result.pressure[0][0] = 1
 
 
 def test_a_session_may_queue_only_so_many_solves():
