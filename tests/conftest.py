@@ -9,6 +9,75 @@ import pytest
 # a production server skips it (app/health.py)
 os.environ.setdefault("BOKEH_VALIDATE_DOC", "true")
 
+# ---- numba's cache, filled once before the workers start ----
+#: Small runs through the public API that compile (or load) the solver's numba kernels, in two groups run side by
+#: side: the line solvers (dense and FFT, both kernels, the punch, a sampled profile's normal solve and tables) and the
+#: patch solver (the sphere, as the served app warms it, the ellipsoid, the cone's twist, a height map).
+_PRECOMPILE = {
+    "line": """
+import core
+for kernel, L in (("strip", 10.0), ("plane", None)):
+    for solver in ("dense", "fft"):
+        core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, kernel=kernel, L_over_a=L, solver=solver)
+core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body=core.Punch(flat=0.5))
+import numpy as np
+from core.heightmap import HeightProfile
+x = np.linspace(-2, 2, 401)
+core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body=HeightProfile((2 / np.pi) * x**2, x[1] - x[0]))
+""",
+    "point": """
+import numpy as np
+import core
+from core.heightmap import HeightMap
+core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body="sphere")
+core.simulate_cycles(0.1, 0.2, periods=1, body="ellipsoid", ratio=2.0)
+core.simulate_cycles(0.1, 0.2, periods=1, body="cone")
+X, Y = np.meshgrid(np.arange(-40, 41) * 0.05, np.arange(-40, 41) * 0.05)
+core.simulate_cycles(0.1, 0.2, periods=1, body=HeightMap(0.375 * (X**2 + Y**2), 0.05))
+""",
+}
+
+
+def _numba_cache_is_cold() -> bool:
+    """Whether some kernel of core has no code in numba's on-disk cache (a fresh clone, an edited module)."""
+    import importlib
+    import pkgutil
+
+    import core
+    from core import _jit
+
+    for info in pkgutil.iter_modules(core.__path__, "core."):
+        if not info.name.endswith(("__main__", ".cli")):
+            importlib.import_module(info.name)
+    return any(not _jit._cached(kernel) for kernel in _jit.KERNELS.values())
+
+
+@pytest.hookimpl(trylast=True)  # after the terminal's and xdist's own set-up, before xdist starts its workers
+def pytest_configure(config):
+    """Under pytest-xdist, before the workers start: on a cold numba cache (CI's fresh clone), compile the solver
+    once, here, in two processes side by side, instead of in every worker and every served app at once (each
+    compiled the same kernels: 300-430 s for a worker's first solve, 2 cores shared by four compiling
+    processes). The tests that are about compiling use a cache directory of their own (test_jit,
+    test_app_cold_start)."""
+    import subprocess
+    import sys
+    import time
+
+    if hasattr(config, "workerinput") or not config.getoption("numprocesses", None) or not _numba_cache_is_cold():
+        return
+    t0 = time.monotonic()
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [root, os.environ.get("PYTHONPATH")]))}
+    procs = {group: subprocess.Popen([sys.executable, "-c", code], cwd=root, env=env, stdout=subprocess.PIPE,
+                                     stderr=subprocess.STDOUT, text=True) for group, code in _PRECOMPILE.items()}
+    say = config.get_terminal_writer().line
+    for group, proc in procs.items():
+        out, _ = proc.communicate()
+        if proc.returncode:  # the tests compile what is missing, and the failing run fails its own tests
+            say(f"conftest: compiling the {group} solver failed ({proc.returncode}):\n{out[-2000:]}")
+    say(f"conftest: numba's cache was cold; the solver compiled once, before the workers, in "
+        f"{time.monotonic() - t0:.0f} s")
+
 
 def _check_invariants(result, tol=1e-9):
     """Coulomb's law, load balance, contact and dissipation at every step of a CycleResult."""
@@ -97,8 +166,19 @@ def app_url(app_log):
     alone takes 20 s on 2 cores shared with Chromium, and no browser test checks the budget."""
     from app.serving import served_app
 
-    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "300"}, log_path=app_log) as url:
+    with served_app(env={"SHAKEDOWN_SOLVE_BUDGET_S": "300"}, log_path=app_log, extra_apps=[PAPER_FIGURES_APP]) as url:
         yield url
+
+
+#: The "Paper's figures" tab alone (``tests/test_paper_figures.py``), served beside ``app/main.py`` by the server of
+#: :func:`app_url` (it started a server of its own: a second warm-up, 30-40 s).
+PAPER_FIGURES_APP = "tests/paper_figures_app.py"
+
+
+@pytest.fixture(scope="session")
+def paper_figures_url(app_url):
+    """The URL of :data:`PAPER_FIGURES_APP` on the server of :func:`app_url`."""
+    return app_url.rsplit("/", 1)[0] + "/" + os.path.splitext(os.path.basename(PAPER_FIGURES_APP))[0]
 
 
 @pytest.fixture(scope="module")

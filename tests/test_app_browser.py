@@ -93,12 +93,18 @@ def regime(page) -> str:
 
 
 # ---- the tests ---------------------------------------------------------------
-def test_page_loads_without_errors(open_app):
+def test_page_loads_without_errors_and_the_about_tab_renders_the_equations(open_app):
+    """The default page (one load for both checks): its figures drawn, no traceback, the default verdict; then the
+    About tab's equations, drawn by KaTeX served by Panel itself (no CDN)."""
     page, errors = open_app()
     page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0")
     page.locator(".bk-Canvas, canvas").nth(5).wait_for(timeout=30_000)  # the six figures
     assert page.get_by_text("Traceback").count() == 0
     assert regime(page) == "shakedown"  # the default, ft = 0.3, w = 0.5
+    assert errors == [], errors
+    page.get_by_text("About the model").first.click()
+    page.get_by_text("What is exact and what is approximate").first.wait_for(timeout=20_000)
+    page.locator(".katex").first.wait_for(timeout=20_000)  # KaTeX, served by Panel itself (no CDN)
     assert errors == [], errors
 
 
@@ -196,12 +202,4 @@ def test_bad_url_parameter_shows_a_notice(open_app):
     assert page.evaluate(_GET_SLIDER, FT_TITLE) == 0.3  # the bad one is not (default kept)
     assert page.get_by_text("Traceback").count() == 0
     assert regime(page) == "shakedown"
-    assert errors == [], errors
-
-
-def test_about_tab_renders_the_equations(open_app):
-    page, errors = open_app()
-    page.get_by_text("About the model").first.click()
-    page.get_by_text("What is exact and what is approximate").first.wait_for(timeout=20_000)
-    page.locator(".katex").first.wait_for(timeout=20_000)  # KaTeX, served by Panel itself (no CDN)
     assert errors == [], errors

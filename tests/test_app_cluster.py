@@ -139,31 +139,6 @@ def _in_a_thread(fn, *args):
 
 
 @pytest.mark.browser
-def test_served_app_solves_on_the_cluster(cluster):
-    _in_a_thread(_served_app_solves_on_the_cluster, cluster)
-
-
-def _served_app_solves_on_the_cluster(cluster):
-    info = {}
-    with served_app(env={"SHAKEDOWN_SCHEDULER": cluster}, info=info) as url, chromium() as browser:
-        health = json.loads(urllib.request.urlopen(info["base"] + "/liveness", timeout=10).read())
-        assert health["ready"] and health["backend"] == f"dask({cluster})"
-        before = tasks_done(cluster, runs.SOLVE_TASK)
-        page = browser.new_page()
-        errors = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto(url + "?ft=0.3&w=0.371")
-        page.locator(BADGE).first.wait_for(timeout=120_000)
-        assert tasks_done(cluster, runs.SOLVE_TASK) == before + 1, "the first run was solved on the cluster"
-        page.get_by_text("all numbers ▾").first.click()  # the cards with the solve's line, one click away
-        page.locator(".cards").first.wait_for(timeout=30_000)
-        assert page.evaluate(_RELEASE_FT, [0.2917, 60_000]), "the re-solve came back"
-        assert tasks_done(cluster, runs.SOLVE_TASK) == before + 2, "the re-solve ran on the cluster"
-        assert errors == []
-        page.close()
-
-
-@pytest.mark.browser
 @pytest.mark.timeout(900)  # the worker warms every kernel before it takes the session's run: minutes under load
 def _ready_within(request, seconds: float) -> bool:
     """Poll ``/liveness`` until it answers 200 with ``ready`` (True), or ``seconds`` pass (False)."""
@@ -180,10 +155,11 @@ def _ready_within(request, seconds: float) -> bool:
 
 
 @pytest.mark.timeout(900)
-def test_first_page_is_the_explorer_while_the_solver_is_prepared_then_its_run_arrives():
+def test_first_page_is_the_explorer_while_the_solver_is_prepared_then_its_runs_are_solved_on_the_cluster():
     """Until the solver is warm (here: the cluster has no worker yet) the page is the explorer already, with its
     sliders and the exact limit's prediction, and says the solver is being compiled; the verdict comes in the
-    same page once a worker has joined."""
+    same page once a worker has joined, solved on the cluster; the served app says its backend is the cluster, and a
+    slider's release is solved there too. (One served app for both: each took a server start and its warm-up.)"""
     _in_a_thread(_prepared_then_solved)
 
 
@@ -203,6 +179,8 @@ def _prepared_then_solved():
                 urllib.request.urlopen(health, timeout=10)
             assert answer.value.code == 503 and not json.loads(answer.value.read())["ready"]
             page = browser.new_page()
+            errors = []
+            page.on("pageerror", lambda e: errors.append(str(e)))
             page.goto(url + "?ft=0.3&w=0.372", timeout=180_000)  # the first session may pay for imports
             page.get_by_text("compiling the solver (first start only)").first.wait_for(timeout=60_000)
             page.locator(".regime-note", has_text="eq 35 predicts").first.wait_for(timeout=30_000)
@@ -216,9 +194,20 @@ def _prepared_then_solved():
                 # 290 s from the server's start, the worker warming every kernel first)
                 page.locator(BADGE).first.wait_for(timeout=600_000)
                 assert "w=0.372" in page.url
+                # (at least one task: the joining worker may run a solve of its own before the session's)
+                assert tasks_done(address, runs.SOLVE_TASK) >= 1, "the first run was solved on the cluster"
                 # the run of the first page's grid needs only its own kernels: the warm-up goes on with the others
                 # (and the figures' templates) after the verdict, so /liveness turns ready a little later
                 assert _ready_within(health, 300), "/liveness did not turn ready after the worker joined"
+                state = json.loads(urllib.request.urlopen(health, timeout=10).read())
+                assert state["ready"] and state["backend"] == f"dask({address})", state
+                # a slider's release: a new solve, on the cluster
+                page.get_by_text("all numbers ▾").first.click()  # the cards with the solve's line, one click away
+                page.locator(".cards").first.wait_for(timeout=30_000)
+                before = tasks_done(address, runs.SOLVE_TASK)
+                assert page.evaluate(_RELEASE_FT, [0.2917, 60_000]), "the re-solve came back"
+                assert tasks_done(address, runs.SOLVE_TASK) == before + 1, "the re-solve ran on the cluster"
+                assert errors == []
             finally:
                 page.close()
                 _stop(worker)

@@ -164,7 +164,9 @@ def _fits_at_every_size(page, tab):
 
 
 def test_nothing_overlaps_or_is_cut_off(browser, app_url):
-    """At 1024x768, 1280x720 and 1920x1080 (one session, resized), in the Explorer tab and in the About tab."""
+    """At 1024x768, 1280x720 and 1920x1080 (one session, resized), in the Explorer tab and in the About tab; at
+    1280x720 every control of the Explorer tab has an accessible name (see
+    :func:`_every_control_has_an_accessible_name`)."""
     page = _open(browser, app_url, SIZES[0])
     for tab in ("Explorer", "About the model"):
         if tab != "Explorer":
@@ -173,6 +175,10 @@ def test_nothing_overlaps_or_is_cut_off(browser, app_url):
             # the equations are drawn with KaTeX's fonts, declared at document level
             page.wait_for_function("() => document.fonts.check('20px KaTeX_Main')", timeout=30_000)
         _fits_at_every_size(page, tab)
+        if tab == "Explorer":
+            page.set_viewport_size({"width": 1280, "height": 720})
+            _settle(page)
+            _every_control_has_an_accessible_name(page)
     assert page.problems == [], page.problems
     page.close()
 
@@ -187,7 +193,9 @@ def test_a_phone_gets_one_column(browser, app_url):
     page.close()
 
 
-def test_the_wheel_scrolls_the_page_and_zoom_is_one_click_away(browser, app_url):
+def test_the_wheel_scrolls_the_page_zoom_is_one_click_away_and_the_sketch_follows_the_player(browser, app_url):
+    """At 1280x720, the default run: the wheel over a figure scrolls the page, every figure's wheel zoom is in its
+    toolbar and off; then the sketch follows the player (see :func:`_the_sketch_follows_the_player`)."""
     page = _open(browser, app_url, (1280, 720))
     tools = page.evaluate("""() => [...Bokeh.documents[0].all_models].filter((m) => m.type === 'Toolbar' ||
         (m.constructor && m.constructor.__name__ === 'Toolbar')).map((m) => [m.active_scroll == null,
@@ -201,6 +209,7 @@ def test_the_wheel_scrolls_the_page_and_zoom_is_one_click_away(browser, app_url)
     page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
     page.mouse.wheel(0, 300)
     page.wait_for_function(f"(b) => ({main})() > b", arg=before, timeout=10_000)
+    _the_sketch_follows_the_player(page)
     assert page.problems == [], page.problems
     page.close()
 
@@ -241,8 +250,8 @@ def test_preset_resets_the_player_and_the_cards_agree(browser, app_url):
     page.close()
 
 
-def test_every_control_has_an_accessible_name(browser, app_url):
-    page = _open(browser, app_url, (1280, 720))
+def _every_control_has_an_accessible_name(page):
+    """Every visible button, slider handle, input and select has a name a screen reader reads out."""
     page.wait_for_function("""() => { let ok = 0;
         const walk = (root) => { for (const e of root.querySelectorAll('*')) if (e.shadowRoot) walk(e.shadowRoot);
           for (const h of root.querySelectorAll('.noUi-handle')) if (h.getAttribute('aria-label')) ok++; };
@@ -260,7 +269,6 @@ def test_every_control_has_an_accessible_name(browser, app_url):
           } };
         walk(document); return out; }""")
     assert unnamed == [], unnamed
-    page.close()
 
 
 def test_a_session_after_an_expired_one_finds_every_label(browser, tmp_path):
@@ -351,9 +359,9 @@ def test_pinned_runs_overlay_the_figures_and_the_page_still_fits(browser, app_ur
     page.close()
 
 
-def test_the_sketch_follows_the_player(browser, app_url):
-    """The cylinder sketch shows the player's step: a step back moves the cylinder and keeps a trailing edge."""
-    page = _open(browser, app_url, SIZES[1], "?ft=0.3&w=0.5")
+def _the_sketch_follows_the_player(page):
+    """The cylinder sketch of ``page`` (the default run, ft 0.3, w 0.5) shows the player's step: a step back moves
+    the cylinder and keeps a trailing edge."""
     sketch = """() => { for (const m of Bokeh.documents[0].all_models)
         if (m.type === 'LegendItem' || (m.constructor && m.constructor.__name__ === 'LegendItem')) {
           const label = m.label && (m.label.value ?? m.label);
@@ -365,7 +373,6 @@ def test_the_sketch_follows_the_player(browser, app_url):
     page.wait_for_function(f"(b) => JSON.stringify(({sketch})()) !== JSON.stringify(b)", arg=before, timeout=20_000)
     after = page.evaluate(sketch)
     assert len(after[0]) == 1 and after[1], after
-    page.close()
 
 
 def test_the_paper_figures_fit_and_save_as_png_and_svg(browser, app_url):

@@ -180,46 +180,49 @@ def test_every_figure_below_and_the_contact_maps_equal_scales(browser, app_url, 
 _SCROLLED = "() => document.getElementById('main').scrollTop"
 
 
-@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
 @pytest.mark.parametrize("body", ["cylinder", "sphere"])
-def test_presentation_mode_fits_the_projector(browser, app_url, body, size):
-    """Item 1: the switch is not cut; switched on, the sidebar folds, the key figures are wholly in the viewport and
-    the captions under them (nothing over a plot); the menu button opens the sidebar, so the loads are one click
-    away; switched off, the sidebar is back."""
-    width, height = size
-    page = _open(browser, app_url, size, QUERIES[body])
+def test_presentation_mode_fits_the_projector(browser, app_url, body):
+    """Item 1, at 1280x720 and 1024x768 (one page, resized; the switch on and off at each): the switch is not cut;
+    switched on, the sidebar folds, the key figures are wholly in the viewport and the captions under them (nothing
+    over a plot); the menu button opens the sidebar, so the loads are one click away; switched off, the sidebar is
+    back."""
+    page = _open(browser, app_url, SIZES[0], QUERIES[body])
     try:
-        toggle = page.locator(".presentation-toggle button").first
-        fits = toggle.evaluate("(b) => b.scrollWidth <= b.clientWidth + 1")
-        box = toggle.bounding_box()
-        assert fits and box["x"] >= 0 and box["x"] + box["width"] <= width, f"the switch is cut: {box}"
-        toggle.click()
         sidebar = page.locator("#sidebar")
-        wait_until(lambda: sidebar.bounding_box() is None or sidebar.bounding_box()["width"] < 1, 10,
-                   message="the sidebar folded")
-        page.wait_for_timeout(1000)  # the figures are laid out again at the new width
-        figs = _figures(page, _titles(body))
-        captions = page.locator(".key-captions").first.bounding_box()
-        for title, fig in figs.items():
-            b = fig["page"]
-            assert b["x"] >= 0 and b["x"] + b["width"] <= width + 0.5, f"{title!r} runs past the edge: {b}"
-            assert b["y"] >= 0 and b["y"] + b["height"] <= height + 0.5, f"{title!r} cut at the bottom: {b}"
-            assert b["width"] >= 300, f"{title!r}: presentation mode gives the figures the room: {b}"
-            assert fig["canvas"][0] <= b["width"] + 1 and fig["canvas"][1] <= b["height"] + 1, (title, fig, b)
-            _check_figure(fig, f"presentation {body} at {width}x{height}")
-            assert captions["y"] >= b["y"] + b["height"] - 0.5, f"the captions {captions} over {title!r} {b}"
-        # the loads are one click away
-        page.locator("#sidebar-toggle").click()
-        slider = page.get_by_text("ft = Ft/(μ Fn)").first
-        slider.wait_for(state="visible", timeout=10_000)
-        wait_until(lambda: (lambda b: b is not None and 0 <= b["x"] and b["x"] + b["width"] <= width
-                            and 0 <= b["y"] < height)(slider.bounding_box()), 10, message="the ft slider in view")
-        page.locator("#sidebar-toggle").click()  # folded again, then presentation mode off: the sidebar is back
-        wait_until(lambda: sidebar.bounding_box() is None or sidebar.bounding_box()["width"] < 1, 10,
-                   message="the sidebar folded by the menu button")
-        toggle.click()
-        wait_until(lambda: (sidebar.bounding_box() or {}).get("width", 0) > 200, 10, message="the sidebar back")
-        assert not page.evaluate("() => document.documentElement.classList.contains('presenting')")
+        for width, height in SIZES:
+            page.set_viewport_size({"width": width, "height": height})
+            toggle = page.locator(".presentation-toggle button").first
+            wait_until(lambda: (sidebar.bounding_box() or {}).get("width", 0) > 200, 10, message="the sidebar shown")
+            page.wait_for_timeout(800)  # the layout settles after the resize
+            fits = toggle.evaluate("(b) => b.scrollWidth <= b.clientWidth + 1")
+            box = toggle.bounding_box()
+            assert fits and box["x"] >= 0 and box["x"] + box["width"] <= width, f"{width}: the switch is cut: {box}"
+            toggle.click()
+            wait_until(lambda: sidebar.bounding_box() is None or sidebar.bounding_box()["width"] < 1, 10,
+                       message="the sidebar folded")
+            page.wait_for_timeout(1000)  # the figures are laid out again at the new width
+            figs = _figures(page, _titles(body))
+            captions = page.locator(".key-captions").first.bounding_box()
+            for title, fig in figs.items():
+                b = fig["page"]
+                assert b["x"] >= 0 and b["x"] + b["width"] <= width + 0.5, f"{width}: {title!r} runs past the edge: {b}"
+                assert b["y"] >= 0 and b["y"] + b["height"] <= height + 0.5, f"{width}: {title!r} cut at the bottom: {b}"
+                assert b["width"] >= 300, f"{title!r}: presentation mode gives the figures the room: {b}"
+                assert fig["canvas"][0] <= b["width"] + 1 and fig["canvas"][1] <= b["height"] + 1, (title, fig, b)
+                _check_figure(fig, f"presentation {body} at {width}x{height}")
+                assert captions["y"] >= b["y"] + b["height"] - 0.5, f"the captions {captions} over {title!r} {b}"
+            # the loads are one click away
+            page.locator("#sidebar-toggle").click()
+            slider = page.get_by_text("ft = Ft/(μ Fn)").first
+            slider.wait_for(state="visible", timeout=10_000)
+            wait_until(lambda: (lambda b: b is not None and 0 <= b["x"] and b["x"] + b["width"] <= width
+                                and 0 <= b["y"] < height)(slider.bounding_box()), 10, message="the ft slider in view")
+            page.locator("#sidebar-toggle").click()  # folded again, then presentation mode off: the sidebar is back
+            wait_until(lambda: sidebar.bounding_box() is None or sidebar.bounding_box()["width"] < 1, 10,
+                       message="the sidebar folded by the menu button")
+            toggle.click()
+            wait_until(lambda: (sidebar.bounding_box() or {}).get("width", 0) > 200, 10, message="the sidebar back")
+            assert not page.evaluate("() => document.documentElement.classList.contains('presenting')")
         assert page.problems == [], page.problems
     finally:
         page.close()
@@ -250,43 +253,45 @@ def test_the_page_stays_where_it_is_scrolled(browser, app_url, size):
         page.close()
 
 
-@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
-def test_units_play_and_the_paper_tab_say_what_they_do(browser, app_url, size):
-    """Items 12, 13, 14: the selected unit is the filled button (its background differs from the other's);
-    Play says Pause while it plays and Play again when the period is over; the Paper's figures tab shows a
-    spinner while it is built, then its figures."""
-    page = _open(browser, app_url, size, "?ft=0.3&w=0.5&periods=3")
+def test_units_play_and_the_paper_tab_say_what_they_do(browser, app_url):
+    """Items 12, 13, 14, at 1280x720 and 1024x768 (one page, resized): the selected unit is the filled button (its
+    background differs from the other's); Play says Pause while it plays and Play again when the period is over;
+    the Paper's figures tab shows a spinner while it is built, then its figures (once: its build is the same at
+    both sizes, and it is the longest part of the test)."""
+    page = _open(browser, app_url, SIZES[0], "?ft=0.3&w=0.5&periods=3")
     try:
         buttons = page.locator(".units-toggle button")
         background = "(b) => getComputedStyle(b).backgroundColor"
-        for unit in ("physical", "normalised"):
-            page.locator(".units-toggle button", has_text=unit).first.click()
-            page.mouse.move(size[0] - 5, size[1] - 5)  # no hover
-            wait_until(lambda: page.locator(".units-toggle button.bk-active").first.inner_text().strip() == unit, 20,
-                       message=f"{unit} selected")
-            page.wait_for_timeout(400)  # the buttons' transition
-            colours = {buttons.nth(i).inner_text().strip(): buttons.nth(i).evaluate(background) for i in range(2)}
-            other = next(u for u in colours if u != unit)
-            assert colours[unit] != colours[other], colours
-            assert colours[unit] == "rgb(0, 114, 181)" and colours[other] in ("rgba(0, 0, 0, 0)", "rgb(255, 255, 255)"), \
-                colours
-        # Play / Pause
         play = page.locator(".play-period button").first
-        assert play.inner_text().strip() == PLAY
-        page.locator(".player-speed select").first.select_option(label="fast")
-        play.click()
-        wait_until(lambda: play.inner_text().strip() == PAUSE, 10, message="Pause while it plays")
-        wait_until(lambda: play.inner_text().strip() == PLAY, 60, message="Play again when the period is over")
-        # the Paper's figures tab: a spinner at once, then the figures (once: the tab's build is the same at both
-        # sizes, and it is the longest part of the test)
-        if size == SIZES[0]:
-            page.get_by_text("Paper's figures", exact=True).first.click()
-            building = page.locator(".tab-building >> visible=true")
-            building.first.wait_for(state="visible", timeout=3_000)
-            page.get_by_text("Building “Paper's figures”…").first.wait_for(state="visible", timeout=3_000)
-            wait_until(lambda: any(f["title"].startswith("Fig") for f in page.evaluate(_GEOMETRY)) or None, 120,
-                       interval=0.2, message="the paper's figures drawn")
-            wait_until(lambda: building.count() == 0, 10, message="the spinner gone")
+        for width, height in SIZES:
+            page.set_viewport_size({"width": width, "height": height})
+            for unit in ("physical", "normalised"):
+                page.locator(".units-toggle button", has_text=unit).first.click()
+                page.mouse.move(width - 5, height - 5)  # no hover
+                wait_until(lambda: page.locator(".units-toggle button.bk-active").first.inner_text().strip() == unit,
+                           20, message=f"{unit} selected")
+                page.wait_for_timeout(400)  # the buttons' transition
+                colours = {buttons.nth(i).inner_text().strip(): buttons.nth(i).evaluate(background) for i in range(2)}
+                other = next(u for u in colours if u != unit)
+                assert colours[unit] != colours[other], (width, colours)
+                assert colours[unit] == "rgb(0, 114, 181)" and \
+                    colours[other] in ("rgba(0, 0, 0, 0)", "rgb(255, 255, 255)"), (width, colours)
+            # Play / Pause
+            assert play.inner_text().strip() == PLAY
+            page.locator(".player-speed select").first.select_option(label="fast")
+            play.click()
+            wait_until(lambda: play.inner_text().strip() == PAUSE, 10, message=f"Pause while it plays ({width})")
+            wait_until(lambda: play.inner_text().strip() == PLAY, 60,
+                       message=f"Play again when the period is over ({width})")
+        # the Paper's figures tab: a spinner at once, then the figures
+        page.set_viewport_size({"width": SIZES[0][0], "height": SIZES[0][1]})
+        page.get_by_text("Paper's figures", exact=True).first.click()
+        building = page.locator(".tab-building >> visible=true")
+        building.first.wait_for(state="visible", timeout=3_000)
+        page.get_by_text("Building “Paper's figures”…").first.wait_for(state="visible", timeout=3_000)
+        wait_until(lambda: any(f["title"].startswith("Fig") for f in page.evaluate(_GEOMETRY)) or None, 120,
+                   interval=0.2, message="the paper's figures drawn")
+        wait_until(lambda: building.count() == 0, 10, message="the spinner gone")
         assert page.problems == [], page.problems
     finally:
         page.close()

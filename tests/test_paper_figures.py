@@ -209,26 +209,26 @@ def test_recompute_button_redraws_with_fresh_data():
 # the tab, served and drawn by Chromium
 # --------------------------------------------------------------------------
 @pytest.mark.browser
-def test_served_tab_draws_in_chromium_without_console_errors(fresh_thread):
-    fresh_thread(_draw_in_chromium)
+def test_served_tab_draws_in_chromium_without_console_errors(fresh_thread, paper_figures_url):
+    """The tab alone, served beside the app by the suite's shared server (tests/conftest.py)."""
+    fresh_thread(_draw_in_chromium, paper_figures_url)
 
 
-def _draw_in_chromium():
-    from app.serving import chromium, served_app, wait_until
+def _draw_in_chromium(url):
+    from app.serving import chromium, wait_until
 
-    with served_app(script="tests/paper_figures_app.py", timeout=120) as url:
-        with chromium() as browser:
-            page = browser.new_page(viewport={"width": 1280, "height": 720})
-            errors, failed = [], []
-            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-            page.on("pageerror", lambda e: errors.append(str(e)))
-            page.on("requestfailed", lambda r: failed.append(r.url))
-            page.goto(url, timeout=120_000)
-            count = """() => { const d = window.Bokeh && Bokeh.documents[0]; if (!d) return -1;
-                return [...d.all_models].filter(m => m.type === 'Figure' || m.type === 'Plot')
-                  .filter(p => p.renderers.some(r => r.data_source && r.data_source.get_length() > 0)).length; }"""
-            wait_until(lambda: page.evaluate(count) == len(pf.FIGURES), 120, message="every figure drawn")
-            page.get_by_role("button", name="Recompute Fig 15 with the solver").click()
-            wait_until(lambda: page.get_by_text("recomputed now").count() > 0, 60, message="recompute status")
-            assert not errors, errors
-            assert not failed, failed
+    with chromium() as browser:
+        page = browser.new_page(viewport={"width": 1280, "height": 720})
+        errors, failed = [], []
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.on("requestfailed", lambda r: failed.append(r.url))
+        page.goto(url, timeout=120_000)
+        count = """() => { const d = window.Bokeh && Bokeh.documents[0]; if (!d) return -1;
+            return [...d.all_models].filter(m => m.type === 'Figure' || m.type === 'Plot')
+              .filter(p => p.renderers.some(r => r.data_source && r.data_source.get_length() > 0)).length; }"""
+        wait_until(lambda: page.evaluate(count) == len(pf.FIGURES), 120, message="every figure drawn")
+        page.get_by_role("button", name="Recompute Fig 15 with the solver").click()
+        wait_until(lambda: page.get_by_text("recomputed now").count() > 0, 60, message="recompute status")
+        assert not errors, errors
+        assert not failed, failed
