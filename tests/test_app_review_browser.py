@@ -41,11 +41,11 @@ def test_a_refused_input_stops_the_spinner_and_the_solving_numbers(browser, app_
 
 
 #: The key figures of the first screen (figures of app.figures.KEY_FIGURES), by their titles.
-def _key_titles(body):
+def _key_titles(body, loading="rocking"):
     from app.figures import key_figures
     from app.plots import FIGURES
 
-    return [FIGURES[name]["opts"]["title"] for name in key_figures(body)]
+    return [FIGURES[name]["opts"]["title"] for name in key_figures(body, loading)]
 
 
 @pytest.mark.parametrize("body", ["cylinder", "sphere", "cone"])
@@ -57,7 +57,7 @@ def test_the_tangential_loading_keeps_the_first_screen(browser, app_url, body):
     tell yet, and the badge says UNDETERMINED, not what the review saw.)"""
     from app.slides import FIGURE_VIEWS_JS
 
-    titles = _key_titles(body)
+    titles = _key_titles(body, "tangential")  # the first screen follows the loading: the loop beside the displacement
     page = _open(browser, app_url, (1280, 720), f"?body={body}&loading=tangential")
     try:
         page.locator("[data-regime='cyclic slip']").first.wait_for(timeout=120_000)
