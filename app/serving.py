@@ -22,7 +22,7 @@ from pathlib import Path
 
 from core.verdict import REGIMES
 
-__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "VERDICT_SELECTOR", "SLIDER_TITLES_JS", "open_page",
+__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "VERDICT_SELECTOR", "SLIDER_TITLES_JS", "CURVE_POINTS_JS", "open_page",
            "wait_until", "free_port", "served_app",
            "chromium", "dask_cluster", "tasks_done", "scroll_through", "ServerExited"]
 
@@ -78,6 +78,20 @@ const find = (pred) => {
   return null;
 };
 """
+
+#: JavaScript for ``page.evaluate(CURVE_POINTS_JS, title)``: how many points the curves of the figure titled
+#: ``title`` hold (their ``Q`` column; null before the figure is drawn): a fretting loop's data has reached the page.
+CURVE_POINTS_JS = "(title) => {" + FIND_MODEL_JS + """
+  const fig = find((m) => m.title != null && m.title.text === title);
+  if (fig === null) return null;
+  let points = 0;
+  for (const r of fig.renderers) {
+    const d = r.data_source == null ? null : r.data_source.data;
+    const q = d == null ? null : (d instanceof Map ? d.get('Q') : d.Q);
+    if (q != null) points += q.length;
+  }
+  return points;
+}"""
 
 #: JavaScript for ``page.evaluate`` (after app.slides.VIEWS_JS): scrolls the first figure place that is not drawn
 #: yet (an :class:`app.live.WhenShown` still in the page) into view; returns how many such places are left.

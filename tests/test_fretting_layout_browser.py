@@ -12,7 +12,7 @@ import pytest
 
 from app.figures import key_figures
 from app.plots import FIGURES
-from app.serving import FIND_MODEL_JS, VERDICT_SELECTOR, open_page, wait_until
+from app.serving import CURVE_POINTS_JS, FIND_MODEL_JS, VERDICT_SELECTOR, open_page, wait_until
 from app.slides import FIGURE_BOX_JS
 from app.state import BODIES
 
@@ -25,18 +25,6 @@ QUERIES = {"tangential": "loading=tangential&amplitude=0.5&ft=0.3&w=0.5",
            "normal": "loading=normal&amplitude=0.3&phase=90&ft=0.3&w=0.5",
            "rocking": "ft=0.3&w=0.5"}
 _SMALL = "point_resolution=4&periods=3"
-#: How many points the curves of the figure titled ``title`` hold (null before it is drawn).
-_LOOP_POINTS = "(title) => {" + FIND_MODEL_JS + """
-  const fig = find((m) => m.title != null && m.title.text === title);
-  if (fig === null) return null;
-  let points = 0;
-  for (const r of fig.renderers) {
-    const d = r.data_source == null ? null : r.data_source.data;
-    const q = d == null ? null : (d instanceof Map ? d.get('Q') : d.Q);
-    if (q != null) points += q.length;
-  }
-  return points;
-}"""
 #: The legend of the figure titled ``title``: {label: shown}, and the texts of its labels (the map's region names).
 _LEGEND = "(title) => {" + FIND_MODEL_JS + """
   const fig = find((m) => m.title != null && m.title.text === title);
@@ -135,7 +123,7 @@ def test_the_loop_beside_the_displacement_draws_the_run(browser, app_url, body):
     page = open_page(browser, f"{app_url}?body={body}&{QUERIES['tangential']}&periods=4", SIZES[0],
                      ready="[data-regime='cyclic slip']")
     try:
-        points = wait_until(lambda: page.evaluate(_LOOP_POINTS, LOOP) or None, 60, message="the loop's data")
+        points = wait_until(lambda: page.evaluate(CURVE_POINTS_JS, LOOP) or None, 60, message="the loop's data")
         assert points >= 2 * 10, points  # the first and the last period, 10 steps each at least
         _first_screen(page, _titles(body, "tangential"), *SIZES[0], f"{body}, tangential, run")
         assert page.problems == [], page.problems

@@ -4,23 +4,12 @@ fixtures ``app_url`` and ``browser`` of ``tests/conftest.py``)."""
 
 import pytest
 
-from app.serving import FIND_MODEL_JS, wait_until
+from app.serving import CURVE_POINTS_JS, wait_until
 from app.slides import FIGURE_BOX_JS, FIGURE_VIEWS_JS
 from app.styles import BADGE_COLORS
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
 
-#: How many points the curves of the figure titled ``title`` hold (null before it is drawn).
-_POINTS = "(title) => {" + FIND_MODEL_JS + """
-  const fig = find((m) => m.title != null && m.title.text === title);
-  if (fig === null) return null;
-  let points = 0;
-  for (const r of fig.renderers) {
-    const d = r.data_source == null ? null : r.data_source.data;
-    if (d != null && d.Q != null) points += d.Q.length;
-  }
-  return points;
-}"""
 #: Scrolls the figure titled ``title`` to the middle of the viewport.
 _SCROLL_TO = "(title) => {" + FIGURE_VIEWS_JS + """
   const v = figure_views().find((v) => v.model.title && v.model.title.text === title);
@@ -70,14 +59,13 @@ def test_tangential_loading_shows_cyclic_slip_and_the_fretting_loop(browser, app
         assert colour == "rgb(230, 159, 0)", colour  # BADGE_COLORS["cyclic slip"]
         # the loop: on the first screen under this loading (issue 30 item 3), in its place; apart from the badge
         page.locator(".place-loop").first.scroll_into_view_if_needed(timeout=60_000)
-        points = wait_until(lambda: page.evaluate(_POINTS, "Fretting loop"), 120, message="the fretting loop drawn")
+        points = wait_until(lambda: page.evaluate(CURVE_POINTS_JS, "Fretting loop"), 120, message="the fretting loop drawn")
         assert points >= 2 * 40  # the first and the last period, 40 steps each
         # the loop scrolled into view: all of it inside the 1280x720 viewport, not under the badge (the page
         # scrolls under the header; the badge, at the top of the main area, scrolls away or stays clear)
         page.evaluate(_SCROLL_TO, "Fretting loop")
         loop_box = wait_until(lambda: page.evaluate(FIGURE_BOX_JS, "Fretting loop"), 30, message="the loop's box")
         badge_box = _box(badge)
-        page.screenshot(path="/tmp/i30/loop_1280x720.png")
         assert loop_box["y"] >= 0 and loop_box["y"] + loop_box["height"] <= 720, loop_box
         assert loop_box["x"] >= 0 and loop_box["x"] + loop_box["width"] <= 1280 and loop_box["width"] > 250, loop_box
         assert not _overlap(badge_box, loop_box), (badge_box, loop_box)
