@@ -157,15 +157,12 @@ class ExplorerState(param.Parameterized):
             self.materials = "custom"
 
     def _coupled_beta(self) -> float | None:
-        """Dundurs' beta of these materials when a line contact of them runs coupled (:attr:`core.Contact.coupled`),
-        else None."""
-        rigid = self.rigid
+        """Dundurs' beta of the contact when its runs are coupled (:attr:`core.Contact.coupled`), else None."""
         try:
-            beta = core.materials.dundurs_beta(math.inf if rigid else self.E1 * _MPA, 0.3 if rigid else self.nu1,
-                                               self.E2 * _MPA, self.nu2)
+            contact = self.contact()
         except ValueError:
             return None
-        return beta if abs(beta) >= core.materials.COUPLING_THRESHOLD else None
+        return float(contact.beta) if contact.coupled else None
 
     # ---- derived ------------------------------------------------------------
     @property
