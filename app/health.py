@@ -18,7 +18,8 @@ server), so it runs once per server process, before the first session:
   ``SHAKEDOWN_LOOP_WATCH_MS`` is set, ``loop_max_lag_ms``: the longest the
   server's event loop was busy (blocked) since the last ``?reset=1``, and
   ``loop_max_callback_ms``: the longest single callback it ran meanwhile, and
-  ``gc_max_ms``: the longest pass of the garbage collector, and the heap's
+  ``gc_max_ms``: the longest pass of the garbage collector, ``watch_late_ms``:
+  how late the watching thread itself woke at most (its resolution), and the heap's
   counts (:meth:`app.heap.Heap.report`: sessions open, objects frozen,
   reclaims of ended sessions' objects and the longest).
 
@@ -83,7 +84,7 @@ class LoopWatch:
 
     def __init__(self, loop: ioloop.IOLoop, interval_ms: int):
         self.loop, self.interval = loop, interval_ms / 1e3
-        self.max_lag = self.max_callback = self.max_collection = 0.0
+        self.max_lag = self.max_callback = self.max_collection = self.max_late = 0.0
         self.samples = 0
         self._lock = threading.Lock()
         self._time_callbacks()
@@ -131,15 +132,25 @@ class LoopWatch:
 
     def _run(self) -> None:
         while True:
-            self.loop.add_callback(self._mark, time.perf_counter())
+            sent = time.perf_counter()
+            self.loop.add_callback(self._mark, sent)
             time.sleep(self.interval)
+            # how late this thread itself woke (the OS, or the GIL held by the loop): the watch's resolution
+            late = time.perf_counter() - sent - self.interval
+            with self._lock:
+                self.max_late = max(self.max_late, late)
 
-    def reset(self) -> tuple[float, float, float]:
-        """Start a new window; returns the largest lag, the longest callback and the longest garbage collection
-        of the old one [s]."""
+    def reset(self) -> tuple[float, float, float, float]:
+        """Start a new window; returns the largest lag, the longest callback, the longest garbage collection and
+        how late the watch's own thread woke at most, of the old one [s].
+
+        The lag under-reads a callback by at most the interval plus that lateness: a no-op asked for just after
+        a callback started waits for the rest of it, and the next is asked for an interval (and the lateness)
+        later.
+        """
         with self._lock:
-            old = (self.max_lag, self.max_callback, self.max_collection)
-            self.max_lag = self.max_callback = self.max_collection = 0.0
+            old = (self.max_lag, self.max_callback, self.max_collection, self.max_late)
+            self.max_lag = self.max_callback = self.max_collection = self.max_late = 0.0
             return old
 
 
@@ -161,10 +172,11 @@ class LivenessHandler(web.RequestHandler):
         body = runs.readiness()
         if watch is not None:
             times = watch.reset() if self.get_argument("reset", "") else (watch.max_lag, watch.max_callback,
-                                                                          watch.max_collection)
-            for key, seconds in zip(("loop_max_lag_ms", "loop_max_callback_ms", "gc_max_ms"), times):
+                                                                          watch.max_collection, watch.max_late)
+            for key, seconds in zip(("loop_max_lag_ms", "loop_max_callback_ms", "gc_max_ms", "watch_late_ms"),
+                                    times):
                 body[key] = round(1e3 * seconds, 1)
-            body["loop_samples"] = watch.samples
+            body["loop_samples"], body["loop_watch_interval_ms"] = watch.samples, round(1e3 * watch.interval, 1)
             body.update(HEAP.report())
         self.set_header("Content-Type", "application/json")
         self.set_header("Cache-Control", "no-store")

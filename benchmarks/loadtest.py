@@ -138,21 +138,24 @@ def _health(base: str, reset: bool = False, timeout: float = LIVENESS_LIMIT_S) -
 def _loop_ms(base: str, stats: dict, phase: str) -> None:
     """Since the last call (a new window starts): the longest the server's event loop was blocked, and the
     longest single callback it ran, and the garbage collector's longest pass [ms], into
-    ``stats["loop_lag_<phase>_ms"]``, ``["loop_callback_<phase>_ms"]`` and ``["gc_<phase>_ms"]``."""
-    lag = callback = collection = float("nan")
+    ``stats["loop_lag_<phase>_ms"]``, ``["loop_callback_<phase>_ms"]`` and ``["gc_<phase>_ms"]``; the watch's
+    resolution (its interval, and how late its thread woke at most) into ``stats["loop_watch_interval_ms"]`` and
+    ``["watch_late_<phase>_ms"]``."""
+    lag = callback = collection = late = float("nan")
     health: dict = {}
     for attempt in range(3):  # the loop may still be busy with sessions that are being built
         try:
             health = _health(base, reset=True, timeout=120)
             lag, callback = health.get("loop_max_lag_ms", lag), health.get("loop_max_callback_ms", callback)
-            collection = health.get("gc_max_ms", collection)
+            collection, late = health.get("gc_max_ms", collection), health.get("watch_late_ms", late)
+            stats["loop_watch_interval_ms"] = health.get("loop_watch_interval_ms", float("nan"))
             break
         except OSError as e:
             error = e
     else:
         stats["errors"].append(f"/liveness did not answer in 3 x 120 s: {type(error).__name__}")
     stats[f"loop_lag_{phase}_ms"], stats[f"loop_callback_{phase}_ms"] = lag, callback
-    stats[f"gc_{phase}_ms"] = collection
+    stats[f"gc_{phase}_ms"], stats[f"watch_late_{phase}_ms"] = collection, late
     if phase == "class":  # the heap's counts (app/heap.py): reclaims of ended sessions' objects so far
         stats["heap"] = {k: health.get(k) for k in ("sessions_open", "gc_reclaims", "gc_reclaim_max_ms")}
 
@@ -791,7 +794,9 @@ def report(stats: dict) -> str:
         f"reclaims of ended sessions' objects (longest {stats['heap'].get('gc_reclaim_max_ms')} ms)",
         f"event loop busy without a break at most (callbacks queued together run back to back): "
         f"{stats['loop_lag_cpu_ms'] / 1e3:.2f} s (one session at a time), {stats['loop_lag_burst_ms'] / 1e3:.2f} s "
-        f"(burst), {stats['loop_lag_class_ms'] / 1e3:.2f} s (class)",
+        f"(burst), {stats['loop_lag_class_ms'] / 1e3:.2f} s (class); the watch's resolution: a no-op every "
+        f"{stats['loop_watch_interval_ms']:.0f} ms, its thread late by at most {stats['watch_late_cpu_ms']:.0f}, "
+        f"{stats['watch_late_burst_ms']:.0f}, {stats['watch_late_class_ms']:.0f} ms",
         f"server memory (RSS): {stats['rss_before_mb']:.0f} MB before, {stats['rss_after_mb']:.0f} MB after "
         f"({stats['rss_after_mb'] - stats['rss_before_mb']:+.0f} MB; the result cache is bounded at {stats['cache_mb']} MB)",
         f"server stopped with exit code {stats['returncode']} in {stats['stop_s']:.1f} s; "

@@ -37,7 +37,11 @@ def test_a_few_sessions_for_a_few_seconds_without_an_error(fresh_thread):
     assert stats["patches_answered"] == stats["patches_sent"] > 0, "the server answered every slider message"
     assert stats["cpu_explorer_s"] > 0 and stats["cpu_yardstick_s"] > 0, "the server's CPU time was read"
     assert stats["loop_lag_class_ms"] > 0 and stats["loop_callback_class_ms"] > 0, "the event loop was watched"
-    assert stats["loop_callback_cpu_ms"] <= stats["loop_lag_cpu_ms"] + 100, "a callback blocks the loop, at most"
+    # a callback blocks the loop: the watch's lag reads it, short by at most the watch's resolution (the interval
+    # between its no-ops and how late its own thread woke; a loaded CI machine delays that thread), 1 ms rounding
+    for phase in ("cpu", "burst", "class"):
+        resolution = stats["loop_watch_interval_ms"] + stats[f"watch_late_{phase}_ms"] + 1
+        assert stats[f"loop_callback_{phase}_ms"] <= stats[f"loop_lag_{phase}_ms"] + resolution, phase
     # no growth beyond the bound of the shared result cache (plus the sessions' own state)
     assert stats["rss_after_mb"] - stats["rss_before_mb"] < stats["cache_mb"] + 200
     assert stats["returncode"] == 0, "the server shut down cleanly on SIGTERM"
