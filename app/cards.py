@@ -433,8 +433,8 @@ class CardsMixin:
                        f"{(1 - w) / self.state.dx * 2:.0f} elements.")
         if result is not None and result.params.get("history") == "normal":
             out.append(f"the normal force oscillates by ±{100 * float(result.params.get('amplitude', 0)):.0f} %: "
-                       "eq 35, the closure and the Hertz curves are those of the mean force; the solver's "
-                       "verdict is the one to trust.")
+                       "eq 35 and the Hertz curves at xc = 0, ±W are those of the mean force; the figures draw "
+                       "the run's own lowest pressure and no closure; the solver's verdict is the one to trust.")
         if result is not None:
             n_b = 2 * (1 - float(result.params.get("w", w))) / result.dx
             if n_b < 8:

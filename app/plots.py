@@ -225,10 +225,14 @@ def pressure_curves(w: float, units: Units, body=None) -> tuple:
 
 @_memo
 def pressure_step(units: Units, result: core.CycleResult | None = None, frame: int | None = None) -> tuple:
-    """Hertz pressure at the player's step (empty without a run)."""
+    """The pressure at the player's step (empty without a run): the body's closed form at the step's centre where
+    :func:`closed_forms_apply`, the run's own element pressures otherwise."""
     if result is None:
         return _EMPTY
-    xc = float(result.xc[_step(result, frame)])
+    k = _step(result, frame)
+    if not closed_forms_apply(result):  # coupled, or an oscillating normal force: the run's own pressure
+        return _run_stairs(result, result.pressure[k], units.x, units.p)
+    xc = float(result.xc[k])
     body = line_body(result)
     if body is not None:
         xs, p, _ = _body_pressure(body, float(result.params.get("w", 0.0)))
@@ -243,11 +247,42 @@ def _tangential(result) -> bool:
     return result is not None and result.params.get("history") == "tangential"
 
 
+def closed_forms_apply(result, rocking: bool = False) -> bool:
+    """Whether the closed forms drawn as references describe ``result``: no run yet (they follow the sliders), or
+    a run of an uncoupled contact under a constant normal force (the body's pressure, its lowest over the cycle);
+    with ``rocking``, also rocked (the paper's closure and u_sd of eq 34 are the rocking's). Under the
+    oscillating normal force the lowest pressure is lower, and with coupling (beta != 0) the pressure is not
+    Hertz's: the figures then draw the run's own pressures."""
+    if result is None:
+        return True
+    history = result.params.get("history", "rocking")
+    constant = history in ("rocking", "tangential") or (
+        history == "normal" and float(result.params.get("amplitude", 0.0)) == 0.0)
+    uncoupled = float(getattr(result, "beta", 0.0) or 0.0) == 0.0
+    return constant and uncoupled and not (rocking and history == "tangential")
+
+
+def _run_stairs(result, values, scale_x: float, scale_v: float) -> tuple:
+    """Element values of a line run drawn as stairs over its elements."""
+    return (np.repeat(result.edges * scale_x, 2)[1:-1], np.repeat(scale_v * np.asarray(values), 2))
+
+
+def _run_lowest(result, scale_x: float, scale_v: float) -> tuple:
+    """The run's own lowest pressure of its last period (:attr:`core.CycleResult.lowest_pressure`), as stairs."""
+    if result is None or result.lowest_pressure is None or np.ndim(result.lowest_pressure) != 1:
+        return _EMPTY
+    return _run_stairs(result, result.lowest_pressure, scale_x, scale_v)
+
+
 def _pressure_layers(i: Inputs) -> tuple:
-    if _tangential(i.result):  # a fixed centre: its Hertz pressure is the lowest; no reversal points ±W
+    if _tangential(i.result):  # a fixed centre: no reversal points ±W
         centre, _, _, low = pressure_curves(0.0, i.units, line_body(i.result))
-        return centre, _EMPTY, _EMPTY, low, pressure_step(i.units, i.result, i.frame)
-    return (*pressure_curves(i.w, i.units, line_body(i.result)), pressure_step(i.units, i.result, i.frame))
+        side = (_EMPTY, _EMPTY)
+    else:
+        centre, *side, low = pressure_curves(i.w, i.units, line_body(i.result))
+    if not closed_forms_apply(i.result):  # the run's own lowest pressure: the closed form's is not its
+        low = _run_lowest(i.result, i.units.x, i.units.p * i.units.mu)
+    return (centre, *side, low, pressure_step(i.units, i.result, i.frame))
 
 
 # --------------------------------------------------------------------------
@@ -365,15 +400,19 @@ def traction_run(units: Units, result: core.CycleResult | None = None, frame: in
     k = _step(result, frame)
     zones = _zone_rectangles(result.edges, traction_zones(result, k), 1.15 * Q, X)
     xe, bound = result.x * X, Q * result.pressure[k]
-    stairs = (np.repeat(result.edges * X, 2)[1:-1], np.repeat(Q * result.traction[k], 2))
-    return (*zones, (xe, bound), (xe, -bound), stairs)
+    return (*zones, (xe, bound), (xe, -bound), _run_stairs(result, result.traction[k], X, Q))
 
 
 def _traction_layers(i: Inputs) -> tuple:
     *zones_and_bounds, numerical = traction_run(i.units, i.result, i.frame)
     body = line_body(i.result)
-    return (*zones_and_bounds, *traction_bounds(i.w, i.units, body), traction_closure(i.ft, i.w, i.units, body), numerical,
-            *pinned.layers("traction", i.pinned, i.units))
+    if closed_forms_apply(i.result):  # (a fixed centre under the tangential loading: its pressure's bound)
+        bounds = traction_bounds(0.0 if _tangential(i.result) else i.w, i.units, body)
+        closure = traction_closure(i.ft, i.w, i.units, body) if closed_forms_apply(i.result, rocking=True) else _EMPTY
+    else:  # the paper's closure is the constant-load rocking's; the bounds are the run's own lowest pressure
+        low = _run_lowest(i.result, i.units.x, i.units.q)
+        bounds, closure = (low, (low[0], -low[1])), _EMPTY
+    return (*zones_and_bounds, *bounds, closure, numerical, *pinned.layers("traction", i.pinned, i.units))
 
 
 # --------------------------------------------------------------------------
@@ -483,7 +522,7 @@ def displacement_curves(result: core.CycleResult | None, units: Units) -> tuple:
     usd = []
     ft, w = float(result.params.get("ft", 0.0)), float(result.params.get("w", 0.0))
     if (line_body(result) is None and result.u0 and 0 <= ft < 1 and ft <= float(core.ft_limit(w))
-            and not _tangential(result)):  # eq 34 is the rocking cylinder's
+            and closed_forms_apply(result, rocking=True)):  # eq 34 is the rocking cylinder's, under constant loads, uncoupled
         usd = [float(approx.shakedown_displacement_approx(ft, w)) * result.u0 * units.u]
     return (time_axis(result), result.displacement * units.u), usd
 
