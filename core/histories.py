@@ -256,10 +256,14 @@ def with_path(schedule, path, build, ft, *, w=0.0, dW=0.025, load_steps=1, oscil
         add(x0 * (1.0 - ramp(max(1, math.ceil(abs(x0) / dW - 1e-9)))), P0, levels[0])
     # 3. the preloads, then 4. the history's own level and periods
     current = levels[0]
-    for f, amplitude, n in path.preload:
+    for i, (f, amplitude, n) in enumerate(path.preload):
         if f != current:
             add(0.0, P0, current + (f - current) * ramp(load_steps))
-        add(*periods_of(build(f, amplitude, n), f))
+        try:
+            preload = build(f, amplitude, n)
+        except ValueError as e:
+            raise ValueError(f"preload[{i}] = ({f:g}, {amplitude:g}, {n}) is not a valid history: {e}") from e
+        add(*periods_of(preload, f))
         current = f
     if ft != current:
         add(0.0, P0, current + (ft - current) * ramp(load_steps))
