@@ -96,26 +96,31 @@ def run(quick=False) -> str:
                     r = core.simulate_cycles(ft, W, periods=PERIODS, dx=DX, beta=beta, mu=MU, path=text)
                     cpu = time.process_time() - t0
                     inc, energy = float(r.increment_per_period[-1]), float(r.dissipation_per_period[-1])
-                    rows.append((r.regime, inc, energy))
+                    rows.append((r.regime, inc, energy, r.periodic_from is not None))
                     periodic = "-" if r.periodic_from is None else str(r.periodic_from)
                     print(f"{beta:6.2f} {fraction:6.2f} {ft:7.4f}  {name:<28} {r.regime:<12} {inc:11.4e} "
                           f"{energy:11.4e} {r.D_inf:11.4e} {periodic:>8} {cpu:6.1f}", flush=True)
                 groups[(beta, fraction)] = rows
         print()
-        print("per (beta, ft): the regimes over the paths (how many of each) and the spread of the last period's "
-              "increment and energy over the paths, (max - min) / max")
-        print(f"{'beta':>6} {'ft/lim':>6}  {'regimes':<40} {'increment min..max':>24} {'spread':>8} "
-              f"{'energy min..max':>24} {'spread':>8}")
+        print("per (beta, ft): the regimes over the paths (how many of each), how many runs reached a repeating "
+              "state in the periods run, and the spread of the last period's increment and energy over the paths, "
+              "(max - min) / max; 'of repeated': the energy's spread over the runs whose state repeated (a steady "
+              "state, not a transient still decaying)")
+        print(f"{'beta':>6} {'ft/lim':>6}  {'regimes':<30} {'repeated':>8} {'increment min..max':>23} {'spread':>7} "
+              f"{'energy min..max':>23} {'spread':>7} {'of repeated':>11}")
         for (beta, fraction), rows in groups.items():
             regimes = {}
-            for regime, _, _ in rows:
+            for regime, *_ in rows:
                 regimes[regime] = regimes.get(regime, 0) + 1
             inc = np.array([abs(r[1]) for r in rows])
             en = np.array([r[2] for r in rows])
-            spread = lambda a: (a.max() - a.min()) / a.max() if a.max() > 0 else 0.0  # noqa: E731
+            steady = np.array([r[2] for r in rows if r[3]])
+            spread = lambda a: (a.max() - a.min()) / a.max() if a.size and a.max() > 0 else 0.0  # noqa: E731
             text = ", ".join(f"{k} x{v}" for k, v in regimes.items())
-            print(f"{beta:6.2f} {fraction:6.2f}  {text:<40} {inc.min():11.3e}..{inc.max():11.3e} {spread(inc):8.1e} "
-                  f"{en.min():11.3e}..{en.max():11.3e} {spread(en):8.1e}")
+            repeated = f"{steady.size}/{len(rows)}"
+            of_steady = f"{spread(steady):11.1e}" if steady.size > 1 else f"{'-':>11}"
+            print(f"{beta:6.2f} {fraction:6.2f}  {text:<30} {repeated:>8} {inc.min():11.3e}..{inc.max():10.3e} "
+                  f"{spread(inc):7.1e} {en.min():11.3e}..{en.max():10.3e} {spread(en):7.1e} {of_steady}")
     return out.getvalue()
 
 

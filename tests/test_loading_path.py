@@ -207,3 +207,21 @@ def test_shakedown_run_takes_path(capsys):
     assert code == 2 and "--path" in err and "first" in err and "Traceback" not in err
     code = main(["run", "--help"])
     assert "--path" in capsys.readouterr().out
+
+
+# --------------------------------------------------------------------------
+# coupled: a mirror symmetry the path makes testable
+# --------------------------------------------------------------------------
+@pytest.mark.parametrize("path, mirrored", [("default", "first=-1"), ("start=+W", "start=-W,first=-1"),
+                                            ("order=together,ramp=5", "order=together,ramp=5,first=-1")])
+def test_minus_beta_is_beta_with_the_rocking_mirrored(path, mirrored):
+    # x -> -x turns (beta, Q, xc) into (beta, -Q, -xc), and q -> -q turns (beta, Q) into (-beta, -Q): together
+    # (beta, xc) runs as (-beta, -xc) under the same Q, so the path mirrored at -beta walks and dissipates the same
+    kw = dict(periods=6, dx=0.05, mu=0.3)
+    a = core.simulate_cycles(0.18, 0.6, beta=0.25, path=path, **kw)
+    b = core.simulate_cycles(0.18, 0.6, beta=-0.25, path=mirrored, **kw)
+    np.testing.assert_allclose(b.increment_per_period, a.increment_per_period, rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(b.dissipation_per_period, a.dissipation_per_period, rtol=1e-6, atol=1e-9)
+    assert a.regime == b.regime
+    c = core.simulate_cycles(0.18, 0.6, beta=-0.25, path=path, **kw)  # not mirrored: another transient
+    assert not np.allclose(c.increment_per_period, a.increment_per_period, rtol=1e-3)
