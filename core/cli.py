@@ -274,10 +274,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--path", type=_arg(_loading_path), action=_Once, metavar="FIELDS",
         help="the loading path before the periods (core.LoadingPath; the verdict reads the periods after it): "
-             "comma-separated KEY=VALUE, any of order=P-then-Q|together (P raised before Q, the default, or both "
-             "in proportion), ramp=N (steps of the P ramp, in [0, 10000]; 0: P at once, or with together the "
-             "--load-steps), first=+1|-1 (the centre first towards +W or -W), start=X|+W|-W (the centre while the "
-             "loads are raised, a fraction of W in [-1, 1]; then back to 0), preload=FT:W:N[+FT:W:N...] (N "
+             "comma-separated KEY=VALUE, any of order=P-then-Q or order=together (P raised before Q, the default, "
+             "or both in proportion), ramp=N (steps of the P ramp, in [0, 10000]; 0: P at once, or with together "
+             "the --load-steps), first=+1 or first=-1 (the centre first towards +W or -W), start=X, start=+W or "
+             "start=-W (the centre while the loads are raised, a fraction X of W in [-1, 1]; then back to 0), "
+             "preload=FT:W:N[+FT:W:N...] (N "
              "earlier periods at each other ft and w; with --history tangential W is the force's amplitude); "
              "e.g. --path order=together,ramp=10,first=-1,start=+W,preload=0.2:0.6:5 (default: P and Q at once "
              "at xc = 0, then towards +W)")
