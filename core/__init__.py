@@ -31,6 +31,7 @@ def _load_locked():
         from . import approximations, histories  # noqa: F401
         from .kernels import influence_matrix, strip_u0  # noqa: F401
         from .schedule import Schedule, rocking_schedule  # noqa: F401
+        from .paths import LoadingPath  # noqa: F401
         from .states import State, Zone, STATE_NAMES, ZONE_NAMES, RESIDUAL_NAMES  # noqa: F401
         from .bodies import BODIES, Body, Cylinder, LineGrid, Punch, get_body, NORMAL_CHOICES  # noqa: F401
         from .normal import NormalSolution, solve_normal, solve_line, solve_patch  # noqa: F401

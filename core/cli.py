@@ -186,10 +186,17 @@ def _add_solver_options(parser, kernel_default="plane", mu_flag=True):
 
 
 _SOLVER_DESTS = ("body", "normal", "solver", "history", "periods", "dx", "dW", "kernel", "shape", "load_steps", "L_over_a", "nu",
-                 "shakedown_rtol", "time_budget", "beta")
+                 "shakedown_rtol", "time_budget", "beta", "path")
 # every parameter name a library message may use, spelled as a flag by flag_names
 _FLAGGED = (*_SOLVER_DESTS, "materials", "ft", "w", "tol", "max_runs", "workers", "max_workers", "scheduler", "R1", "L", "Fn",
             "mu", "E2", "nu2", "E1", "nu1", "R2", "Ft", "W")
+
+
+def _loading_path(text):
+    """``--path``'s text as a :class:`core.paths.LoadingPath` (a ValueError naming the field otherwise)."""
+    from .paths import LoadingPath
+
+    return LoadingPath.parse(_text("path", text))
 
 
 def _add_execution_options(parser):
@@ -264,6 +271,17 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--W", type=_number("W", 0.0, None), action=_Once,
                    help="rocking amplitude of the contact centre [m], in [0, a) (or give --w)")
     _add_solver_options(run, kernel_default="plane; strip for a physical contact", mu_flag=False)
+    run.add_argument(
+        "--path", type=_arg(_loading_path), action=_Once, metavar="FIELDS",
+        help="the loading path before the periods (core.LoadingPath; the verdict reads the periods after it): "
+             "comma-separated KEY=VALUE, any of order=P-then-Q or order=together (P raised before Q, the default, "
+             "or both in proportion), ramp=N (steps of the P ramp, in [0, 10000]; 0: P at once, or with together "
+             "the --load-steps), first=+1 or first=-1 (the centre first towards +W or -W), start=X, start=+W or "
+             "start=-W (the centre while the loads are raised, a fraction X of W in [-1, 1]; then back to 0), "
+             "preload=FT:W:N[+FT:W:N...] (N "
+             "earlier periods at each other ft and w; with --history tangential W is the force's amplitude); "
+             "e.g. --path order=together,ramp=10,first=-1,start=+W,preload=0.2:0.6:5 (default: P and Q at once "
+             "at xc = 0, then towards +W)")
     run.add_argument("--out", type=_output((".csv", ".json")), action=_Once, metavar="FILE",
                      help="also write the result: FILE.csv (one row of scalars) or FILE.json "
                           "(scalars, increments per period, contact)")
@@ -548,6 +566,8 @@ def _cmd_run(args) -> int:
         history, f"{s['shape']} rocking")
     head = (f"ft = {ft:.6g}, w = {w:.6g}: {model}, {loading}, "
             f"{s['periods']} periods, dx = {s['dx']:.6g} a")
+    if "path" in result.params:
+        head += f"\nloading path: {result.params['path']} (the verdict reads the periods after it)"
     if getattr(result, "coupled", False):
         head += f"\ncoupled: Dundurs beta = {result.beta:.4g}, mu = {result.mu:g} (normal and tangential solved together)"
     if contact is not None:

@@ -33,6 +33,7 @@ from .engine import check_solver, make_operator, run, select_solver, solve_step
 from .registry import kind, point_body, resolve
 from . import histories
 from .schedule import Schedule
+from .paths import as_path
 
 __all__ = ["simulate_cycles", "solve_schedule", "solve_static", "shakedown_state",
            "simulate_point_contact", "StaticSolution", "ShakedownState", "make_grid", "DEFAULT_DX", "MAX_ELEMENTS", "MAX_FFT_ELEMENTS", "MAX_STORED_VALUES",
@@ -358,7 +359,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
                     load_steps=1, L_over_a=None, nu=0.5, tol=None, detect_periodic=True,
                     shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, solver="auto",
                     body="cylinder", ratio=None, angle=0.0, history="rocking", amplitude=None, phase=0.0,
-                    normal="auto", periodic_tol=None, beta=0.0, mu=None):
+                    normal="auto", periodic_tol=None, beta=0.0, mu=None, path=None):
     """Simulate the rocking contact in normalised units (``a = 1``): loading, then ``periods`` periods.
 
     Parameters
@@ -450,6 +451,12 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     mu : float, optional
         The friction coefficient, in (0, 10]: required with ``beta != 0`` (Spence's parameter is
         ``beta/mu``), accepted and irrelevant at ``beta = 0``.
+    path : LoadingPath, str or dict, optional
+        The loading path of a named history (:class:`core.paths.LoadingPath`, or its text
+        ``"order=together,ramp=10,first=-1,start=+W,preload=0.5:0.3:5"``): the order and steps in which ``P``
+        and ``Q`` are raised, where the centre is then, the first direction of the rocking, earlier periods at
+        other loads. All of it is the loading block: the increments, energies and verdict are those of the
+        ``periods`` after it. Default: today's loading (``Q`` at ``xc = 0``, then ``0 -> +W``), bitwise.
 
     Returns
     -------
@@ -486,8 +493,9 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     tol = defaults.tol if tol is None else tol
     dx = check_scalar("dx", default_dx(spec) if dx is None else dx, defaults.min_dx, 0.5)
     dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
+    path = as_path(path)
     schedule = histories.for_run(history, ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps,
-                                 amplitude=amplitude, phase=phase)
+                                 amplitude=amplitude, phase=phase, path=path)
     if line:
         options = _kernel_options(kernel, L_over_a, nu)
         params = dict(ft=float(ft), w=float(w), periods=int(periods), dx=dx, dW=dW, kernel=kernel, shape=shape,
@@ -509,6 +517,8 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
             del params[name]
     if params["history"] in ("normal", "tangential"):
         params.update(amplitude=float(histories.default_amplitude(history, ft, amplitude)), phase=float(phase))
+    if not path.is_default:  # its text (core.paths.LoadingPath.parse reads it back)
+        params["path"] = str(path)
     common = dict(tol=tol, detect_periodic=detect_periodic, shakedown_rtol=shakedown_rtol, params=params,
                   time_budget=time_budget, cancel=cancel, progress=progress, solver=solver, normal=normal)
     if line:
@@ -522,13 +532,13 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
 def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere", ratio=None, angle=0.0, nu=0.5,
                            shape="triangle", load_steps=1, tol=None, detect_periodic=True, periodic_tol=None,
                            shakedown_rtol=1e-3, time_budget=None, cancel=None, progress=None, normal="auto",
-                           solver="auto", history="rocking", amplitude=None, phase=0.0):
+                           solver="auto", history="rocking", amplitude=None, phase=0.0, path=None):
     """Simulate a point contact in normalised units: :func:`simulate_cycles` with a point body (the sphere by default).
 
     Parameters
     ----------
     ft, w, periods, dx, dW, ratio, angle, nu, shape, load_steps, tol, detect_periodic, shakedown_rtol,
-    time_budget, cancel, progress, normal, solver, history, amplitude, phase :
+    time_budget, cancel, progress, normal, solver, history, amplitude, phase, path :
         As in :func:`simulate_cycles` (``dx`` the element side, in [0.005, 0.5]; default
         :func:`core.resolution.default_dx`, 1/20).
     body : {"sphere", "ellipsoid", ...} or a point body object
@@ -556,4 +566,4 @@ def simulate_point_contact(ft, w, periods=10, dx=None, dW=None, *, body="sphere"
                            load_steps=load_steps, tol=tol, detect_periodic=detect_periodic,
                            periodic_tol=periodic_tol, shakedown_rtol=shakedown_rtol, time_budget=time_budget,
                            cancel=cancel, progress=progress, normal=normal, solver=solver, history=history,
-                           amplitude=amplitude, phase=phase)
+                           amplitude=amplitude, phase=phase, path=path)

@@ -20,7 +20,7 @@ CORE = ROOT / "core"
 LAYERS = {
     "utilities": ["_validate", "_jit", "_hertz", "states", "progress"],
     "closed forms": ["analytical", "approximations", "punch", "point_contact", "materials"],
-    "histories": ["schedule", "histories"],
+    "histories": ["paths", "schedule", "histories"],
     "elasticity": ["kernels", "operators", "halfspace", "coupling"],
     "normal": ["normal", "melan"],
     "bodies": ["bodies", "heightmap", "cone", "patch", "registry", "resolution"],
