@@ -147,6 +147,38 @@ class CoupledLimitCurve:
         """CPU time of the whole curve [s]."""
         return float(sum(p.cpu_s for p in self.points))
 
+    def ft_limit_at(self, w) -> float:
+        """The coupled limit at ``w`` between the curve's amplitudes: the ratio ``ft_limit / eq 35`` interpolated
+        linearly in ``w`` (it varies slowly, eq 35 carries the steep part), times eq 35 at ``w``.
+
+        Parameters
+        ----------
+        w : float
+            Rocking amplitude ``W / a``, in [0, 1).
+
+        Returns
+        -------
+        float
+            The interpolated limit, NaN outside the range of the converged points' ``w`` (no extrapolation).
+
+        Examples
+        --------
+        >>> from core.coupled_limits import CoupledLimit, CoupledLimitCurve
+        >>> pts = tuple(CoupledLimit(w, 0.9 * e, 0.92 * e, e, True, ()) for w, e in ((0.3, 0.6238), (0.5, 0.3910)))
+        >>> curve = CoupledLimitCurve(0.25, 0.3, 0.05, 0.02, 20, pts)
+        >>> round(curve.ft_limit_at(0.4), 4), curve.ft_limit_at(0.6)
+        (0.4592, nan)
+        """
+        from .analytical import ft_limit as eq35
+
+        w = check_scalar("w", w, 0.0, 1.0, hi_closed=False)
+        ok = [p for p in self.points if p.converged]
+        ws = np.array([p.w for p in ok])
+        if ws.size == 0 or not ws.min() - 1e-12 <= w <= ws.max() + 1e-12:
+            return math.nan
+        ratio = np.interp(w, ws, [p.ft_limit / p.ft_eq35 for p in ok])
+        return float(ratio * float(eq35(w)))
+
     def at(self, w: float) -> CoupledLimit | None:
         """The limit at the curve's ``w`` nearest ``w`` if within 1e-9 of it, else None."""
         for p in self.points:
