@@ -633,6 +633,16 @@ class LimitCurves:
         self._pool.submit(self._compute, key, entry)
         return key, None
 
+    def cached(self, key: tuple):
+        """The complete curve ``key`` if it is cached, else None."""
+        with self._lock:
+            return self._done.get(key)
+
+    def running(self, key: tuple) -> bool:
+        """Whether curve ``key`` is being computed (or waits for the curve before it)."""
+        with self._lock:
+            return key in self._running
+
     def cancel(self, key: tuple, listener) -> None:
         """``listener`` no longer waits for curve ``key`` (a curve nobody waits for stops at its next run)."""
         with self._lock:

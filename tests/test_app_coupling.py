@@ -5,11 +5,30 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 import core
-from app.cards import coupled_beta, cylinder_rows
+from app import plots
+from app.cards import coupled_beta, coupled_prediction, cylinder_rows
+from app.runs import LimitCurves
 from app.state import ExplorerState
+from core.coupled_limits import CoupledLimit, CoupledLimitCurve
+
+
+def _curve(beta=0.25, mu=0.3, amplitudes=(0.3, 0.5)):
+    """A coupled limit curve made by hand (no solver): brackets at [0.90, 0.92] x eq 35."""
+    pts = tuple(CoupledLimit(w, 0.90 * float(core.ft_limit(w)), 0.92 * float(core.ft_limit(w)),
+                             float(core.ft_limit(w)), True, ()) for w in amplitudes)
+    return CoupledLimitCurve(beta, mu, 0.05, 0.02, 20, pts)
+
+
+def _map(curve, ft=0.3, w=0.4) -> dict:
+    """The map's layers by legend label (the unlabelled ones as '' + their index)."""
+    inputs = plots.Inputs(ft=ft, w=w, units=plots.Units("normalised"), coupled=curve)
+    specs, data = plots.specs("map", inputs.units), plots.layers("map", inputs)
+    assert len(specs) == len(data)
+    return {(s.label or f"#{i}"): d for i, (s, d) in enumerate(zip(specs, data))}
 
 
 def test_a_materials_pair_sets_both_bodies_and_a_typed_value_makes_it_custom():
@@ -65,3 +84,93 @@ def test_the_explorer_runs_a_coupled_contact_and_says_its_limit_is_a_reference(b
     state.param.update(rigid=False, E1=210e3, nu1=0.3, E2=70e3, nu2=0.33, ft=0.4, w=0.3)
     run = state.contact().simulate(**state.solver_options())  # what app.runs solves for the page
     assert run.coupled and run.beta == pytest.approx(beta) and run.solver == "coupled"
+
+
+def test_the_map_draws_the_coupled_limit_beside_eq_35_as_the_uncoupled_reference():
+    plain = _map(None)
+    assert plain["eq 35 (exact)"][0].size > 100  # uncoupled: eq 35 is the limit, no coupled layer
+    assert all(len(plain[k][0]) == 0 for k in (plots.EQ35_REFERENCE, plots.COUPLED_LIMIT))
+    curve = _curve()
+    layers = _map(curve)
+    assert len(layers["eq 35 (exact)"][0]) == 0  # the same line, now labelled the uncoupled reference
+    np.testing.assert_array_equal(layers[plots.EQ35_REFERENCE][0], plain["eq 35 (exact)"][0])
+    np.testing.assert_array_equal(layers[plots.EQ35_REFERENCE][1], plain["eq 35 (exact)"][1])
+    ft, w = layers[plots.COUPLED_LIMIT]
+    np.testing.assert_allclose(ft, curve.ft_limit, rtol=1e-12)
+    np.testing.assert_allclose(w, [0.3, 0.5])
+    brackets = next(d for k, d in layers.items() if k.startswith("#") and len(d[0]) == 6)  # two segments, NaN apart
+    np.testing.assert_allclose(brackets[0][[0, 1, 3, 4]], [p for q in curve.points
+                                                           for p in (q.ft_shakedown, q.ft_ratcheting)])
+    assert np.isnan(brackets[0][2]) and np.isnan(brackets[1][5])
+    partial = _map(CoupledLimitCurve(0.25, 0.3, 0.05, 0.02, 20, ()))  # computing: eq 35 already the reference
+    assert len(partial["eq 35 (exact)"][0]) == 0 and len(partial[plots.EQ35_REFERENCE][0]) > 100
+    assert len(partial[plots.COUPLED_LIMIT][0]) == 0
+
+
+def test_the_badge_compares_a_coupled_run_with_the_coupled_limit_once_the_curve_reaches_its_w():
+    curve = _curve()
+    lim = curve.ft_limit_at(0.4)
+    eq35 = float(core.ft_limit(0.4))
+    ft = 0.5 * (lim + eq35)  # between the coupled limit and eq 35: the two limits disagree
+    predicted, rule = coupled_prediction(ft, 0.4, 0.25, "shakedown", "ft_lim(w) (eq 35)", curve)
+    assert predicted == "ratcheting" and f"the coupled limit ft_lim = {lim:.3f}" in rule, rule
+    assert "uncoupled reference" in rule and "predicts shakedown" in rule, rule
+    assert coupled_prediction(0.9 * lim, 0.4, 0.25, "shakedown", "eq 35", curve)[0] == "shakedown"
+    outside = coupled_prediction(ft, 0.8, 0.25, "shakedown", "ft_lim(w) (eq 35)", curve)
+    assert outside[0] == "shakedown" and "known for w in [0.3, 0.5]" in outside[1], outside
+    assert "uncoupled reference" in outside[1] and "β = 0.25" in outside[1]
+    computing = coupled_prediction(ft, 0.4, 0.25, "shakedown", "eq 35", CoupledLimitCurve(0.25, 0.3, 0.05, 0.02, 20, ()))
+    assert "computing the coupled limit" in computing[1]
+    assert coupled_prediction(ft, 0.4, 0.25, "shakedown", "eq 35", None) == (
+        "shakedown", "eq 35 (the uncoupled reference; this contact is coupled, β = 0.25)")
+
+
+def test_limit_curves_are_sent_as_they_come_cached_per_beta_and_mu_and_stopped_when_nobody_waits():
+    import threading
+
+    curves = LimitCurves(grid=dict(w=(0.4, 0.6), dx=1 / 10, tol=0.2, periods=10))
+    got, finished = [], threading.Event()
+
+    def listener(curve, done, error):
+        got.append((len(curve.points), done, error))
+        if done:
+            finished.set()
+
+    key, cached = curves.request(0.25, 0.3, listener)
+    assert cached is None and finished.wait(300)
+    assert got == [(1, False, ""), (2, False, ""), (2, True, "")], got
+    again, cached = curves.request(0.25000001, 0.3, lambda *a: pytest.fail("a cached curve is returned, not sent"))
+    assert again == key and cached is not None and cached.w.tolist() == [0.4, 0.6] and cached.beta == 0.25
+    # asked for, then left at once: the curve stops at its next run and is not cached (a bigger grid, so that it is
+    # still running when left)
+    curves.grid = dict(w=(0.2, 0.4, 0.6, 0.8), dx=1 / 10, tol=0.02, periods=10)
+    other, _ = curves.request(-0.25, 0.3, listener)
+    curves.cancel(other, listener)
+    from app.serving import wait_until
+    wait_until(lambda: not curves.running(other) or None, 300, message="the curve nobody waits for stopped")
+    assert curves.cached(other) is None and curves.cached(key) is not None
+
+
+def test_the_explorer_follows_a_coupled_contact_with_its_curve_and_an_uncoupled_one_without():
+    from app.explorer import Explorer
+    from app import runs
+
+    s = ExplorerState()
+    e = Explorer(s)
+    assert e.coupled_limit is None and e.coupled_status == ""
+    saved = runs.LIMIT_CURVES
+    runs.LIMIT_CURVES = LimitCurves(grid=dict(w=(0.3,), dx=1 / 10, tol=0.2, periods=10))
+    try:
+        s.param.update(materials="steel/aluminium", mu=0.3)
+        assert e.coupled_limit is not None and e.coupled_limit.beta == pytest.approx(e.contact.beta, abs=1e-4)
+        from app.serving import wait_until
+        wait_until(lambda: "coupled limit:" in e.coupled_status or None, 300, message="the coupled limit curve")
+        assert len(e.coupled_limit.points) == 1 and e.coupled_limit.points[0].converged, e.coupled_status
+        s.loading = "normal"  # another loading: the rocking's coupled curve does not apply
+        assert e.coupled_limit is None and e.coupled_status == ""
+        s.loading = "rocking"  # back: the cached curve at once
+        assert e.coupled_limit is not None and len(e.coupled_limit.points) == 1
+        s.materials = "rigid/incompressible"
+        assert e.coupled_limit is None
+    finally:
+        runs.LIMIT_CURVES = saved
