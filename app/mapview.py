@@ -218,7 +218,7 @@ class MapMixin:
         status = panes.Markdown(pn.bind(lambda s, l: f"Map shown: **{l}**. {s}", self.param.map_status,
                                           self.param.map_label), css_classes=["map-status"],
                                   sizing_mode="stretch_width")
-        coupled = panes.HTML(pn.bind(lambda s: f"<span>{html.escape(s)}</span>" if s else "",
+        coupled = panes.HTML(pn.bind(lambda s: f"<span class='coupled-status-text'>{html.escape(s)}</span>" if s else "",
                                      self.param.coupled_status), css_classes=["coupled-status"],
                              sizing_mode="stretch_width", margin=(0, 10))
         self.map_points.param.update(sizing_mode="stretch_width", min_width=200)

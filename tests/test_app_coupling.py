@@ -86,6 +86,58 @@ def test_the_explorer_runs_a_coupled_contact_and_says_its_limit_is_a_reference(b
     assert run.coupled and run.beta == pytest.approx(beta) and run.solver == "coupled"
 
 
+#: JavaScript for ``page.evaluate``: the legend of the figure titled ``title`` (its items' labels: visible) and how
+#: many points each labelled renderer holds.
+_LEGEND_JS = """(title) => {
+  const find = (pred) => {
+    for (const doc of Bokeh.documents) for (const m of doc.all_models) { if (pred(m)) return m; }
+    return null;
+  };
+  const fig = find((m) => m.title != null && m.title.text === title);
+  if (fig === null) return null;
+  const items = {};
+  for (const c of [...fig.center, ...fig.below, ...fig.above, ...fig.left, ...fig.right]) if (c.items) {
+    for (const it of c.items) {
+      const label = it.label == null ? null : (it.label.value ?? it.label);
+      if (label != null) items[label] = it.visible;
+    }
+  }
+  return items;
+}"""
+
+
+@pytest.mark.browser
+@pytest.mark.timeout(900)
+def test_a_coupled_contact_shows_its_coupled_limit_beside_eq_35_on_the_map(browser, app_url):
+    """Steel on aluminium at 1280x720: the map draws the coupled limit (computed off the event loop) beside eq 35,
+    labelled the uncoupled reference, with the run's marker; the badge names the coupled limit it compared with."""
+    from app.serving import open_page, wait_until
+
+    query = "?materials=steel/aluminium&ft=0.5&w=0.3&mu=0.3&periods=6"
+    page = open_page(browser, app_url + query, (1280, 720),
+                     ready="[data-regime]:not([data-regime='pending'])", timeout_ms=300_000)
+    try:
+        note = wait_until(lambda: (lambda t: t if "the coupled limit ft_lim" in t else None)(
+            page.locator(".regime-note").first.inner_text()), 600, interval=1.0, message="the badge's coupled limit")
+        assert "uncoupled reference" in note and "numerical" in note, note
+        badge = page.locator("[data-regime]").first.bounding_box()
+        assert badge is not None and badge["y"] + badge["height"] <= 720
+        page.locator(".place-map").first.scroll_into_view_if_needed(timeout=60_000)
+        title = plots.FIGURES["map"]["opts"]["title"]
+        legend = wait_until(lambda: (lambda items: items if items and items.get(plots.COUPLED_LIMIT) else None)(
+            page.evaluate(_LEGEND_JS, title)), 300, interval=0.5, message="the coupled limit on the map")
+        assert legend[plots.EQ35_REFERENCE] and legend["current point"], legend
+        assert not legend.get("eq 35 (exact)", False), legend  # eq 35 is there, as the reference
+        status = page.locator(".coupled-status-text").first
+        wait_until(lambda: "coupled limit: 5 amplitudes" in status.inner_text() or None, 300, interval=0.5,
+                   message="the whole coupled limit curve")
+        map_box = page.locator(".place-map").first.bounding_box()
+        assert map_box is not None and map_box["width"] >= 250
+        assert page.problems == [], page.problems
+    finally:
+        page.close()
+
+
 def test_the_map_draws_the_coupled_limit_beside_eq_35_as_the_uncoupled_reference():
     plain = _map(None)
     assert plain["eq 35 (exact)"][0].size > 100  # uncoupled: eq 35 is the limit, no coupled layer
