@@ -31,11 +31,10 @@ import pandas as pd
 
 import core
 
-try:
-    ROOT = Path(__file__).resolve().parents[1]
-except NameError:  # run without a file (pasted into a console)
-    ROOT = Path.cwd()
-table = pd.read_csv(ROOT / "benchmarks" / "results" / "coupled_limit_curve.csv", comment="#")
+TABLE = Path("benchmarks") / "results" / "coupled_limit_curve.csv"
+here = [Path(__file__).resolve().parents[1]] if "__file__" in globals() else []  # (pasted into a console: none)
+ROOT = next(p for p in [*here, Path.cwd(), Path.cwd().parent] if (p / TABLE).exists())  # the repository
+table = pd.read_csv(ROOT / TABLE, comment="#")
 
 fig, ax = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
 w = np.linspace(0.0, 0.999, 300)
