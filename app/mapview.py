@@ -101,7 +101,7 @@ class MapMixin:
 
     @staticmethod
     def _coupled_text(curve, done: bool, error: str) -> str:
-        n = len(runs.LIMIT_CURVE_GRID["w"])
+        n = len(runs.LIMIT_CURVES.grid["w"])
         what = (f"β = {curve.beta:.3g}, μ = {curve.mu:.3g}, dx = a/{round(1 / curve.dx)}, brackets "
                 f"{100 * curve.tol:.0f} % of eq 35")
         if error:
