@@ -127,6 +127,9 @@ class MapMixin:
             return dict(periods=self.state.periods, dx=options["dx"], shape=self.state.schedule, body=body)
         if self.state.body != bodies.DEFAULT:  # another line body: the object, with its parameters
             opts["body"] = self.state.body_object()
+        run = self.state.solver_options() if self.contact is not None else {}
+        if "beta" in run:  # a coupled contact: its map is swept coupled, as its runs are (plane kernel, its beta, mu)
+            opts.update(kernel="plane", beta=run["beta"], mu=run["mu"])
         if opts["kernel"] == "strip":
             if self.contact is None:  # invalid geometry: no strip to take L/a from
                 opts["kernel"] = "plane"

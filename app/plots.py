@@ -840,6 +840,8 @@ def _map_layers(i: Inputs) -> tuple:
         table = None
     if i.result is not None and not _same_loading(table, map_history(i.result)):
         table = None  # a sweep under another loading (the shipped constant-load map beside a 'normal' run)
+    if not _same_coupling(table, 0.0 if i.coupled is None else i.coupled.beta):
+        table = None  # an uncoupled sweep (the shipped map) beside a coupled contact, or the other way round
     # the current point: (mean ft, amplitude) under the tangential loading
     y = float(i.result.params.get("amplitude", 0.0)) if tangential else i.w
     history = map_history(i.result)
@@ -851,6 +853,15 @@ def _map_layers(i: Inputs) -> tuple:
         lines = (*lines[:k], _EMPTY, *lines[k + 1:])
     return (*map_numerical(table), *lines, body_limit(i.result) if history[0] == "rocking" else _EMPTY,
             *map_coupled(coupled), map_point(i.ft, y, regime))
+
+
+def _same_coupling(table, beta: float) -> bool:
+    """Whether a sweep table was run with Dundurs' ``beta`` (to 1e-4, the coupled curve's rounding; a table without
+    a 'beta' column is uncoupled, as the shipped map)."""
+    if table is None or len(table) == 0:
+        return True
+    own = float(table["beta"].iloc[0]) if "beta" in getattr(table, "columns", ()) else 0.0
+    return math.isclose(0.0 if math.isnan(own) else own, beta, abs_tol=1e-4)
 
 
 def _same_loading(table, history: tuple) -> bool:

@@ -203,26 +203,54 @@ def test_limit_curves_are_sent_as_they_come_cached_per_beta_and_mu_and_stopped_w
     assert curves.cached(other) is None and curves.cached(key) is not None
 
 
-def test_the_explorer_follows_a_coupled_contact_with_its_curve_and_an_uncoupled_one_without():
-    from app.explorer import Explorer
+@pytest.fixture
+def tiny_curves(monkeypatch):
+    """The explorer's coupled limit curves on a tiny grid (one w, a/10, brackets 20 % of eq 35): a second's work."""
     from app import runs
+
+    monkeypatch.setattr(runs, "LIMIT_CURVES", LimitCurves(grid=dict(w=(0.3,), dx=1 / 10, tol=0.2, periods=10)))
+    return runs.LIMIT_CURVES
+
+
+def test_the_explorer_follows_a_coupled_contact_with_its_curve_and_an_uncoupled_one_without(tiny_curves):
+    from app.explorer import Explorer
 
     s = ExplorerState()
     e = Explorer(s)
     assert e.coupled_limit is None and e.coupled_status == ""
-    saved = runs.LIMIT_CURVES
-    runs.LIMIT_CURVES = LimitCurves(grid=dict(w=(0.3,), dx=1 / 10, tol=0.2, periods=10))
-    try:
-        s.param.update(materials="steel/aluminium", mu=0.3)
-        assert e.coupled_limit is not None and e.coupled_limit.beta == pytest.approx(e.contact.beta, abs=1e-4)
-        from app.serving import wait_until
-        wait_until(lambda: "coupled limit:" in e.coupled_status or None, 300, message="the coupled limit curve")
-        assert len(e.coupled_limit.points) == 1 and e.coupled_limit.points[0].converged, e.coupled_status
-        s.loading = "normal"  # another loading: the rocking's coupled curve does not apply
-        assert e.coupled_limit is None and e.coupled_status == ""
-        s.loading = "rocking"  # back: the cached curve at once
-        assert e.coupled_limit is not None and len(e.coupled_limit.points) == 1
-        s.materials = "rigid/incompressible"
-        assert e.coupled_limit is None
-    finally:
-        runs.LIMIT_CURVES = saved
+    s.param.update(materials="steel/aluminium", mu=0.3)
+    assert e.coupled_limit is not None and e.coupled_limit.beta == pytest.approx(e.contact.beta, abs=1e-4)
+    from app.serving import wait_until
+    wait_until(lambda: "coupled limit:" in e.coupled_status or None, 300, message="the coupled limit curve")
+    assert len(e.coupled_limit.points) == 1 and e.coupled_limit.points[0].converged, e.coupled_status
+    s.loading = "normal"  # another loading: the rocking's coupled curve does not apply
+    assert e.coupled_limit is None and e.coupled_status == ""
+    s.loading = "rocking"  # back: the cached curve at once
+    assert e.coupled_limit is not None and len(e.coupled_limit.points) == 1
+    s.materials = "rigid/incompressible"
+    assert e.coupled_limit is None
+
+
+def test_an_uncoupled_map_is_not_drawn_beside_a_coupled_contact_and_its_own_map_is_swept_coupled(tiny_curves):
+    import pandas as pd
+
+    from app.mapview import shipped_map
+
+    shipped = shipped_map()
+    inputs = dict(ft=0.3, w=0.4, units=plots.Units("normalised"))
+    runs_of = lambda inp: sum(len(d.data[0]) for d in plots.layers("map", inp)[:4])  # the four regimes' points
+    assert runs_of(plots.Inputs(**inputs, table=shipped)) == len(shipped)  # uncoupled: the shipped map
+    assert runs_of(plots.Inputs(**inputs, table=shipped, coupled=_curve(beta=0.117))) == 0
+    coupled_table = pd.DataFrame(dict(ft=[0.2, 0.6], w=[0.3, 0.3], beta=[0.117, 0.117], regime=["shakedown", "ratcheting"]))
+    assert runs_of(plots.Inputs(**inputs, table=coupled_table, coupled=_curve(beta=0.117))) == 2
+    assert runs_of(plots.Inputs(**inputs, table=coupled_table, coupled=_curve(beta=-0.25))) == 0
+    assert runs_of(plots.Inputs(**inputs, table=coupled_table)) == 0  # a coupled sweep beside an uncoupled contact
+
+    from app.explorer import Explorer
+
+    s = ExplorerState()
+    e = Explorer(s)
+    assert "beta" not in e._map_options()
+    s.param.update(materials="steel/aluminium", mu=0.4)
+    options = e._map_options()
+    assert options["beta"] == pytest.approx(e.contact.beta) and options["mu"] == 0.4 and options["kernel"] == "plane"
