@@ -106,8 +106,9 @@ def coupled_prediction(ft: float, w: float, beta: float, predicted: str, rule: s
                else "computing the coupled limit…")
         return predicted, f"{reference}; {why}"
     coupled = "shakedown" if ft <= lim else "ratcheting"
+    # short: the note sits under the badge, above the first screen's figures
     return coupled, (f"the coupled limit ft_lim = {lim:.3f} (numerical, β = {beta:.3g}, μ = {curve.mu:.3g}; "
-                     f"eq 35, the uncoupled reference, gives {float(core.ft_limit(w)):.3f} and predicts {predicted})")
+                     f"eq 35, the uncoupled reference: {float(core.ft_limit(w)):.3f}, {predicted})")
 
 
 def tangential_note(history: dict, body) -> str | None:
