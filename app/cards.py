@@ -19,7 +19,7 @@ import core
 from . import bodies
 
 __all__ = ["CardsMixin", "prediction", "limit_name", "body_limits", "body_name", "cards_html", "strip_html", "point_rows", "cylinder_rows",
-           "fmt", "count", "coupled_beta", "STRIP_KEYS", "on_side", "input_digits", "inputs_text", "NO_WALK",
+           "fmt", "count", "coupled_beta", "coupled_prediction", "STRIP_KEYS", "on_side", "input_digits", "inputs_text", "NO_WALK",
            "energy_row", "SOLVING_BADGE", "SPINNER_DELAY_MS"]
 
 #: A solve shows its spinner only after this long [ms] (one not over in a blink shows none).
@@ -84,6 +84,31 @@ def prediction(ft: float, w: float, body) -> tuple[str, str]:
     if not math.isfinite(lim):
         return "unknown", limit_name(body)
     return ("shakedown" if ft <= lim else "ratcheting"), limit_name(body)
+
+
+def coupled_prediction(ft: float, w: float, beta: float, predicted: str, rule: str, curve) -> tuple[str, str]:
+    """What a coupled contact's verdict is compared with: the coupled limit curve's ``ft_lim`` at ``w`` once the
+    curve reaches ``w`` (:meth:`core.CoupledLimitCurve.ft_limit_at`), with eq 35's prediction beside it as the
+    uncoupled reference; until then (or outside the curve's amplitudes) eq 35, named the uncoupled reference.
+
+    Returns
+    -------
+    (predicted, rule)
+        As :func:`prediction`: the regime predicted and the limit it comes from, in words.
+    """
+    reference = f"{rule} (the uncoupled reference; this contact is coupled, β = {beta:.3g})"
+    lim = math.nan if curve is None or not curve.points else curve.ft_limit_at(min(max(w, 0.0), 0.999))
+    if not math.isfinite(lim):
+        if curve is None:  # no coupled curve for this run (another body, another loading)
+            return predicted, reference
+        ws = [p.w for p in curve.points if p.converged]
+        why = (f"the coupled limit is known for w in [{min(ws):.2g}, {max(ws):.2g}]" if ws
+               else "computing the coupled limit…")
+        return predicted, f"{reference}; {why}"
+    coupled = "shakedown" if ft <= lim else "ratcheting"
+    # short: the note sits under the badge, above the first screen's figures
+    return coupled, (f"the coupled limit ft_lim = {lim:.3f} (numerical, β = {beta:.3g}, μ = {curve.mu:.3g}; "
+                     f"eq 35, the uncoupled reference: {float(core.ft_limit(w)):.3f}, {predicted})")
 
 
 def tangential_note(history: dict, body) -> str | None:
@@ -364,12 +389,12 @@ class CardsMixin:
         except ValueError:
             return state.body
 
-    def _badge(self, ft, w, result, error, pending=False):
+    def _badge(self, ft, w, result, error, pending=False, coupled=None):
         spec = CardsMixin._body_spec(self)  # self may be the class (headless tests)
         predicted, rule = prediction(ft, w, spec)
         beta = coupled_beta(getattr(self, "contact", None))
         if beta is not None:  # Melan's theorem does not decide a coupled contact: its limit is a reference
-            rule = f"{rule} (the uncoupled reference; this contact is coupled, β = {beta:.3g})"
+            predicted, rule = coupled_prediction(ft, w, beta, predicted, rule, coupled)
         state = getattr(self, "state", None)
         instead = tangential_note(state.history_options() if state is not None else {}, spec)
         if error.startswith("limit only"):  # a body whose cycles the explorer cannot run yet: its limit only

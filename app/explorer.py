@@ -73,6 +73,9 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
     map_running = param.Boolean(default=False, doc="A numerical map is being computed.")
     map_progress = param.Integer(default=0, bounds=(0, 100), doc="Progress of the map computation [%].")
     map_status = param.String(default="", doc="Outcome of the last map computation.")
+    coupled_limit = param.Parameter(default=None, doc="The coupled limit curve of the current contact "
+                                    "(core.CoupledLimitCurve, as far as it is computed), None for an uncoupled one.")
+    coupled_status = param.String(default="", doc="Where the coupled limit curve is: computing, done, or why not.")
     pinned = param.Parameter(default=(), doc="Pinned runs overlaid on the figures (app.compare.Pins).")
     grid_error = param.Parameter(default=None, doc="The estimated discretisation error of the point-contact run "
                                                    "shown (core.ConvergedIncrement), once estimated.")

@@ -75,7 +75,7 @@ def figure_height(name: str) -> int:
 
 #: The explorer parameter behind each input of the figures (:class:`app.plots.Inputs`).
 FIGURE_INPUTS = {"ft": "ft_live", "w": "w_live", "units": "plot_units", "result": "result", "frame": "frame",
-                  "table": "map_table", "pinned": "pinned"}
+                  "table": "map_table", "pinned": "pinned", "coupled": "coupled_limit"}
 #: Range padding (x, y) of the axes that follow the data; None: the figure's own fixed ranges.
 _CELL_STYLE = {"flex": "1 1 560px", "min-width": "min(300px, 100%)"}
 #: A first-screen figure's cell: three in a row from 3 x 220 px (a 1024 px screen beside the sidebar), two (and

@@ -72,7 +72,7 @@ class LayoutMixin:
         load the fretting loop is beside the displacement)."""
         live = dict(ft=self.param.ft_live, w=self.param.w_live)
         badge = panes.HTML(pn.bind(self._badge, **live, result=self.param.result, error=self.param.error,
-                                   pending=self.param.pending),
+                                   pending=self.param.pending, coupled=self.param.coupled_limit),
                            css_classes=["regime"], margin=(4, 10), sizing_mode="stretch_width", stylesheets=[CSS])
         numbers = dict(**live, mu=self.mu_slider.param.value, contact=self.param.contact, result=self.param.result,
                        pending=self.param.pending, units=self.state.param.units, cycles=self.engineer.param.cycles,

@@ -7,6 +7,7 @@ the event loop (:func:`core.sweep`, one map at a time per server).
 from __future__ import annotations
 
 import functools
+import html
 import threading
 
 import numpy as np
@@ -15,6 +16,7 @@ import panel as pn
 import core
 
 from . import bodies, panes, runs
+from .cards import coupled_beta
 from .widgets import IntSlider
 
 __all__ = ["MapMixin", "shipped_map"]
@@ -47,6 +49,67 @@ class MapMixin:
         except (OSError, ValueError) as e:  # pragma: no cover - a broken install
             self.map_status = f"shipped map not available: {e}"
         self.param.watch(self._show_map_progress, ["map_running", "map_progress"])
+        self._watch_coupled()
+
+    # ------------------------------------------------------------------ the coupled limit curve
+    def _watch_coupled(self) -> None:
+        """Follow the contact: a coupled one (Dundurs β ≠ 0) gets its coupled limit curve on the map, computed off
+        the event loop (:data:`app.runs.LIMIT_CURVES`, cached per β, μ and grid) and drawn as each amplitude's
+        bracket comes."""
+        self._coupled_key, self._coupled_listener = None, None
+        self.param.watch(lambda e: self._follow_coupled(), "contact")
+        self.state.param.watch(lambda e: self._follow_coupled(), ["loading", "body"])
+        self._follow_coupled()
+
+    def _coupled_request(self) -> tuple | None:
+        """``(beta, mu)`` of the coupled limit curve the map draws for the inputs: a coupled contact of the cylinder
+        rocked under constant loads (the curve's runs); None otherwise."""
+        beta = coupled_beta(self.contact)
+        if beta is None or self.state.point or self.state.body != bodies.DEFAULT or self.state.history_options():
+            return None
+        return beta, float(self.contact.mu)
+
+    def _follow_coupled(self) -> None:
+        request = self._coupled_request()
+        key = None if request is None else runs.LIMIT_CURVES.key(*request)
+        if key == self._coupled_key:
+            return
+        if self._coupled_key is not None:  # the curve of the former contact: this session no longer waits for it
+            runs.LIMIT_CURVES.cancel(self._coupled_key, self._coupled_listener)
+        self._coupled_key = key
+        if request is None:
+            self.param.update(coupled_limit=None, coupled_status="")
+            return
+
+        def listener(curve, done, error):  # in the curve's thread
+            self._in_session(self._coupled_arrived, key, curve, done, error)
+
+        self._coupled_listener = listener
+        beta, mu = key[:2]
+        grid = runs.LIMIT_CURVES.grid
+        empty = core.CoupledLimitCurve(beta, mu, float(grid["dx"]), float(grid["tol"]), int(grid["periods"]), ())
+        self.param.update(coupled_limit=empty, coupled_status=self._coupled_text(empty, False, ""))
+        _, curve = runs.LIMIT_CURVES.request(beta, mu, listener)
+        if curve is not None:
+            self._coupled_arrived(key, curve, True, "")
+
+    def _coupled_arrived(self, key, curve, done: bool, error: str) -> None:
+        """A curve's progress, in the session: drawn if it is still the current contact's."""
+        if key != self._coupled_key:
+            return
+        self.param.update(coupled_limit=curve, coupled_status=self._coupled_text(curve, done, error))
+
+    @staticmethod
+    def _coupled_text(curve, done: bool, error: str) -> str:
+        n = len(runs.LIMIT_CURVES.grid["w"])
+        what = (f"β = {curve.beta:.3g}, μ = {curve.mu:.3g}, dx = a/{round(1 / curve.dx)}, brackets "
+                f"{100 * curve.tol:.0f} % of eq 35")
+        if error:
+            return f"coupled limit {error} ({len(curve.points)} of {n} amplitudes; {what})"
+        if not done:
+            return f"computing the coupled limit… {len(curve.points)} of {n} amplitudes ({what})"
+        return (f"coupled limit: {len(curve.points)} amplitudes, {curve.runs} coupled runs, {curve.cpu_s:.0f} s CPU "
+                f"({what})")
 
     def _map_options(self) -> dict:
         """Solver options of a map sweep: the current solver settings; the strip kernel's L/a and ν are the current
@@ -64,6 +127,9 @@ class MapMixin:
             return dict(periods=self.state.periods, dx=options["dx"], shape=self.state.schedule, body=body)
         if self.state.body != bodies.DEFAULT:  # another line body: the object, with its parameters
             opts["body"] = self.state.body_object()
+        run = self.state.solver_options() if self.contact is not None else {}
+        if "beta" in run:  # a coupled contact: its map is swept coupled, as its runs are (plane kernel, its beta, mu)
+            opts.update(kernel="plane", beta=run["beta"], mu=run["mu"])
         if opts["kernel"] == "strip":
             if self.contact is None:  # invalid geometry: no strip to take L/a from
                 opts["kernel"] = "plane"
@@ -155,9 +221,12 @@ class MapMixin:
         status = panes.Markdown(pn.bind(lambda s, l: f"Map shown: **{l}**. {s}", self.param.map_status,
                                           self.param.map_label), css_classes=["map-status"],
                                   sizing_mode="stretch_width")
+        coupled = panes.HTML(pn.bind(lambda s: f"<span class='coupled-status-text'>{html.escape(s)}</span>" if s else "",
+                                     self.param.coupled_status), css_classes=["coupled-status"],
+                             sizing_mode="stretch_width", margin=(0, 10))
         self.map_points.param.update(sizing_mode="stretch_width", min_width=200)
         self.map_button.param.update(sizing_mode=None, width=250)
         return pn.Column(pn.FlexBox(self.map_points, self.map_button, self.map_cancel_button, flex_wrap="wrap",
                                     align_items="flex-end", sizing_mode="stretch_width"),
-                         self.map_bar, status, sizing_mode="stretch_width")
+                         self.map_bar, status, coupled, sizing_mode="stretch_width")
 

@@ -183,6 +183,7 @@ class Inputs(NamedTuple):
     frame: int | None = None
     table: object = None  # sweep table (pandas DataFrame) shown on the map
     pinned: tuple = ()  # pinned runs (app.compare.Pin) overlaid on the displacement, increment and traction
+    coupled: object = None  # the coupled limit curve (core.CoupledLimitCurve, maybe partial) drawn on the map
 
 
 # --------------------------------------------------------------------------
@@ -722,8 +723,35 @@ def _map_specs(label: str = "solver") -> list:
         Layer(hv.Labels, kd, _REGION_DIMS[2:], "", dict(text_font_size="11px", text_color="#444444")),
         Layer(hv.Labels, kd, _REGION_DIMS[2:], "", dict(text_font_size="16px", text_color="black")),
         curve("this body's exact limit (Melan)", color=_C["green"], line_width=LINE + 1, line_dash="solid"),
+        # a coupled contact (Dundurs β ≠ 0): eq 35 is only the uncoupled reference; the coupled limit is the
+        # solver's, found by bisection at a few w (:func:`map_coupled`): each w's bracket, and a line through them
+        curve(EQ35_REFERENCE, color="black", line_width=LINE, line_dash="dashed"),
+        curve(COUPLED_LIMIT, color=_C["vermillion"], line_width=LINE + 1, line_dash="solid"),
+        Layer(hv.Curve, kd[:1], kd[1:], "", dict(color=_C["vermillion"], line_width=LINE + 6, alpha=0.6)),
         Layer(hv.Points, kd, (), "current point", dict(size=18, marker="circle", line_color="black", line_width=2)),
     ]
+
+
+#: Legend labels of a coupled contact's limits on the map: eq 35 as the reference, the solver's coupled limit.
+EQ35_REFERENCE = "eq 35 (uncoupled reference)"
+COUPLED_LIMIT = "coupled limit (numerical, β ≠ 0)"
+
+
+@_memo
+def map_coupled(curve) -> tuple:
+    """The map's layers of a coupled contact's limit curve (a :class:`core.CoupledLimitCurve`, maybe still partial:
+    the amplitudes found so far): eq 35 as the uncoupled reference, a line through the brackets' midpoints, and the
+    brackets themselves (one segment per w, NaN between them); empty layers for an uncoupled contact (None)."""
+    if curve is None:
+        return _EMPTY, _EMPTY, _EMPTY
+    reference = tuple(e.dimension_values(i) for e in map_base() if isinstance(e, hv.Curve)
+                      and e.label == "eq 35 (exact)" for i in (0, 1))
+    ok = [p for p in curve.points if p.converged]
+    line = (np.array([p.ft_limit for p in ok]), np.array([p.w for p in ok]))
+    nan = [math.nan] * len(ok)
+    brackets = (np.ravel(np.column_stack([[p.ft_shakedown for p in ok], [p.ft_ratcheting for p in ok], nan])),
+                np.ravel(np.column_stack([[p.w for p in ok], [p.w for p in ok], nan])))
+    return reference, line, brackets
 
 
 #: The rocking plane's lines (of :func:`map_base`), drawn under the rocking loading only.
@@ -851,12 +879,28 @@ def _map_layers(i: Inputs) -> tuple:
         table = None
     if i.result is not None and not _same_loading(table, map_history(i.result)):
         table = None  # a sweep under another loading (the shipped constant-load map beside a 'normal' run)
+    if not _same_coupling(table, 0.0 if i.coupled is None else i.coupled.beta):
+        table = None  # an uncoupled sweep (the shipped map) beside a coupled contact, or the other way round
     # the current point: (mean ft, amplitude) under the tangential loading
     y = float(i.result.params.get("amplitude", 0.0)) if tangential else i.w
     history = map_history(i.result)
     body = None if i.result is None else getattr(i.result, "body_spec", None) or getattr(i.result, "body", None)
-    return (*map_numerical(table), *map_lines(history, body if isinstance(body, core.Body) else None),
-            body_limit(i.result) if history[0] == "rocking" else _EMPTY, map_point(i.ft, y, regime))
+    lines = map_lines(history, body if isinstance(body, core.Body) else None)
+    coupled = i.coupled if history[0] == "rocking" else None
+    if coupled is not None:  # eq 35 drawn as the uncoupled reference, not as the limit
+        k = 2 + _ROCKING_LINES.index("eq 35 (exact)")
+        lines = (*lines[:k], _EMPTY, *lines[k + 1:])
+    return (*map_numerical(table), *lines, body_limit(i.result) if history[0] == "rocking" else _EMPTY,
+            *map_coupled(coupled), map_point(i.ft, y, regime))
+
+
+def _same_coupling(table, beta: float) -> bool:
+    """Whether a sweep table was run with Dundurs' ``beta`` (to 1e-4, the coupled curve's rounding; a table without
+    a 'beta' column is uncoupled, as the shipped map)."""
+    if table is None or len(table) == 0:
+        return True
+    own = float(table["beta"].iloc[0]) if "beta" in getattr(table, "columns", ()) else 0.0
+    return math.isclose(0.0 if math.isnan(own) else own, beta, abs_tol=1e-4)
 
 
 def _same_loading(table, history: tuple) -> bool:
@@ -932,9 +976,11 @@ FIGURES = {
                         "Oscillating normal force: Melan's limit at the run's amplitude and phase (green, dot-dash; a "
                         "line body's) and gross sliding at the lowest force, ft = 1 − A (dashed). Tangential loading: "
                         "the plane of the mean ft and the amplitude A (read the vertical axis as A): cyclic slip below "
-                        "the dashed gross-sliding line |ft| + A = 1, no run beyond it. The big marker is the current "
+                        "the dashed gross-sliding line |ft| + A = 1, no run beyond it. Dissimilar materials (Dundurs β ≠ 0, rocking): eq 35 "
+                        "is only the uncoupled reference (black, dashed); the coupled limit (vermillion) is the "
+                        "solver's, bisected at a few w (thick: each w's bracket), drawn as it is computed. The big marker is the current "
                         "run (circle: shakedown, hexagon: cyclic slip, triangle: ratcheting).",
-                specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table"),
+                specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table", "coupled"),
                 result=(core.CycleResult, core.PointContactResult)),
 }
 

@@ -45,7 +45,7 @@ from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WO
 __all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "SOLVE_TASK", "run_key", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
            "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend", "warming_seconds",
-           "warmed", "on_warm"]
+           "warmed", "on_warm", "LimitCurves", "LIMIT_CURVES", "LIMIT_CURVE_GRID"]
 
 log = logging.getLogger(__name__)
 
@@ -575,3 +575,121 @@ class Generation:
 
     def is_current(self, token: int) -> bool:
         return token == self._n
+
+
+#: The grid of the coupled limit curves the explorer draws (:func:`core.coupled_limit_curve`): coarse (a/20), five
+#: amplitudes, brackets 2 % of eq 35 wide: about 35 coupled runs, seconds of CPU time
+#: (``benchmarks/coupled_limit_curve.py``).
+LIMIT_CURVE_GRID = dict(w=(0.1, 0.3, 0.5, 0.7, 0.9), dx=1 / 20, tol=0.02, periods=20)
+
+
+class LimitCurves:
+    """The coupled limit curves of the served app, shared by every session, cached per ``(beta, mu)`` and grid.
+
+    A curve is computed in one thread of its own (one curve at a time on the server, a run's numba code releases
+    the GIL), each amplitude's bracket handed to the sessions that asked for it as it is found. A curve no session
+    waits for any more (its sessions moved to another contact) is stopped at its next run.
+
+    Parameters
+    ----------
+    items : int
+        Complete curves kept (the oldest dropped first).
+    grid : dict
+        Keyword arguments of :func:`core.coupled_limit_curve` besides ``beta`` and ``mu``.
+    """
+
+    def __init__(self, items: int = 32, grid: dict | None = None):
+        self.grid = dict(LIMIT_CURVE_GRID if grid is None else grid)
+        self._done: OrderedDict = OrderedDict()
+        self._running: dict = {}  # key -> [points so far, {listener}]
+        self._lock = threading.Lock()
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="limit-curve")
+        self.items = items
+
+    def key(self, beta: float, mu: float) -> tuple:
+        """The cache key: ``beta`` and ``mu`` to 1e-4 (the curve is computed at these), and the grid."""
+        return (round(float(beta), 4), round(float(mu), 4), tuple(sorted((k, str(v)) for k, v in self.grid.items())))
+
+    def request(self, beta: float, mu: float, listener) -> tuple:
+        """Ask for the curve of ``(beta, mu)``: ``listener(curve, done, error)`` is called with the curve so far
+        (a :class:`core.CoupledLimitCurve`) after each amplitude, with ``done`` True at the end (``error``: why it
+        stopped, or ""), from the curve's thread; a cached curve is returned at once, not sent.
+
+        Returns
+        -------
+        (key, curve or None)
+            The key (to :meth:`cancel` with) and the complete curve if it is cached.
+        """
+        key = self.key(beta, mu)
+        with self._lock:
+            if key in self._done:
+                self._done.move_to_end(key)
+                return key, self._done[key]
+            entry = self._running.get(key)
+            if entry is not None:
+                entry[1].add(listener)
+                return key, None
+            entry = self._running[key] = [[], {listener}]
+        self._pool.submit(self._compute, key, entry)
+        return key, None
+
+    def cached(self, key: tuple):
+        """The complete curve ``key`` if it is cached, else None."""
+        with self._lock:
+            return self._done.get(key)
+
+    def running(self, key: tuple) -> bool:
+        """Whether curve ``key`` is being computed (or waits for the curve before it)."""
+        with self._lock:
+            return key in self._running
+
+    def cancel(self, key: tuple, listener) -> None:
+        """``listener`` no longer waits for curve ``key`` (a curve nobody waits for stops at its next run)."""
+        with self._lock:
+            entry = self._running.get(key)
+            if entry is not None:
+                entry[1].discard(listener)
+
+    def _partial(self, key, points) -> core.CoupledLimitCurve:
+        beta, mu, _ = key
+        return core.CoupledLimitCurve(beta, mu, float(self.grid["dx"]), float(self.grid["tol"]),
+                                      int(self.grid["periods"]), tuple(points))
+
+    def _send(self, entry, curve, done, error="") -> None:
+        with self._lock:
+            listeners = list(entry[1])
+        for listener in listeners:
+            try:
+                listener(curve, done, error)
+            except Exception:  # pragma: no cover - one session's failure must not stop the others' curve
+                log.exception("a coupled limit curve's listener failed")
+
+    def _compute(self, key, entry) -> None:
+        beta, mu, _ = key
+
+        def on_point(point):
+            entry[0].append(point)
+            self._send(entry, self._partial(key, entry[0]), False)
+
+        def nobody():
+            return not entry[1]
+
+        error, curve = "", None
+        try:
+            if not nobody():
+                curve = core.coupled_limit_curve(beta, mu, **self.grid, cancel=nobody, on_point=on_point)
+        except core.SolveCancelled:
+            error = "stopped: no session waits for it"
+        except (ValueError, RuntimeError, core.SolverError) as e:
+            error = f"not computed: {e}"
+        with self._lock:
+            self._running.pop(key, None)
+            if curve is not None:
+                self._done[key] = curve
+                while len(self._done) > self.items:
+                    self._done.popitem(last=False)
+        self._send(entry, curve if curve is not None else self._partial(key, entry[0]), True, error)
+
+
+#: The served app's coupled limit curves.
+LIMIT_CURVES = LimitCurves()

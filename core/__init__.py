@@ -52,6 +52,8 @@ def _load_locked():
         from .result import PointContactResult  # noqa: F401
         from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
+        from .coupled_limits import (coupled_limit, coupled_limit_curve, CoupledLimit,  # noqa: F401
+                                     CoupledLimitCurve)
         public = {k: v for k, v in locals().items() if k != "analytical"}
         globals().update(public)
         # every public name, for ``from core import *`` and the documentation's API reference

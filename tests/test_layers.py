@@ -29,7 +29,7 @@ LAYERS = {
     "solvers": ["_pdas", "_pcg", "_pcg3d", "_coupled", "dense", "matrix_free", "solver3d", "coupled"],
     "engine": ["engine"],
     "api": ["solver", "point_runs", "contact", "convergence", "export"],
-    "maps": ["grid", "tasks", "tables", "limits_search", "sweeps", "paper_figures"],
+    "maps": ["grid", "tasks", "tables", "limits_search", "coupled_limits", "sweeps", "paper_figures"],
     "cli": ["cli_values", "cli"],
 }
 LEVEL = {module: level for level, modules in enumerate(LAYERS.values()) for module in modules}
