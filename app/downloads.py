@@ -12,7 +12,6 @@ import io
 
 import panel as pn
 
-import core
 from core.export import to_csv, to_json
 
 from . import bodies
