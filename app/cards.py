@@ -32,7 +32,8 @@ SOLVING_BADGE = (f'<span class="solve-spinner" style="animation-delay: 0s, {SPIN
 
 #: The rows of the cards shown in the strip, in its order, with their short names there (the first row of each
 #: group that is present).
-STRIP_KEYS = ((("margin ft / ft_lim", "ft/ft_lim"),), (("margin w / w_lim", "w/w_lim"),),
+STRIP_KEYS = ((("margin ft / ft_lim", "ft/ft_lim"), ("margin ft / ft_lim (eq 35, uncoupled)", "ft/ft_lim (eq 35)")),
+              (("margin w / w_lim", "w/w_lim"), ("margin w / w_lim (eq 35, uncoupled)", "w/w_lim (eq 35)")),
               (("c_sd numerical", "c_sd"), ("c_sd numerical (y = 0)", "c_sd (y = 0)")),
               (("Δu last period", "Δu/period"), ("creep per period (last)", "creep/period")),
               (("energy per period (last)", "energy/period"),), (("grid error of Δu", "grid error"),))
@@ -301,7 +302,7 @@ def cylinder_rows(ft, w, mu, contact, result, wait, units="normalised", cycles=1
              ("c_sd numerical", wait or fmt(result.stick_halfwidth * scale, unit, 3)),
              (_limit_label("ft_lim(w) (eq 35)", c), _limit(ft_lim, ft)),
              (_limit_label("w_lim(ft) (eq 35)", c), _limit(w_lim, w))]
-    return rows + _line_tail(ft, w, ft_lim, w_lim, result, wait, c if physical else None, cycles)
+    return rows + _line_tail(ft, w, ft_lim, w_lim, result, wait, c if physical else None, cycles, c)
 
 
 def _line_rows(ft, w, mu, contact, result, wait, units, cycles, body) -> list:
@@ -323,10 +324,12 @@ def _line_rows(ft, w, mu, contact, result, wait, units, cycles, body) -> list:
     return rows + _line_tail(ft, w, lim, wlim, result, wait, c if physical else None, cycles)
 
 
-def _line_tail(ft, w, ft_lim, w_lim, result, wait, physical_contact, cycles) -> list:
+def _line_tail(ft, w, ft_lim, w_lim, result, wait, physical_contact, cycles, contact=None) -> list:
     """The rows every line body's cards end with: the margins to its limits, the creep of the last period (in
-    physical units when ``physical_contact`` is the contact, else in U0 or mu P/E*) and the solve."""
-    rows = [("margin ft / ft_lim", _margin(ft, ft_lim)), ("margin w / w_lim", _margin(w, w_lim))]
+    physical units when ``physical_contact`` is the contact, else in U0 or mu P/E*) and the solve. A coupled
+    ``contact``'s margins are to eq 35, named the uncoupled reference (its own limit is the map's coupled curve)."""
+    uncoupled = "" if coupled_beta(contact) is None else " (eq 35, uncoupled)"
+    rows = [(f"margin ft / ft_lim{uncoupled}", _margin(ft, ft_lim)), (f"margin w / w_lim{uncoupled}", _margin(w, w_lim))]
     if wait:
         return rows + [("Δu last period", wait), ("energy per period (last)", wait), ("solve", wait)]
     inc = float(result.increment_per_period[-1])

@@ -10,7 +10,7 @@ import pytest
 
 import core
 from app import plots
-from app.cards import coupled_beta, coupled_prediction, cylinder_rows
+from app.cards import coupled_beta, coupled_prediction, cylinder_rows, strip_html
 from app.runs import LimitCurves
 from app.state import ExplorerState
 from core.coupled_limits import CoupledLimit, CoupledLimitCurve
@@ -57,6 +57,12 @@ def test_a_coupled_contacts_limits_are_labelled_the_uncoupled_reference():
     assert "ft_lim(w) (eq 35, uncoupled)" in rows and "w_lim(ft) (eq 35, uncoupled)" in rows
     assert rows["ft_lim(w) (eq 35, uncoupled)"] == plain["ft_lim(w) (eq 35)"]  # the same number, named for what it is
     assert coupled_beta(s.contact()) == pytest.approx(s.contact().beta) and math.isfinite(coupled_beta(s.contact()))
+    # the margins too, and the first screen's strip says which limit its margins are to
+    assert rows["margin ft / ft_lim (eq 35, uncoupled)"] == plain["margin ft / ft_lim"]
+    assert "margin ft / ft_lim" not in rows and "margin w / w_lim" not in rows
+    strip = strip_html(list(rows.items()), "solving…")
+    assert "ft/ft_lim (eq 35)" in strip and "w/w_lim (eq 35)" in strip
+    assert "ft/ft_lim (eq 35)" not in strip_html(list(plain.items()), "solving…")
 
 
 @pytest.mark.browser
