@@ -138,8 +138,6 @@ def _in_a_thread(fn, *args):
         return pool.submit(fn, *args).result()
 
 
-@pytest.mark.browser
-@pytest.mark.timeout(900)  # the worker warms every kernel before it takes the session's run: minutes under load
 def _ready_within(request, seconds: float) -> bool:
     """Poll ``/liveness`` until it answers 200 with ``ready`` (True), or ``seconds`` pass (False)."""
     import time
@@ -154,7 +152,8 @@ def _ready_within(request, seconds: float) -> bool:
         time.sleep(2.0)
 
 
-@pytest.mark.timeout(900)
+@pytest.mark.browser
+@pytest.mark.timeout(900)  # the worker warms every kernel before it takes the session's run: minutes under load
 def test_first_page_is_the_explorer_while_the_solver_is_prepared_then_its_runs_are_solved_on_the_cluster():
     """Until the solver is warm (here: the cluster has no worker yet) the page is the explorer already, with its
     sliders and the exact limit's prediction, and says the solver is being compiled; the verdict comes in the

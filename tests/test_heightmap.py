@@ -130,12 +130,17 @@ def test_non_hertzian_map_brackets_its_limit(name, heights, limit):
 
 
 def _cli(*args):
-    import os
-    import subprocess
-    import sys
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    return subprocess.run([sys.executable, "-m", "core.cli", *args], capture_output=True, text=True,
-                          env={**os.environ, "PYTHONPATH": root}, timeout=600, cwd=root)
+    """``shakedown ARGS`` run by core.cli.main in this process (a subprocess cost seconds of imports each; the
+    command as a process: tests/test_cli.py): its exit status and output."""
+    import contextlib
+    import io
+    import types
+
+    from core.cli import main
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(args))
+    return types.SimpleNamespace(returncode=code, stdout=out.getvalue(), stderr=err.getvalue())
 
 
 def test_cli_runs_a_height_map_file(tmp_path):

@@ -1,20 +1,23 @@
-"""The CLI's body flags (--body punch --flat, --body ellipsoid --ratio --angle, --normal), as a subprocess."""
+"""The CLI's body flags (--body punch --flat, --body ellipsoid --ratio --angle, --normal), run by the command's
+own function (the installed ``shakedown`` and ``python -m core.cli`` as processes: tests/test_cli.py)."""
 
+import contextlib
+import io
 import json
-import os
 import re
-import subprocess
-import sys
+import types
 
 import pytest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from core.cli import main
 
 
-def _cli(*args, timeout=600):
-    env = {**os.environ, "PYTHONPATH": ROOT}
-    return subprocess.run([sys.executable, "-m", "core.cli", *args], capture_output=True, text=True, env=env,
-                          timeout=timeout, cwd=ROOT)
+def _cli(*args):
+    """``shakedown ARGS`` in this process (a subprocess cost 3-10 s each, mostly imports): status and output."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(args))
+    return types.SimpleNamespace(returncode=code, stdout=out.getvalue(), stderr=err.getvalue())
 
 
 def test_run_punch(tmp_path):
