@@ -19,9 +19,10 @@ from __future__ import annotations
 import numpy as np
 
 from ._jit import jit
-from ._pdas import solve_step
+from ._pdas import ITERATIONS, block_repeats, solve_step
 
-__all__ = ["alternate", "interval_normal", "cross", "gap_residual", "STATUS_DONE", "STATUS_TANGENTIAL", "STATUS_GENERAL"]
+__all__ = ["alternate", "interval_normal", "cross", "gap_residual", "march", "cholesky", "STATUS_DONE",
+           "STATUS_TANGENTIAL", "STATUS_GENERAL"]
 
 #: :func:`alternate`'s status: solved (or the alternation did not settle: see its change), the tangential solve
 #: failed, the normal problem needs the general solve.
@@ -218,3 +219,117 @@ def gap_residual(K, gap0, p, q, cn, dx, work):
         else:
             worst = max(worst, delta - gap[i])
     return worst
+
+
+@jit
+def cholesky(A):
+    """The lower Cholesky factor of the symmetric positive definite ``A`` (unblocked, in this thread: LAPACK's
+    threads cost more than they gain on the small ``K`` of a line when the cores are shared)."""
+    n = A.shape[0]
+    C = np.zeros_like(A)
+    for j in range(n):
+        s = A[j, j]
+        for k in range(j):
+            s -= C[j, k] * C[j, k]
+        if s <= 0.0:
+            return C, False
+        d = np.sqrt(s)
+        C[j, j] = d
+        for i in range(j + 1, n):
+            t = A[i, j]
+            for k in range(j):
+                t -= C[i, k] * C[j, k]
+            C[i, j] = t / d
+    return C, True
+
+
+@jit
+def _start_interval(p_prev, gap0, load, dx):
+    """The first guess of a step's contact: the previous pressure's, else Hertz's width around the lowest point."""
+    n = gap0.size
+    i0, i1 = -1, -1
+    for k in range(n):
+        if p_prev[k] > 0.0:
+            if i0 < 0:
+                i0 = k
+            i1 = k + 1
+    if i0 >= 0:
+        return True, i0, i1
+    m = 0
+    for k in range(1, n):
+        if gap0[k] < gap0[m]:
+            m = k
+    half = int(np.ceil(np.sqrt(max(load, 1e-12) / (0.5 * np.pi)) / dx)) + 1
+    return False, max(0, m - half), min(n, m + half + 1)
+
+
+@jit
+def march(K, C, gaps, loads, targets, period, kb, k0, k1, detect_periodic, dx, cn, ct, coupled, tol, maxiter, max_alt,
+          st, p_prev, dq_last, work, ones_inv, known, q_start, bounds, traction, state, disp, diss, iters, resid,
+          worst, alternations, res_out, info):
+    """March through steps ``k0:k1`` by :func:`alternate`, recording each as :meth:`core.coupled.CoupledSolver.march`
+    does (``gaps[k - kb]``: the body's gap of step ``k``, ``kb <= k0`` the first step of the chunk; ``loads``,
+    ``targets``: its normal load and tangential target; ``bounds[k - kb]`` receives its pressure). ``p_prev`` and ``dq_last`` (the last traction increment,
+    the next step's first guess) advance with the steps.
+
+    Returns ``(reached, periodic_from, failed, status)``: ``status`` :data:`STATUS_GENERAL` stops at step
+    ``reached`` for the general solve; ``failed >= 0`` names a step that could not be solved (``info`` then
+    holds its alternations and last change, ``res_out`` its residuals).
+    """
+    n = gaps.shape[1]
+    steps = targets.size
+    nres = st.residuals.size
+    q_prev, q = st.q_prev, st.q
+    p = np.zeros(n)
+    for k in range(k0, k1):
+        gap0 = gaps[k - kb]
+        has_prev, i0, i1 = _start_interval(p_prev, gap0, loads[k], dx)
+        for i in range(n):
+            q_start[i] = q_prev[i] + dq_last[i]
+            p[i] = 0.0
+        status, lam, it, change, i0, i1 = alternate(
+            K, C, gap0, loads[k], dx, cn, ct, coupled, p_prev, has_prev, targets[k], tol, maxiter, max_alt, st,
+            i0, i1, p, work, ones_inv, known, q_start)
+        if status == STATUS_GENERAL:
+            return k, -1, -1, STATUS_GENERAL
+        # ---- the named residuals
+        for j in range(nres):
+            res_out[j] = st.residuals[j]
+        if status != STATUS_DONE or not change <= tol:
+            info[0], info[1] = it, change
+            return k, -1, k, status
+        res_out[nres] = gap_residual(K, gap0, p, q, cn, dx, work)
+        pmin = 0.0
+        for i in range(n):
+            pmin = min(pmin, p[i])
+        res_out[nres + 1] = -pmin
+        res_out[nres + 2] = change if np.isfinite(change) else 0.0
+        worst_step = 0.0
+        for j in range(res_out.size):
+            worst_step = max(worst_step, res_out[j])
+        if worst_step > 1e3 * tol:
+            info[0], info[1] = it, change
+            return k, -1, k, status
+        # ---- record the step and advance
+        st.total[0] += lam
+        d = 0.0
+        for i in range(n):
+            bounds[k - kb, i] = p[i]
+            traction[k, i] = q[i]
+            state[k, i] = st.codes[i]
+            d += q[i] * st.slip[i]
+            dq_last[i] = q[i] - q_prev[i]
+            q_prev[i] = q[i]
+            p_prev[i] = p[i]
+        disp[k] = st.total[0]
+        diss[k] = d * dx
+        iters[k] = st.counters[ITERATIONS]
+        resid[k] = worst_step
+        for j in range(res_out.size):
+            worst[j] = max(worst[j], res_out[j])
+        alternations[k] = it
+        if k + 1 < steps and period[k + 1] != period[k]:
+            same = block_repeats(q, st.q_block_end, tol)
+            if same and detect_periodic and period[k] >= 0:
+                return k + 1, period[k], -1, STATUS_DONE
+    return k1, -1, -1, STATUS_DONE
