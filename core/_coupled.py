@@ -42,18 +42,21 @@ def cross(v, dx, out):
 
 
 @jit
-def _chol_solve(C, L, b, out):
-    """``out[:L] = (C_L C_L^T)^-1 b[:L]``, ``C_L`` the leading ``L x L`` block of the lower factor ``C``."""
+def _chol_solve(C, CT, L, b, out):
+    """``out[:L] = (C_L C_L^T)^-1 b[:L]``, ``C_L`` the leading ``L x L`` block of the lower factor ``C`` and ``CT``
+    its transpose (both solves then read rows: contiguous, vectorised dot products)."""
     for i in range(L):
         s = b[i]
+        row = C[i]
         for j in range(i):
-            s -= C[i, j] * out[j]
-        out[i] = s / C[i, i]
+            s -= row[j] * out[j]
+        out[i] = s / row[i]
     for i in range(L - 1, -1, -1):
         s = out[i]
+        row = CT[i]
         for j in range(i + 1, L):
-            s -= C[j, i] * out[j]
-        out[i] = s / C[i, i]
+            s -= row[j] * out[j]
+        out[i] = s / row[i]
 
 
 @jit
@@ -66,10 +69,11 @@ def _gap(K, h, delta, s, u, i0, L, j):
 
 
 @jit
-def interval_normal(C, K, h, load, dx, i0, i1, p, work, ones_inv, known):
+def interval_normal(C, CT, K, h, load, dx, i0, i1, p, work, ones_inv, known, check_all):
     """The normal problem ``h + K p - delta >= 0``, ``p >= 0``, complementary, ``sum p dx = load`` with the contact
-    one interval ``[i0, i1)``, by moving its ends. Writes ``p``; returns ``(ok, i0, i1)``. ``ones_inv[L]`` keeps
-    ``K_L^-1 1`` of each width met (``known[L]``)."""
+    one interval ``[i0, i1)``, by moving its ends. Writes ``p``; returns ``(ok, i0, i1, delta)``. ``ones_inv[L]``
+    keeps ``K_L^-1 1`` of each width met (``known[L]``). The gap away from the ends is checked only with
+    ``check_all`` (else :func:`penetrates` checks the final pressure)."""
     n = h.size
     ones, u = work[0], work[2]
     for k in range(n):
@@ -77,12 +81,12 @@ def interval_normal(C, K, h, load, dx, i0, i1, p, work, ones_inv, known):
     for _ in range(2 * n + 8):
         L = i1 - i0
         if L < 3 or i0 < 0 or i1 > n:
-            return False, i0, i1
+            return False, i0, i1, 0.0
         s = ones_inv[L]
         if not known[L]:
-            _chol_solve(C, L, ones, s)
+            _chol_solve(C, CT, L, ones, s)
             known[L] = True
-        _chol_solve(C, L, h[i0:i1], u)
+        _chol_solve(C, CT, L, h[i0:i1], u)
         s1 = 0.0
         su = 0.0
         hmax = 1.0
@@ -104,7 +108,7 @@ def interval_normal(C, K, h, load, dx, i0, i1, p, work, ones_inv, known):
                 i1 -= 1
             continue
         if neg_inside:
-            return False, i0, i1
+            return False, i0, i1, delta
         tol = 1e-12 * hmax
         # ---- the neighbours first: a penetrating one joins the contact
         grow0 = i0 > 0 and _gap(K, h, delta, s, u, i0, L, i0 - 1) < -tol
@@ -116,19 +120,40 @@ def interval_normal(C, K, h, load, dx, i0, i1, p, work, ones_inv, known):
                 i1 += 1
             continue
         # ---- settled ends: no penetration anywhere else
-        for j in range(n):
-            if (j < i0 - 1 or j > i1) and _gap(K, h, delta, s, u, i0, L, j) < -tol:
-                return False, i0, i1
+        if check_all:
+            for j in range(n):
+                if (j < i0 - 1 or j > i1) and _gap(K, h, delta, s, u, i0, L, j) < -tol:
+                    return False, i0, i1, delta
         for j in range(n):
             p[j] = 0.0
         for k in range(L):
             p[i0 + k] = delta * s[k] - u[k]
-        return True, i0, i1
-    return False, i0, i1
+        return True, i0, i1, delta
+    return False, i0, i1, 0.0
 
 
 @jit
-def alternate(K, C, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, tol, maxiter, max_alt, st,
+def penetrates(K, h, delta, p, i0, i1):
+    """Whether the pressure ``p`` on ``[i0, i1)`` (from :func:`interval_normal`, approach ``delta``) penetrates
+    away from its ends: :func:`interval_normal`'s test with ``check_all``."""
+    n = h.size
+    hmax = 1.0
+    for k in range(i0, i1):
+        hmax = max(hmax, abs(h[k]))
+    tol = 1e-12 * hmax
+    for j in range(n):
+        if j < i0 - 1 or j > i1:
+            g = h[j] - delta
+            row = K[j]
+            for k in range(i0, i1):
+                g += row[k] * p[k]
+            if g < -tol:
+                return True
+    return False
+
+
+@jit
+def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, tol, maxiter, max_alt, st,
               i0, i1, p, work, ones_inv, known, q_start):
     """One coupled step by the alternation, from ``st.q_prev`` (kept) and the previous pressure ``p_prev``.
 
@@ -143,6 +168,7 @@ def alternate(K, C, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, t
     for k in range(n):
         p_cur[k] = p_prev[k]
     lam = 0.0
+    delta = 0.0
     change = np.inf
     it = 0
     status = STATUS_DONE
@@ -152,7 +178,7 @@ def alternate(K, C, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, t
         cross(q_in, dx, shift)
         for k in range(n):
             profile[k] = gap0[k] + cn * shift[k]
-        ok, i0, i1 = interval_normal(C, K, profile, load, dx, i0, i1, p, work, ones_inv, known)
+        ok, i0, i1, delta = interval_normal(C, CT, K, profile, load, dx, i0, i1, p, work, ones_inv, known, False)
         if not ok:
             status = STATUS_GENERAL
             break
@@ -165,7 +191,7 @@ def alternate(K, C, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, t
             cross(dp, dx, shift)
             for k in range(i1 - i0):
                 shift[k] = ct * shift[i0 + k]
-            _chol_solve(C, i1 - i0, shift, work[9])
+            _chol_solve(C, CT, i1 - i0, shift, work[9])
             for k in range(i1 - i0):
                 st.q_prev[i0 + k] += work[9][k]
         lam, ok = solve_step(K, p, target, dx, tol, maxiter, st)
@@ -190,6 +216,9 @@ def alternate(K, C, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, t
             break
     for k in range(n):
         st.q_prev[k] = q_true[k]
+    # ---- the final pressure penetrates nowhere else (the passes checked only the contact's ends)
+    if status == STATUS_DONE and penetrates(K, profile, delta, p, i0, i1):
+        status = STATUS_GENERAL
     return status, lam, it, change, i0, i1
 
 
@@ -264,7 +293,7 @@ def _start_interval(p_prev, gap0, load, dx):
 
 
 @jit
-def march(K, C, gaps, loads, targets, period, kb, k0, k1, detect_periodic, dx, cn, ct, coupled, tol, maxiter, max_alt,
+def march(K, C, CT, gaps, loads, targets, period, kb, k0, k1, detect_periodic, dx, cn, ct, coupled, tol, maxiter, max_alt,
           st, p_prev, dq_last, work, ones_inv, known, q_start, bounds, traction, state, disp, diss, iters, resid,
           worst, alternations, res_out, info):
     """March through steps ``k0:k1`` by :func:`alternate`, recording each as :meth:`core.coupled.CoupledSolver.march`
@@ -288,7 +317,7 @@ def march(K, C, gaps, loads, targets, period, kb, k0, k1, detect_periodic, dx, c
             q_start[i] = q_prev[i] + dq_last[i]
             p[i] = 0.0
         status, lam, it, change, i0, i1 = alternate(
-            K, C, gap0, loads[k], dx, cn, ct, coupled, p_prev, has_prev, targets[k], tol, maxiter, max_alt, st,
+            K, C, CT, gap0, loads[k], dx, cn, ct, coupled, p_prev, has_prev, targets[k], tol, maxiter, max_alt, st,
             i0, i1, p, work, ones_inv, known, q_start)
         if status == STATUS_GENERAL:
             return k, -1, -1, STATUS_GENERAL
