@@ -133,23 +133,50 @@ def interval_normal(C, CT, K, h, load, dx, i0, i1, p, work, ones_inv, known, che
 
 
 @jit
-def penetrates(K, h, delta, p, i0, i1):
-    """Whether the pressure ``p`` on ``[i0, i1)`` (from :func:`interval_normal`, approach ``delta``) penetrates
-    away from its ends: :func:`interval_normal`'s test with ``check_all``."""
-    n = h.size
+def _contact_products(K, p, i0, i1, out):
+    """``out = K p`` for a pressure ``p`` that vanishes outside ``[i0, i1)``."""
+    for j in range(K.shape[0]):
+        g = 0.0
+        row = K[j]
+        for k in range(i0, i1):
+            g += row[k] * p[k]
+        out[j] = g
+
+
+@jit
+def penetrates(h, kp, delta, i0, i1):
+    """Whether the pressure on ``[i0, i1)`` from :func:`interval_normal` (approach ``delta``, ``kp = K p``)
+    penetrates the profile ``h`` away from its ends: :func:`interval_normal`'s test with ``check_all``."""
     hmax = 1.0
     for k in range(i0, i1):
         hmax = max(hmax, abs(h[k]))
     tol = 1e-12 * hmax
-    for j in range(n):
-        if j < i0 - 1 or j > i1:
-            g = h[j] - delta
-            row = K[j]
-            for k in range(i0, i1):
-                g += row[k] * p[k]
-            if g < -tol:
-                return True
+    for j in range(h.size):
+        if (j < i0 - 1 or j > i1) and h[j] + kp[j] - delta < -tol:
+            return True
     return False
+
+
+@jit
+def _gap_residual_from(gap0, p, q, kp, cn, dx, gap):
+    """:func:`gap_residual` from ``kp = K p`` (``gap``: scratch)."""
+    n = gap0.size
+    cross(q, dx, gap)
+    total = 0.0
+    m = 0
+    for i in range(n):
+        gap[i] = gap0[i] + cn * gap[i] + kp[i]
+        if p[i] > 0.0:
+            total += gap[i]
+            m += 1
+    delta = total / m if m else 0.0
+    worst = 0.0
+    for i in range(n):
+        if p[i] > 0.0:
+            worst = max(worst, abs(gap[i] - delta))
+        else:
+            worst = max(worst, delta - gap[i])
+    return worst
 
 
 @jit
@@ -159,7 +186,9 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
 
     ``q_start`` is the first guess of the step's tractions (the normal problem of the first pass sees it).
     Writes the pressure ``p`` and, through :func:`core._pdas.solve_step`, the step's tractions, slips, codes and
-    residuals in ``st``. Returns ``(status, lam, alternations, change, i0, i1)`` (:data:`STATUS_DONE`, ...).
+    residuals in ``st``. Returns ``(status, lam, alternations, change, i0, i1, delta)`` (:data:`STATUS_DONE`,
+    ...; ``delta`` the approach of the last normal solve, whose profile stays in ``work[5]``). The passes check
+    the gap only at the contact's ends: the caller checks the final pressure everywhere (:func:`march`).
     """
     n = gap0.size
     q_true = st.q_prev.copy()
@@ -216,10 +245,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             break
     for k in range(n):
         st.q_prev[k] = q_true[k]
-    # ---- the final pressure penetrates nowhere else (the passes checked only the contact's ends)
-    if status == STATUS_DONE and penetrates(K, profile, delta, p, i0, i1):
-        status = STATUS_GENERAL
-    return status, lam, it, change, i0, i1
+    return status, lam, it, change, i0, i1, delta
 
 
 @jit
@@ -273,8 +299,9 @@ def cholesky(A):
 
 
 @jit
-def _start_interval(p_prev, gap0, load, dx):
-    """The first guess of a step's contact: the previous pressure's, else Hertz's width around the lowest point."""
+def _start_interval(p_prev, gap0, load, dx, move):
+    """The first guess of a step's contact: the previous pressure's moved by ``move`` elements (the centre's
+    move), else Hertz's width around the lowest point."""
     n = gap0.size
     i0, i1 = -1, -1
     for k in range(n):
@@ -283,6 +310,9 @@ def _start_interval(p_prev, gap0, load, dx):
                 i0 = k
             i1 = k + 1
     if i0 >= 0:
+        if 0 <= i0 + move and i1 + move <= n:
+            i0 += move
+            i1 += move
         return True, i0, i1
     m = 0
     for k in range(1, n):
@@ -293,12 +323,12 @@ def _start_interval(p_prev, gap0, load, dx):
 
 
 @jit
-def march(K, C, CT, gaps, loads, targets, period, kb, k0, k1, detect_periodic, dx, cn, ct, coupled, tol, maxiter, max_alt,
+def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodic, dx, cn, ct, coupled, tol, maxiter, max_alt,
           st, p_prev, dq_last, work, ones_inv, known, q_start, bounds, traction, state, disp, diss, iters, resid,
           worst, alternations, res_out, info):
     """March through steps ``k0:k1`` by :func:`alternate`, recording each as :meth:`core.coupled.CoupledSolver.march`
-    does (``gaps[k - kb]``: the body's gap of step ``k``, ``kb <= k0`` the first step of the chunk; ``loads``,
-    ``targets``: its normal load and tangential target; ``bounds[k - kb]`` receives its pressure). ``p_prev`` and ``dq_last`` (the last traction increment,
+    does (``gaps[k - kb]``: the body's gap of step ``k``, ``kb <= k0`` the first step of the chunk; ``xc``, ``loads``,
+    ``targets``: its centre, normal load and tangential target; ``bounds[k - kb]`` receives its pressure). ``p_prev`` and ``dq_last`` (the last traction increment,
     the next step's first guess) advance with the steps.
 
     Returns ``(reached, periodic_from, failed, status)``: ``status`` :data:`STATUS_GENERAL` stops at step
@@ -312,13 +342,19 @@ def march(K, C, CT, gaps, loads, targets, period, kb, k0, k1, detect_periodic, d
     p = np.zeros(n)
     for k in range(k0, k1):
         gap0 = gaps[k - kb]
-        has_prev, i0, i1 = _start_interval(p_prev, gap0, loads[k], dx)
+        move = int(np.rint((xc[k] - xc[k - 1]) / dx)) if k > 0 else 0
+        has_prev, i0, i1 = _start_interval(p_prev, gap0, loads[k], dx, move)
         for i in range(n):
             q_start[i] = q_prev[i] + dq_last[i]
             p[i] = 0.0
-        status, lam, it, change, i0, i1 = alternate(
+        status, lam, it, change, i0, i1, delta = alternate(
             K, C, CT, gap0, loads[k], dx, cn, ct, coupled, p_prev, has_prev, targets[k], tol, maxiter, max_alt, st,
             i0, i1, p, work, ones_inv, known, q_start)
+        if status == STATUS_DONE:
+            # ---- the final pressure penetrates nowhere else (the passes checked only the contact's ends)
+            _contact_products(K, p, i0, i1, work[4])
+            if penetrates(work[5], work[4], delta, i0, i1):
+                status = STATUS_GENERAL
         if status == STATUS_GENERAL:
             return k, -1, -1, STATUS_GENERAL
         # ---- the named residuals
@@ -327,7 +363,7 @@ def march(K, C, CT, gaps, loads, targets, period, kb, k0, k1, detect_periodic, d
         if status != STATUS_DONE or not change <= tol:
             info[0], info[1] = it, change
             return k, -1, k, status
-        res_out[nres] = gap_residual(K, gap0, p, q, cn, dx, work)
+        res_out[nres] = _gap_residual_from(gap0, p, q, work[4], cn, dx, work[6])
         pmin = 0.0
         for i in range(n):
             pmin = min(pmin, p[i])
