@@ -1,4 +1,4 @@
-"""Compiled kernels of the coupled per-step solver (:mod:`core.coupled`): one step's alternation in numba.
+"""Compiled kernels of the coupled per-step solver (:mod:`core.coupled`): its march over the steps in numba.
 
 The alternation of :class:`core.coupled.CoupledSolver` (the normal problem with
 the tractions fixed, then the tangential one with that pressure, until
@@ -12,6 +12,12 @@ triangular solves. The tangential solve is :func:`core._pdas.solve_step`, the
 uncoupled solver's own. A step the kernels cannot take (the contact not one
 interval, or its ends not settling) is reported to the caller, which then
 solves it with the general Python path (:func:`core.normal.solve_line`).
+:func:`march` runs the steps of a chunk (the alternation, the named
+residuals, the record of each step and the periodic test) without returning
+to Python, as :func:`core._pdas.march` does for the uncoupled solver: per-step
+Python was half a coupled run's time (``benchmarks/results/coupled_timing_s4.txt``).
+The factor ``C`` is computed here too (:func:`cholesky`), not by LAPACK, whose
+threads cost more than they gain on a small ``K`` when the cores are shared.
 """
 
 from __future__ import annotations
