@@ -7,7 +7,9 @@ of the discretisation (vanishing with the element size)? This runs ``w = 0.6``, 
 0.738 times eq 35) on the grids ``a/20``, ``a/40``, ``a/80`` (and ``a/160``), the rocking step ``dW`` equal to the
 element size (the default), and prints the energy of the last period [mu^2 P^2/E*] (steady when a period repeats:
 'rep' is the period from which the state repeats), the increment, the regime and the observed order of the change
-between successive grids (``log2`` of the ratio of successive differences).
+between successive grids (``log2`` of the ratio of successive differences), whether the energy is steady in time
+(the last period's over the one five periods before) and the verdict's fit of the energy per period as the
+periods go on (``E_inf``).
 
 Run: python benchmarks/coupled_dissipation_grid.py [--finest 160] [--periods 30]; writes
 benchmarks/results/coupled_dissipation_grid.txt.
@@ -24,6 +26,8 @@ import time
 from contextlib import redirect_stdout
 from pathlib import Path
 
+import numpy as np
+
 RESULTS = Path(__file__).resolve().parent / "results"
 MU, W = 0.3, 0.6
 #: The coupled limit at w = 0.6 and a/40 as a fraction of eq 35 (midpoints of coupled_limits.txt's brackets).
@@ -39,7 +43,7 @@ def study(finest: int, periods: int, betas) -> None:
     print(f"rocking cylinder, w = {W}, mu = {MU}, dW = dx, up to {periods} periods; energy [mu^2 P^2/E*] and "
           "increment [mu P/E*] of the last period (steady when the state repeats from 'rep')")
     print(f"{'beta':>6} {'ft/lim':>7} {'ft':>7} {'a/dx':>5} {'energy':>11} {'increment':>11} {'regime':>12} "
-          f"{'rep':>4} {'E(dx)-E(dx/2)':>14} {'order':>6} {'cpu [s]':>8}")
+          f"{'rep':>4} {'E(dx)-E(dx/2)':>14} {'order':>6} {'E_n/E_n-5':>10} {'E_inf fit':>10} {'cpu [s]':>8}")
     for beta in betas:
         for f in FRACTIONS:
             ft = f * LIMIT_A40[abs(beta)] * eq35
@@ -56,9 +60,12 @@ def study(finest: int, periods: int, betas) -> None:
                     d1, d2 = energies[-3] - energies[-2], energies[-2] - energies[-1]
                     order = f"{math.log2(abs(d1 / d2)):.2f}" if d2 != 0 and d1 != 0 else "-"
                 rep = "-" if r.periodic_from is None else str(r.periodic_from)
+                e = np.asarray(r.dissipation_per_period, dtype=float)  # is the last period's energy steady in time?
+                trend = f"{e[-1] / e[-6]:.4f}" if e.size >= 6 and e[-6] > 0 else "-"
+                e_inf = "-" if s["E_inf"] is None else f"{s['E_inf']:.3e}"
                 print(f"{beta:>6.2f} {f:>7.2f} {ft:>7.4f} {g:>5d} {s['energy_last_period']:>11.4e} "
-                      f"{s['increment_last_period']:>11.3e} {s['regime']:>12} {rep:>4} {diff:>14} {order:>6} "
-                      f"{time.process_time() - c0:>8.1f}", flush=True)
+                      f"{s['increment_last_period']:>11.3e} {s['regime']:>12} {rep:>4} {diff:>14} {order:>6} {trend:>10} "
+                      f"{e_inf:>10} {time.process_time() - c0:>8.1f}", flush=True)
 
 
 def main(argv=None) -> None:
@@ -67,6 +74,7 @@ def main(argv=None) -> None:
     ap.add_argument("--periods", type=int, default=30, help="periods of every run (a repeated period stops it)")
     ap.add_argument("--betas", default="0.1,0.25,-0.25", help="comma-separated Dundurs beta values")
     ap.add_argument("--no-write", action="store_true", help="print only")
+    ap.add_argument("--append", action="store_true", help="add to the results file instead of replacing it")
     args = ap.parse_args(argv)
     buf = io.StringIO()
 
@@ -77,13 +85,14 @@ def main(argv=None) -> None:
             return buf.write(s)
 
     with redirect_stdout(Tee()):
-        print(f"# benchmarks/coupled_dissipation_grid.py --finest {args.finest} --periods {args.periods}: "
-              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, cores={os.cpu_count()}, "
+        print(f"# benchmarks/coupled_dissipation_grid.py --finest {args.finest} --periods {args.periods} "
+              f"--betas {args.betas}: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, cores={os.cpu_count()}, "
               f"load {os.getloadavg()[0]:.1f}")
         study(args.finest, args.periods, [float(b) for b in args.betas.split(",")])
     if not args.no_write:
         RESULTS.mkdir(exist_ok=True)
-        (RESULTS / "coupled_dissipation_grid.txt").write_text(buf.getvalue())
+        path = RESULTS / "coupled_dissipation_grid.txt"
+        path.write_text((path.read_text() if args.append and path.exists() else "") + buf.getvalue())
 
 
 if __name__ == "__main__":
