@@ -11,7 +11,7 @@ between successive grids (``log2`` of the ratio of successive differences), whet
 (the last period's over the one five periods before) and the verdict's fit of the energy per period as the
 periods go on (``E_inf``).
 
-Run: python benchmarks/coupled_dissipation_grid.py [--finest 160] [--periods 30]; writes
+Run: python benchmarks/coupled_dissipation_grid.py [--coarsest 20] [--finest 160] [--periods 30] [--betas 0.1,0.25]; writes
 benchmarks/results/coupled_dissipation_grid.txt.
 """
 
@@ -35,11 +35,11 @@ LIMIT_A40 = {0.1: 0.9565, 0.25: 0.738}
 FRACTIONS = (0.8, 0.9)
 
 
-def study(finest: int, periods: int, betas) -> None:
+def study(finest: int, periods: int, betas, coarsest: int = 20) -> None:
     import core
 
     eq35 = float(core.ft_limit(W))
-    grids = [g for g in (20, 40, 80, 160) if g <= finest]
+    grids = [g for g in (20, 40, 80, 160) if coarsest <= g <= finest]
     print(f"rocking cylinder, w = {W}, mu = {MU}, dW = dx, up to {periods} periods; energy [mu^2 P^2/E*] and "
           "increment [mu P/E*] of the last period (steady when the state repeats from 'rep')")
     print(f"{'beta':>6} {'ft/lim':>7} {'ft':>7} {'a/dx':>5} {'energy':>11} {'increment':>11} {'regime':>12} "
@@ -71,6 +71,7 @@ def study(finest: int, periods: int, betas) -> None:
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--finest", type=int, default=160, choices=(40, 80, 160), help="finest grid, a/FINEST")
+    ap.add_argument("--coarsest", type=int, default=20, choices=(20, 40, 80, 160), help="coarsest grid, a/COARSEST")
     ap.add_argument("--periods", type=int, default=30, help="periods of every run (a repeated period stops it)")
     ap.add_argument("--betas", default="0.1,0.25,-0.25", help="comma-separated Dundurs beta values")
     ap.add_argument("--no-write", action="store_true", help="print only")
@@ -85,10 +86,11 @@ def main(argv=None) -> None:
             return buf.write(s)
 
     with redirect_stdout(Tee()):
-        print(f"# benchmarks/coupled_dissipation_grid.py --finest {args.finest} --periods {args.periods} "
+        print(f"# benchmarks/coupled_dissipation_grid.py --coarsest {args.coarsest} --finest {args.finest} "
+              f"--periods {args.periods} "
               f"--betas {args.betas}: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, cores={os.cpu_count()}, "
               f"load {os.getloadavg()[0]:.1f}")
-        study(args.finest, args.periods, [float(b) for b in args.betas.split(",")])
+        study(args.finest, args.periods, [float(b) for b in args.betas.split(",")], args.coarsest)
     if not args.no_write:
         RESULTS.mkdir(exist_ok=True)
         path = RESULTS / "coupled_dissipation_grid.txt"
