@@ -329,7 +329,7 @@ class CoupledSolver:
         return np.ascontiguousarray(gaps)
 
     def _record(self, k, k0, lam, p, change, alternations, bounds, out):
-        """Check and record one step solved by :meth:`solve` (the general path); False if it failed."""
+        """Check and record one step solved by :meth:`_solve_general`; False if it failed."""
         st = self.inner.state
         q = st.q
         res = self._residuals(k, p, q, True, change)
