@@ -69,7 +69,7 @@ def worker() -> None:
                               rep=r.periodic_from, kkt=float(s["max_kkt_residual"]))), flush=True)
 
 
-def drive(before: str, after: str, out: str, repeats: int) -> None:
+def drive(before: str, after: str, out: str, repeats: int, quick: bool = False) -> None:
     """Start both workers and run every configuration on both, in turns."""
     def start(tree):
         env = dict(os.environ, PYTHONPATH=tree)
@@ -83,7 +83,7 @@ def drive(before: str, after: str, out: str, repeats: int) -> None:
     import core
 
     head = [(1.0, 0.6, b, repeats) for b in BETAS]
-    grid = [(f, w, b, 1) for w in (0.3, 0.6) for b in BETAS for f in FRACTIONS]
+    grid = [] if quick else [(f, w, b, 1) for w in (0.3, 0.6) for b in BETAS for f in FRACTIONS]
     i = 0
     with open(out, "w") as fh:
         for f, w, b, reps in head + grid:
@@ -137,13 +137,14 @@ def main(argv=None) -> None:
     ap.add_argument("--out", default="coupled_ab.jsonl")
     ap.add_argument("--repeats", type=int, default=3, help="repeats of the heaviest case (w 0.6, ft at eq 35)")
     ap.add_argument("--table", help="format a JSON-lines file of runs")
+    ap.add_argument("--quick", action="store_true", help="the heaviest case only")
     args = ap.parse_args(argv)
     if args.worker:
         worker()
     elif args.table:
         table(args.table)
     else:
-        drive(args.before, args.after, args.out, args.repeats)
+        drive(args.before, args.after, args.out, args.repeats, args.quick)
 
 
 if __name__ == "__main__":
