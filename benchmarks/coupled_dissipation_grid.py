@@ -1,4 +1,4 @@
-"""Issue 32's open question: the steady dissipation per period below the coupled limit (cyclic micro-slip), on finer grids.
+"""Issue 32's open question: the steady dissipation below the coupled limit (cyclic micro-slip) on finer grids.
 
 Below its coupled limit the rocking cylinder of dissimilar materials stops walking but keeps a small energy
 dissipated per period. Is it a property of the contact (converging to a non-zero value as the grid is refined) or
@@ -11,8 +11,8 @@ between successive grids (``log2`` of the ratio of successive differences), whet
 (the last period's over the one five periods before) and the verdict's fit of the energy per period as the
 periods go on (``E_inf``).
 
-Run: python benchmarks/coupled_dissipation_grid.py [--coarsest 20] [--finest 160] [--periods 30] [--betas 0.1,0.25]; writes
-benchmarks/results/coupled_dissipation_grid.txt.
+Run: python benchmarks/coupled_dissipation_grid.py [--coarsest 20] [--finest 160] [--periods 30]
+[--betas 0.1,0.25] [--append]; writes benchmarks/results/coupled_dissipation_grid.txt.
 """
 
 from __future__ import annotations
@@ -64,7 +64,8 @@ def study(finest: int, periods: int, betas, coarsest: int = 20) -> None:
                 trend = f"{e[-1] / e[-6]:.4f}" if e.size >= 6 and e[-6] > 0 else "-"
                 e_inf = "-" if s["E_inf"] is None else f"{s['E_inf']:.3e}"
                 print(f"{beta:>6.2f} {f:>7.2f} {ft:>7.4f} {g:>5d} {s['energy_last_period']:>11.4e} "
-                      f"{s['increment_last_period']:>11.3e} {s['regime']:>12} {rep:>4} {diff:>14} {order:>6} {trend:>10} "
+                      f"{s['increment_last_period']:>11.3e} {s['regime']:>12} {rep:>4} {diff:>14} {order:>6} "
+                      f"{trend:>10} "
                       f"{e_inf:>10} {time.process_time() - c0:>8.1f}", flush=True)
 
 

@@ -329,13 +329,14 @@ def _start_interval(p_prev, gap0, load, dx, move):
 
 
 @jit
-def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodic, dx, cn, ct, coupled, tol, maxiter, max_alt,
-          st, p_prev, dq_last, work, ones_inv, known, q_start, bounds, traction, state, disp, diss, iters, resid,
-          worst, alternations, res_out, info):
+def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodic, dx, cn, ct, coupled, tol,
+          maxiter, max_alt, st, p_prev, dq_last, work, ones_inv, known, q_start, bounds, traction, state, disp, diss,
+          iters, resid, worst, alternations, res_out, info):
     """March through steps ``k0:k1`` by :func:`alternate`, recording each as :meth:`core.coupled.CoupledSolver.march`
-    does (``gaps[k - kb]``: the body's gap of step ``k``, ``kb <= k0`` the first step of the chunk; ``xc``, ``loads``,
-    ``targets``: its centre, normal load and tangential target; ``bounds[k - kb]`` receives its pressure). ``p_prev`` and ``dq_last`` (the last traction increment,
-    the next step's first guess) advance with the steps.
+    does (``gaps[k - kb]``: the body's gap of step ``k``, ``kb <= k0`` the first step of the chunk; ``xc``,
+    ``loads``, ``targets``: its centre, normal load and tangential target; ``bounds[k - kb]`` receives its
+    pressure). ``p_prev`` and ``dq_last`` (the last traction increment, the next step's first guess) advance with
+    the steps.
 
     Returns ``(reached, periodic_from, failed, status)``: ``status`` :data:`STATUS_GENERAL` stops at step
     ``reached`` for the general solve; ``failed >= 0`` names a step that could not be solved (``info`` then

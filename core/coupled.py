@@ -372,8 +372,8 @@ class CoupledSolver:
         k = k0
         while k < k1:
             reached, periodic_from, failed, status = _coupled.march(
-                self.K, self.C, self.CT, gaps, self.xc, loads, targets, period, k0, k, k1, bool(detect_periodic), self.dx,
-                self.normal_factor, self.tangential_factor, self.beta != 0.0, self.tol, self.maxiter,
+                self.K, self.C, self.CT, gaps, self.xc, loads, targets, period, k0, k, k1, bool(detect_periodic),
+                self.dx, self.normal_factor, self.tangential_factor, self.beta != 0.0, self.tol, self.maxiter,
                 self.max_alternations, st, self.p_prev, self._dq_last, self._work, self._ones_inv, self._known,
                 self._q_start, bounds, out.traction, out.state, out.displacement, out.dissipation, out.iterations,
                 out.kkt_residual, out.worst, out.alternations, self.residual_values, self._info)
