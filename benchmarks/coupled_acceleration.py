@@ -7,7 +7,8 @@ cylinder, ``w = 0.6``, ``ft`` at eq 35, ``a/40``, 20 periods, ``mu = 0.3``), eac
 normal solve, the tangential solve with the pressure's slip, the change), mixing the next tractions by
 
 * Anderson's method with the last ``m`` passes (``--anderson m``, 0: the plain alternation), or
-* a relaxation factor ``omega``: ``q <- (1 - omega) q + omega T(q)`` (``--omega``),
+* a relaxation factor ``omega``: ``q <- (1 - omega) q + omega T(q)`` (``--omega``), or from
+* another first guess of a step's tractions (``--guess``),
 
 and prints the mean passes a step, their histogram, the last period's increment and energy (the same to the
 tolerance: the fixed point does not depend on the mixing) and the worst residual. Few passes saved means the
@@ -23,7 +24,7 @@ import argparse
 import numpy as np
 
 
-def install(anderson: int, omega: float, counts: list) -> None:
+def install(anderson: int, omega: float, counts: list, guess: str = "extrapolated") -> None:
     """Replace the coupled solver's march by a Python one over the mixed alternation (this process only)."""
     from core import _pdas
     from core import coupled as cc
@@ -34,7 +35,10 @@ def install(anderson: int, omega: float, counts: list) -> None:
         gap0 = self.profile(self.x - self.xc[k])
         load = self.load_factor * float(self.P[k])
         p = self.p_prev if self.p_prev.any() else None
-        q = q_true + self._dq_last
+        # ---- the first guess of the tractions (the solver's: the last increment repeated)
+        move = int(np.rint((self.xc[k] - self.xc[k - 1]) / self.dx)) if k > 0 else 0
+        q = {"extrapolated": q_true + self._dq_last, "previous": q_true.copy(),
+             "moved": np.roll(q_true, move), "moved-extrapolated": np.roll(q_true + self._dq_last, move)}[guess]
         F, G = [], []
         lam, ok, change, it = 0.0, False, np.inf, 0
         try:
@@ -79,16 +83,20 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--anderson", type=int, default=0, help="passes Anderson's mixing remembers (0: none)")
     ap.add_argument("--omega", type=float, default=1.0, help="relaxation factor of the plain alternation")
+    ap.add_argument("--guess", default="extrapolated",
+                    choices=("extrapolated", "previous", "moved", "moved-extrapolated"),
+                    help="first guess of a step's tractions: the last increment repeated (the solver's), the previous "
+                         "tractions, or either moved with the centre")
     args = ap.parse_args(argv)
     import core
 
     counts: list = []
-    install(args.anderson, args.omega, counts)
+    install(args.anderson, args.omega, counts, args.guess)
     ft = float(core.ft_limit(0.6))
     for beta in (0.25, 0.1):
         counts.clear()
         r = core.simulate_cycles(ft, 0.6, periods=20, beta=beta, mu=0.3)
-        print(f"anderson {args.anderson} omega {args.omega} beta {beta}: {len(counts)} steps, "
+        print(f"anderson {args.anderson} omega {args.omega} guess {args.guess} beta {beta}: {len(counts)} steps, "
               f"{np.mean(counts):.2f} passes a step, histogram {np.bincount(counts).tolist()}, "
               f"increment {r.increment_per_period[-1]:.12g}, energy {r.summary()['energy_last_period']:.12g}, "
               f"worst residual {max(r.residuals.values()):.2e}", flush=True)
