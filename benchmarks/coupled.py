@@ -46,18 +46,19 @@ CONTACT_FALL = {(0.25, 0.6): 0.25, (0.25, 0.3): 0.08, (0.1, 0.6): 0.04, (0.1, 0.
 
 
 def _alternations():
-    """Count the coupled solver's alternations per step (a wrapper around its ``solve``)."""
+    """Count the coupled solver's alternations per solved step (a wrapper around its ``march``, which records them
+    in the trajectory's ``alternations``)."""
     import core.coupled as cc
 
     counts = []
-    if not hasattr(cc.CoupledSolver, "_bench_solve"):
-        cc.CoupledSolver._bench_solve = cc.CoupledSolver.solve
+    if not hasattr(cc.CoupledSolver, "_bench_march"):
+        cc.CoupledSolver._bench_march = cc.CoupledSolver.march
 
-        def solve(self, k, target):
-            out = self._bench_solve(k, target)
-            cc.CoupledSolver._bench_counts.append(out[3])
-            return out
-        cc.CoupledSolver.solve = solve
+        def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out):
+            done = self._bench_march(bounds, Q, period, load_scale, k0, k1, detect_periodic, out)
+            cc.CoupledSolver._bench_counts.extend(out.alternations[k0:done[0]].tolist())
+            return done
+        cc.CoupledSolver.march = march
     cc.CoupledSolver._bench_counts = counts
     return counts
 

@@ -135,17 +135,21 @@ class CoupledSolver:
             raise ValueError(f"the grid's {self.x.size} elements differ from the operator's {self.n}")
         self.profile = grid.body_spec.profile
         self.load_factor = float(grid.load_factor)
-        # the pressure's tangential displacement as a change of the previous tractions: K^-1 (2 beta/(pi mu)) S
-        self.Z = self.tangential_factor * sla.cho_solve(sla.cho_factor(self.K), cross_matrix(self.n, self.dx))
+        self._Z = None  # K^-1 (2 beta/(pi mu)) S, for the general solve only (:attr:`Z`)
         self.p_prev = np.zeros(self.n)
         self._inverses = {}
         self._interval = None
         # the lower Cholesky factor of K: its leading L x L block factors K on any interval of L elements
-        self.C = np.ascontiguousarray(np.linalg.cholesky(self.K))
+        C, ok = _coupled.cholesky(self.K)
+        if not ok:
+            raise ValueError("the operator's matrix is not positive definite: no coupled solve on it")
+        self.C, self.CT = C, np.ascontiguousarray(C.T)
         self._work = np.zeros((10, self.n))
         self._ones_inv = np.zeros((self.n + 1, self.n))  # K_L^-1 1 of each interval width L met
         self._known = np.zeros(self.n + 1, dtype=np.bool_)
         self._dq_last = np.zeros(self.n)  # the last step's traction increment: the next step's first guess
+        self._q_start = np.zeros(self.n)
+        self._info = np.zeros(2)
         self.residual_values = np.zeros(len(RESIDUALS) + len(COUPLED_RESIDUALS))
         self.xc = self.P = None
         self.failure = ""
@@ -165,6 +169,14 @@ class CoupledSolver:
     def pressure(self) -> np.ndarray:
         """Pressure after the last step [p0]."""
         return self.p_prev
+
+    @property
+    def Z(self) -> np.ndarray:
+        """``K^-1 (2 beta/(pi mu)) S``: the pressure's tangential displacement as a change of the previous tractions
+        on the whole grid (the general solve's, made on first use)."""
+        if self._Z is None:
+            self._Z = self.tangential_factor * sla.cho_solve((self.C, True), cross_matrix(self.n, self.dx))
+        return self._Z
 
     @property
     def periodic_tol(self) -> float:
@@ -254,35 +266,11 @@ class CoupledSolver:
             i1 += int(grow1)
         return None
 
-    def solve(self, k, target):
-        """Solve step ``k`` (its centre and load from :meth:`start`) from the current state; the tractions
-        ``q_prev`` and pressure are not advanced. Returns ``(lam, p, ok, alternations, change)``.
-
-        The compiled alternation (:func:`core._coupled.alternate`) solves it when the contact is one interval;
-        otherwise :meth:`_solve_general` (the general normal solve) does."""
-        gap0 = self.profile(self.x - self.xc[k])
-        load = self.load_factor * float(self.P[k])
-        has_prev = bool(self.p_prev.any())
-        if has_prev:
-            inside = np.flatnonzero(self.p_prev > 0)
-            i0, i1 = int(inside[0]), int(inside[-1]) + 1
-        else:  # around the profile's lowest point, Hertz's width
-            m = int(np.argmin(gap0))
-            half = int(np.ceil(np.sqrt(max(load, 1e-12) / (0.5 * np.pi)) / self.dx)) + 1
-            i0, i1 = max(0, m - half), min(self.n, m + half + 1)
-        p = np.zeros(self.n)
-        status, lam, it, change, i0, i1 = _coupled.alternate(
-            self.K, self.C, gap0, load, self.dx, self.normal_factor, self.tangential_factor, self.beta != 0.0,
-            self.p_prev, has_prev, float(target), self.tol, self.maxiter, self.max_alternations, self.inner.state,
-            i0, i1, p, self._work, self._ones_inv, self._known, self.inner.state.q_prev + self._dq_last)
-        if status == _coupled.STATUS_GENERAL:
-            return self._solve_general(k, target)
-        ok = status == _coupled.STATUS_DONE
-        return lam, p, ok and change <= self.tol, it, change
-
     def _solve_general(self, k, target):
-        """:meth:`solve` by the Python alternation, with the general normal solve where the contact is not one
-        interval (Anderson's mixing of the last two passes)."""
+        """Solve step ``k`` (its centre and load from :meth:`start`) from the current state by the Python
+        alternation, with the general normal solve (:func:`core.normal.solve_line`) where the contact is not one
+        interval (Anderson's mixing of the last two passes); the tractions ``q_prev`` and pressure are not advanced.
+        Returns ``(lam, p, ok, alternations, change)``."""
         st = self.inner.state
         q_true = st.q_prev.copy()
         gap0 = self.profile(self.x - self.xc[k])
@@ -332,40 +320,83 @@ class CoupledSolver:
         r[len(RESIDUALS) + 2] = change if np.isfinite(change) else 0.0
         return r
 
+    def _gaps(self, k0, k1):
+        """The body's gap [P/E*] of steps ``k0:k1``, one row a step (``profile(x - xc[k])``)."""
+        x, xc = self.x, self.xc[k0:k1]
+        gaps = np.asarray(self.profile(x[None, :] - xc[:, None]), dtype=float)
+        if gaps.shape != (k1 - k0, self.n):  # a profile that does not broadcast: row by row
+            gaps = np.array([self.profile(x - c) for c in xc], dtype=float).reshape(k1 - k0, self.n)
+        return np.ascontiguousarray(gaps)
+
+    def _record(self, k, k0, lam, p, change, alternations, bounds, out):
+        """Check and record one step solved by :meth:`_solve_general`; False if it failed."""
+        st = self.inner.state
+        q = st.q
+        res = self._residuals(k, p, q, True, change)
+        worst_step = float(res.max())
+        if worst_step > 1e3 * self.tol:
+            self.failure = f"the coupled residuals {self.residuals} exceed the tolerance"
+            return False
+        bounds[k - k0] = p
+        st.total[0] += lam
+        out.traction[k] = q
+        out.state[k] = st.codes
+        out.displacement[k] = st.total[0]
+        out.dissipation[k] = float(q @ st.slip) * self.dx
+        out.iterations[k] = st.counters[_pdas.ITERATIONS]
+        out.kkt_residual[k] = worst_step
+        np.maximum(out.worst, res, out=out.worst)
+        out.alternations[k] = alternations
+        self._dq_last = q - st.q_prev
+        st.q_prev[:] = q
+        self.p_prev = p
+        return True
+
+    def _unsettled(self, alternations, change):
+        """The failure message of a step whose alternation did not settle."""
+        return (f"the alternation of the normal and tangential solves did not settle in {alternations} passes "
+                f"(change {change:.2g})" if np.isfinite(change) else "")
+
     def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out):
         """Solve steps ``k0:k1`` in order, writing each step's pressure into ``bounds[k - k0]`` (see
-        :meth:`core.dense.DenseSolver.march`; the periodic test compares the tractions and the pressure)."""
+        :meth:`core.dense.DenseSolver.march`; the periodic test compares the tractions and the pressure).
+
+        The compiled march (:func:`core._coupled.march`) takes the steps whose contact is one interval; a step it
+        hands back is solved here by :meth:`_solve_general`, and the compiled march goes on from the next."""
         st = self.inner.state
         steps = Q.size
         nres = len(RESIDUALS)
-        for k in range(k0, k1):
-            lam, p, ok, alternations, change = self.solve(k, Q[k] * load_scale)
+        gaps = self._gaps(k0, k1)
+        loads = self.load_factor * np.asarray(self.P, dtype=float)
+        targets = np.ascontiguousarray(Q * load_scale, dtype=float)
+        k = k0
+        while k < k1:
+            reached, periodic_from, failed, status = _coupled.march(
+                self.K, self.C, self.CT, gaps, self.xc, loads, targets, period, k0, k, k1, bool(detect_periodic),
+                self.dx, self.normal_factor, self.tangential_factor, self.beta != 0.0, self.tol, self.maxiter,
+                self.max_alternations, st, self.p_prev, self._dq_last, self._work, self._ones_inv, self._known,
+                self._q_start, bounds, out.traction, out.state, out.displacement, out.dissipation, out.iterations,
+                out.kkt_residual, out.worst, out.alternations, self.residual_values, self._info)
+            if failed >= 0:
+                alternations, change = int(self._info[0]), float(self._info[1])
+                self.failure = self._unsettled(alternations, change)
+                if status == _coupled.STATUS_DONE and change <= self.tol:
+                    self.failure = f"the coupled residuals {self.residuals} exceed the tolerance"
+                return failed, -1, failed
+            if status != _coupled.STATUS_GENERAL:
+                return reached, periodic_from, -1
+            # ---- a contact that is not one interval: the general solve of this step
+            k = reached
+            lam, p, ok, alternations, change = self._solve_general(k, targets[k])
             if not ok:
                 self.residual_values[:nres] = st.residuals
-                self.failure = (f"the alternation of the normal and tangential solves did not settle in "
-                                f"{alternations} passes (change {change:.2g})" if np.isfinite(change) else "")
+                self.failure = self._unsettled(alternations, change)
                 return k, -1, k
-            q = st.q
-            res = self._residuals(k, p, q, ok, change)
-            worst_step = float(res.max())
-            if worst_step > 1e3 * self.tol:
-                self.failure = f"the coupled residuals {self.residuals} exceed the tolerance"
+            if not self._record(k, k0, lam, p, change, alternations, bounds, out):
                 return k, -1, k
-            bounds[k - k0] = p
-            st.total[0] += lam
-            out.traction[k] = q
-            out.state[k] = st.codes
-            out.displacement[k] = st.total[0]
-            out.dissipation[k] = float(q @ st.slip) * self.dx
-            out.iterations[k] = st.counters[_pdas.ITERATIONS]
-            out.kkt_residual[k] = worst_step
-            np.maximum(out.worst, res, out=out.worst)
-            out.alternations[k] = alternations
-            self._dq_last = q - st.q_prev
-            st.q_prev[:] = q
-            self.p_prev = p
             if k + 1 < steps and period[k + 1] != period[k]:
-                same = _pdas.block_repeats(q, st.q_block_end, self.tol)
+                same = _pdas.block_repeats(st.q, st.q_block_end, self.tol)
                 if same and detect_periodic and period[k] >= 0:
                     return k + 1, int(period[k]), -1
+            k += 1
         return k1, -1, -1

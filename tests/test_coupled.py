@@ -133,3 +133,25 @@ def test_a_physical_contact_runs_coupled_unless_it_names_its_kernel():
     assert r.coupled and r.kernel == "plane" and r.beta == pytest.approx(c.beta) and r.mu == 0.3
     u = c.simulate(periods=2, dx=0.1, kernel="strip")
     assert not u.coupled and u.kernel == "strip"
+
+
+def test_the_compiled_march_is_the_python_alternation(monkeypatch):
+    """The compiled march (core._coupled.march) and the Python alternation with the general normal solve
+    (CoupledSolver._solve_general, taken for every step when the kernel hands each step back) solve the same
+    coupled steps: the same states, increments and tractions to the alternation's tolerance."""
+    from core import _coupled
+
+    kw = dict(periods=2, dx=1 / 20, beta=0.25, mu=0.3)
+    compiled = core.simulate_cycles(0.2, 0.6, **kw)
+
+    def every_step_general(*args):
+        return args[9], -1, -1, _coupled.STATUS_GENERAL  # reached = k0: this step to the general solve
+
+    monkeypatch.setattr(_coupled, "march", every_step_general)
+    general = core.simulate_cycles(0.2, 0.6, **kw)
+    assert compiled.coupled and general.coupled and len(compiled.xc) == len(general.xc)
+    assert max(general.residuals.values()) <= 1e3 * 1e-10 and max(compiled.residuals.values()) <= 1e3 * 1e-10
+    assert np.array_equal(compiled.state, general.state)
+    assert_allclose(compiled.displacement, general.displacement, rtol=0, atol=1e-8)
+    assert_allclose(compiled.traction, general.traction, rtol=0, atol=1e-8)
+    assert_allclose(np.asarray(compiled.pressure), np.asarray(general.pressure), rtol=0, atol=1e-8)
