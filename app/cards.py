@@ -15,6 +15,7 @@ import re
 import numpy as np
 
 import core
+from core.result import COUPLED_GRID_NOTE
 
 from . import bodies
 
@@ -463,6 +464,8 @@ class CardsMixin:
             out.append(f"the normal force oscillates by ±{100 * float(result.params.get('amplitude', 0)):.0f} %: "
                        "eq 35 and the Hertz curves at xc = 0, ±W are those of the mean force; the figures draw "
                        "the run's own lowest pressure and no closure; the solver's verdict is the one to trust.")
+        if result is not None and getattr(result, "coupled", False) and result.regime == "cyclic slip":
+            out.append(COUPLED_GRID_NOTE.lstrip("; ") + ".")
         if result is not None:
             n_b = 2 * (1 - float(result.params.get("w", w))) / result.dx
             if n_b < 8:

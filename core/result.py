@@ -142,6 +142,14 @@ class FrettingLoop(NamedTuple):
     energy_unit: str
 
 
+#: What a coupled run's cyclic slip adds to its reason: below the coupled limit a steady micro-slip remains whose
+#: energy falls with the element size (benchmarks/results/coupled_dissipation_grid.txt, issue 32).
+COUPLED_GRID_NOTE = ("; with coupling (beta != 0) part of a steady dissipation is the grid's: below the coupled "
+                     "limit of the rocking cylinder it falls like sqrt(dx) (|beta| 0.25: 2.2e-3, 1.0e-3, 7.3e-4, "
+                     "5.1e-4 mu^2 P^2/E* at a/20, a/40, a/80, a/160), so run a finer grid before reading it as "
+                     "fretting")
+
+
 class PeriodVerdict:
     """The verdict of a run from its increments per period: the same properties on every result type.
 
@@ -178,7 +186,10 @@ class PeriodVerdict:
     @cached_property
     def _classified(self) -> Verdict:
         walk = self._walk
-        return walk if self._energy is None else combine_verdicts(walk, self._energy)
+        out = walk if self._energy is None else combine_verdicts(walk, self._energy)
+        if out.regime == "cyclic slip" and getattr(self, "coupled", False):
+            out = out._replace(reason=out.reason + COUPLED_GRID_NOTE)
+        return out
 
     @property
     def shakedown_period(self) -> int | None:

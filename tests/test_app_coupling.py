@@ -260,3 +260,18 @@ def test_an_uncoupled_map_is_not_drawn_beside_a_coupled_contact_and_its_own_map_
     s.param.update(materials="steel/aluminium", mu=0.4)
     options = e._map_options()
     assert options["beta"] == pytest.approx(e.contact.beta) and options["mu"] == 0.4 and options["kernel"] == "plane"
+
+
+def test_a_coupled_cyclic_slip_says_its_dissipation_falls_with_the_grid():
+    """Below the coupled limit a coupled run keeps a steady micro-slip that falls like sqrt(dx) (issue 32's grid
+    study): its reason and the explorer's warnings say so; an uncoupled run's cyclic slip does not get the note."""
+    from app.explorer import Explorer
+
+    coupled = core.simulate_cycles(0.168, 0.6, periods=20, dx=1 / 20, beta=0.25, mu=0.3)
+    assert coupled.regime == "cyclic slip"
+    assert "falls like sqrt(dx)" in coupled.regime_reason
+    uncoupled = core.simulate_cycles(0.3, 0.3, periods=6, dx=1 / 20, history="tangential", amplitude=0.4)
+    assert uncoupled.regime == "cyclic slip" and "sqrt(dx)" not in uncoupled.regime_reason
+    ex = Explorer(ExplorerState(periods=2))
+    assert any("falls like sqrt(dx)" in m for m in ex._warnings(0.168, 0.6, None, coupled))
+    assert not any("sqrt(dx)" in m for m in ex._warnings(0.3, 0.3, None, uncoupled))
