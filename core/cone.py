@@ -157,6 +157,15 @@ LENGTH_RANGE = (4.0, 200.0)
 #: the increment is 0.004421, 0.004463 and 0.004564 at a/8, a/10 and a/20 (issue 31, docs/guide/cone.md): a coarser
 #: default would not be converged.
 DEFAULT_DX = 0.1
+#: Element length along the contact line over its width across it (``dy = ASPECT dx``, :meth:`Cone.run_grid`).
+#: The contact is 10 to 200 half-widths long and its slices' pressure varies slowly along it, so the elements are
+#: longer along the line than across it: at the explorer's first run (a/10, ft 0.32, w 0.5, 10 periods) 43 x 39
+#: elements instead of 103 x 39 and 1.40 s CPU instead of 3.46 s (issue 31, benchmarks/solver3d.py --defaults;
+#: load average 12). The increment per period of a ratcheting cone (inner 0.5, w 0.5, ft 0.4041) at a/10 is
+#: 0.004408 against 0.004463 with square elements (-1.2 %) and 0.004564 at a/20 square (-3.4 %); the full cone's
+#: (w 0.3, ft 0.6373) 0.008053 against 0.008231 square and 0.00808 at a/20 square (-0.3 %). Longer elements are not
+#: consistently worse or better beyond 2.5 (0.004414, 0.004335, 0.004658 at 2, 3, 4): the rows at the cone's ends.
+ASPECT = 2.5
 #: Sub-rows per element row in the element means of the slice pressure (:meth:`Cone.grid_pressure`).
 _SUB_ROWS = 8
 
@@ -304,16 +313,18 @@ class Cone:
     def run_grid(self, reach_x, scale, h):
         """The edges ``(x_edges, y_edges)`` [a_m] of a run whose mid-length arc reaches ``|xc| <= reach_x``.
 
-        An odd number of square elements each way, centred on the mid-length
+        An odd number of elements each way, centred on the mid-length
         (``y = 0``) and on the unrotated contact line (``x = 0``), covering the
-        contact at every angle ``|theta| <= reach_x / r_m``.
+        contact at every angle ``|theta| <= reach_x / r_m``: ``h`` across the
+        line and ``ASPECT h`` along it (:data:`ASPECT`).
         """
         from .patch import MAX_GRID_ELEMENTS
         theta = reach_x / self.r_m
+        hy = ASPECT * h
         wide = self.r2 * math.sin(theta) + scale * math.sqrt(self.r2 / self.r_m) * 1.01 + h
-        long = 0.5 * self.length + h
+        long = 0.5 * self.length + hy
         xe = h * (np.arange(2 * math.ceil(wide / h - 0.5) + 2) - math.ceil(wide / h - 0.5) - 0.5)
-        ye = h * (np.arange(2 * math.ceil(long / h - 0.5) + 2) - math.ceil(long / h - 0.5) - 0.5)
+        ye = hy * (np.arange(2 * math.ceil(long / hy - 0.5) + 2) - math.ceil(long / hy - 0.5) - 0.5)
         n = (xe.size - 1) * (ye.size - 1)
         if n > MAX_GRID_ELEMENTS:
             raise ValueError(f"dx = {h:g} needs {n} elements for a cone of length {self.length:g} "
@@ -331,13 +342,15 @@ class Cone:
         element the distance ``v`` from the rotated line is linear in ``x``,
         so each of :data:`_SUB_ROWS` sub-rows of an element row is integrated
         exactly across; the means are scaled to the load ``P Fn`` (a fraction of
-        a per cent at the ends, which the sub-rows resolve to ``dx/8``).
+        a per cent at the ends, which the sub-rows resolve to an eighth of an
+        element's length ``dy = ASPECT dx`` along the line).
         """
         P = float(scale) ** 2
         theta = float(xc) / self.r_m
         h = float(x_edges[1] - x_edges[0])
+        hy = float(y_edges[1] - y_edges[0])
         x = 0.5 * (np.asarray(x_edges[1:]) + np.asarray(x_edges[:-1]))
-        ys = (np.asarray(y_edges[:-1])[:, None] + h * (np.arange(_SUB_ROWS) + 0.5)[None, :] / _SUB_ROWS).ravel()
+        ys = (np.asarray(y_edges[:-1])[:, None] + hy * (np.arange(_SUB_ROWS) + 0.5)[None, :] / _SUB_ROWS).ravel()
         c, s = math.cos(theta), math.sin(theta)
         Y = (ys + self.r_m)[:, None]  # from the apex
         u = Y * c + x[None, :] * s
@@ -349,7 +362,7 @@ class Cone:
         # p0(u) a(u) = P: the integral across is P [F(v1/a) - F(v0/a)] / cos(theta)
         band = np.where(inside, P * (_half_integral(v1 / a) - _half_integral(v0 / a)) / (c * h), 0.0)
         p = band.reshape(y_edges.size - 1, _SUB_ROWS, x.size).mean(axis=1)
-        total = float(p.sum()) * h * h
+        total = float(p.sum()) * h * hy
         if total > 0:
             p *= P * self.total_load / total
         return p
@@ -393,7 +406,7 @@ class Cone:
         on = p_min.ravel() > 0
         g = p_min.ravel()[on]
         n = g.size
-        dA = dx * dx
+        dA = dx * (ASPECT * dx)
         cost = -np.concatenate([np.full(n, dA), np.zeros(n)]) / self.total_load
         if self.twist_centre is None:
             A_eq = csr_matrix(np.concatenate([np.zeros(n), np.ones(n)])[None, :])
