@@ -149,22 +149,23 @@ def cone_w_limit(ft, inner=0.5, load_point="centre"):
 DEFAULT_LENGTH = 10.0
 #: Range of ``length`` (``L / a_m``): long enough for the slice model, short enough for the run's grid.
 LENGTH_RANGE = (4.0, 200.0)
-#: Default element side [a_m] of a cone's runs: a/10, 20 elements across the contact at the mid-length and
-#: ``10 L/a_m`` along it. Measured (benchmarks/solver3d.py, L/a_m = 10, w = 0.3, 10 periods, 1.1 times the grid's
-#: limit): the increment per period 0.00891 (inner 0.5) and 0.00823 (inner 0) at a/10 against 0.00892 and 0.00808
-#: at a/20 (0.1 % and 1.9 %: the full cone's apex, where the contact is narrow, wants the finer grid), at 1.4-1.7 s
-#: CPU against 17-28 s. Those compare each grid at its own 1.1 times the limit; at one ft (0.4041, inner 0.5, w 0.5)
-#: the increment is 0.004421, 0.004463 and 0.004564 at a/8, a/10 and a/20 (issue 31, docs/guide/cone.md): a coarser
-#: default would not be converged.
+#: Default element width [a_m] of a cone's runs, across the contact line: a/10, 20 elements across the contact at
+#: the mid-length (and ``4 L/a_m`` along it, :data:`ASPECT`). Measured (benchmarks/solver3d.py --convergence, issue
+#: 31, results in benchmarks/results/solver3d_cone_s4.txt): at one ft (0.4041, inner 0.5, w 0.5, a ratcheting cone)
+#: the increment per period is 0.004278, 0.004393, 0.004408 and 0.004518 at a/5, a/8, a/10 and a/20 (elements 2.5
+#: times as long along the line), 0.004463 and 0.004564 at a/10 and a/20 with square elements: the default is 3.4 %
+#: below a/20 square (the energy per period 6.2 %, the turn 4.0 %); a coarser default would not be converged.
 DEFAULT_DX = 0.1
 #: Element length along the contact line over its width across it (``dy = ASPECT dx``, :meth:`Cone.run_grid`).
-#: The contact is 10 to 200 half-widths long and its slices' pressure varies slowly along it, so the elements are
+#: The contact is 4 to 200 half-widths long and its slices' pressure varies slowly along it, so the elements are
 #: longer along the line than across it: at the explorer's first run (a/10, ft 0.32, w 0.5, 10 periods) 43 x 39
-#: elements instead of 103 x 39 and 1.40 s CPU instead of 3.46 s (issue 31, benchmarks/solver3d.py --defaults;
-#: load average 12). The increment per period of a ratcheting cone (inner 0.5, w 0.5, ft 0.4041) at a/10 is
-#: 0.004408 against 0.004463 with square elements (-1.2 %) and 0.004564 at a/20 square (-3.4 %); the full cone's
-#: (w 0.3, ft 0.6373) 0.008053 against 0.008231 square and 0.00808 at a/20 square (-0.3 %). Longer elements are not
-#: consistently worse or better beyond 2.5 (0.004414, 0.004335, 0.004658 at 2, 3, 4): the rows at the cone's ends.
+#: elements (a 41 x 26 window, an 81 x 54 FFT grid) instead of 103 x 39 (101 x 26, 216 x 54) and about a third of
+#: the CPU time (issue 31 item 15; benchmarks/solver3d.py --defaults, benchmarks/results/solver3d_cone_s4.txt). The
+#: increment per period of a ratcheting cone (inner 0.5, w 0.5, ft 0.4041) at a/10 is 0.004408 against 0.004463
+#: with square elements (-1.2 %) and 0.004564 at a/20 square (-3.4 %, against -2.2 % for a/10 square); the full
+#: cone's (w 0.3, ft 0.6373) 0.008053 against 0.008231 square and 0.00808 at a/20 square (-0.3 %, +1.9 %). Longer
+#: elements are not consistently worse or better beyond 2.5 (0.004414, 0.004335, 0.004658 at 2, 3, 4): the rows at
+#: the cone's ends, which cut the contact's ends, decide.
 ASPECT = 2.5
 #: Sub-rows per element row in the element means of the slice pressure (:meth:`Cone.grid_pressure`).
 _SUB_ROWS = 8
