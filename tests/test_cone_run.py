@@ -225,6 +225,22 @@ def test_increment_converges_with_the_rocking_step():
     np.testing.assert_allclose(turn, turn[-1], rtol=1e-2, err_msg="the turn per period")
 
 
+def test_run_on_elements_longer_along_the_line_carries_ft():
+    """A cone's run grid has elements ASPECT times as long along the line as across it, and the engine weighs each
+    traction by its element's area dx dy: the field at every stored step carries Ft (sum q dx dy = ft Fn), with no
+    force across it and no moment about the load point."""
+    dx, ft = 0.25, 0.3
+    c = Cone(inner=0.5)
+    r = core.simulate_cycles(ft, 0.3, periods=1, dx=dx, body=c)
+    dy = r.y_edges[1] - r.y_edges[0]
+    assert dy == pytest.approx(ASPECT * dx) and r.x_edges[1] - r.x_edges[0] == pytest.approx(dx)
+    tv = twist_field(r.x_edges, r.y_edges, c.twist_centre)
+    for q in r.traction_snapshots:
+        np.testing.assert_allclose(q.sum(axis=(1, 2)) * dx * dy, [ft * c.total_load, 0.0], rtol=0, atol=1e-6)
+        assert abs(float(np.sum(tv * q)) * dx * dy) <= 1e-6
+    assert r.max_residual <= 10 * TOL_3D
+
+
 def test_result_reports_displacement_and_twist_per_period():
     """A ratcheting cone walks along Ft and turns about the normal each period: both per period on the result,
     the displacement of the load point in mu Fn/(E* a_m) and the rotation in mu Fn/(E* a_m^2) rad."""
