@@ -46,8 +46,9 @@ grid convergence.
    step (5.46 and 14.3) and increments equal to 3e-16.
 
 10. Issue 31 item 15: the cone's elements 2.5 times as long along its line as across it (core.cone.ASPECT). The
-   explorer's first run (--defaults) on a 41 x 26 window instead of 101 x 26, 0.96 s CPU against 3.5-3.8 s with
-   square elements at load average 13; --convergence prints both element shapes (results:
+   explorer's first run (--defaults) on a 41 x 26 window instead of 101 x 26: 0.96 s CPU (best of 2, load 13);
+   1.24 s against 2.82 s with square elements (medians of 10 interleaved runs, load 5-14,
+   benchmarks/results/app_bodies_s4.txt); --convergence prints both element shapes (results:
    benchmarks/results/solver3d_cone_s4.txt). The figures of 9 are those of square elements.
 
 Run: python benchmarks/solver3d.py [--quick] [--no-fine] [--cone (the cone's row alone)]

@@ -159,8 +159,8 @@ DEFAULT_DX = 0.1
 #: Element length along the contact line over its width across it (``dy = ASPECT dx``, :meth:`Cone.run_grid`).
 #: The contact is 4 to 200 half-widths long and its slices' pressure varies slowly along it, so the elements are
 #: longer along the line than across it: at the explorer's first run (a/10, ft 0.32, w 0.5, 10 periods) 43 x 39
-#: elements (a 41 x 26 window, an 81 x 54 FFT grid) instead of 103 x 39 (101 x 26, 216 x 54) and about a third of
-#: the CPU time (issue 31 item 15; benchmarks/solver3d.py --defaults, benchmarks/results/solver3d_cone_s4.txt). The
+#: elements (a 41 x 26 window, an 81 x 54 FFT grid) instead of 103 x 39 (101 x 26, 216 x 54), 1.24 s CPU a run
+#: against 2.82 s (issue 31 item 15; medians of 10 interleaved runs, benchmarks/results/app_bodies_s4.txt). The
 #: increment per period of a ratcheting cone (inner 0.5, w 0.5, ft 0.4041) at a/10 is 0.004408 against 0.004463
 #: with square elements (-1.2 %) and 0.004564 at a/20 square (-3.4 %, against -2.2 % for a/10 square); the full
 #: cone's (w 0.3, ft 0.6373) 0.008053 against 0.008231 square and 0.00808 at a/20 square (-0.3 %, +1.9 %). Longer
