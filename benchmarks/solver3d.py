@@ -45,6 +45,12 @@ grid convergence.
    1.62 and 1.48 s CPU on main, 1.68 and 1.50 s on the cone branch (load average 5-8), the same iterations per
    step (5.46 and 14.3) and increments equal to 3e-16.
 
+10. Issue 31 item 15: the cone's elements 2.5 times as long along its line as across it (core.cone.ASPECT). The
+   explorer's first run (--defaults) on a 41 x 26 window instead of 101 x 26: 0.96 s CPU (best of 2, load 13);
+   1.24 s against 2.82 s with square elements (medians of 10 interleaved runs, load 5-14,
+   benchmarks/results/app_bodies_s4.txt); --convergence prints both element shapes (results:
+   benchmarks/results/solver3d_cone_s4.txt). The figures of 9 are those of square elements.
+
 Run: python benchmarks/solver3d.py [--quick] [--no-fine] [--cone (the cone's row alone)]
     [--defaults [--convergence] (sphere against cone at the explorer's grid, issue 31)]
 """
@@ -324,24 +330,35 @@ def explorer_defaults(repeats=2):
               f"run {best:.2f} s CPU (best of {repeats}); {r.regime}, last increment {r.increment_per_period[-1]:.3g}")
 
 
-def cone_convergence(ft=0.4041, w=0.5, inner=0.5, dxs=(0.2, 1 / 7, 0.125, 0.1, 0.05), dws=(0.2, 0.125, 0.05)):
+def cone_convergence(ft=0.4041, w=0.5, inner=0.5, dxs=(0.2, 0.125, 0.1, 0.05), dws=(0.2, 0.125, 0.05),
+                     squares=(0.1, 0.05)):
     """The cone's increment per period against the grid and the time step, at one ft (the explorer's w = 0.5,
     inner 0.5; ft 0.4041 is 1.1 times the upper Melan limit on the a/10 grid: a ratcheting cone), 10 periods:
-    dx at dW = dx (the default), then dW at dx = a/10."""
+    dx at dW = dx (the default) with the default elements (``core.cone.ASPECT`` times longer along the line than
+    across), then the square elements (aspect 1, the grid before issue 31's) at ``squares``, then dW at dx = a/10."""
     import core
+    import core.cone as cone_module
 
     body = core.Cone(inner=inner)
+    default = cone_module.ASPECT
     print(f"\ncone convergence: inner {inner}, w {w}, ft {ft}, 10 periods (increment [mu Fn/(E* a_m)], twist "
-          "[mu Fn/(E* a_m^2) rad], last period)")
-    rows = [(dx, None) for dx in dxs] + [(0.1, dW) for dW in dws]
-    for dx, dW in rows:
-        c = time.process_time()
-        r = core.simulate_cycles(ft, w, periods=10, dx=dx, dW=dW, body=body)
-        print(f"  dx a/{1 / dx:5.2f}, dW {dx if dW is None else dW:.4f}: {r.xc.size:4d} steps, "
-              f"{(r.y_edges.size - 1) * (r.x_edges.size - 1):6d} elements, {time.process_time() - c:6.2f} s CPU; "
-              f"AS {r.iterations.mean():.2f}, CG {r.cg_iterations.mean():.1f}; {r.regime}, increment "
-              f"{r.increment_per_period[-1]:.6f} (first {r.increment_per_period[0]:.6f}), twist "
-              f"{r.twist_per_period[-1]:.4e}")
+          "[mu Fn/(E* a_m^2) rad], energy [(mu Fn)^2/(E* a_m)], last period)")
+    rows = ([(dx, None, default) for dx in dxs] + [(dx, None, 1.0) for dx in squares]
+            + [(0.1, dW, default) for dW in dws])
+    try:
+        for dx, dW, aspect in rows:
+            cone_module.ASPECT = aspect
+            cone_module._grid_limit.cache_clear()  # the run's Melan programme on this grid
+            c = time.process_time()
+            r = core.simulate_cycles(ft, w, periods=10, dx=dx, dW=dW, body=body)
+            print(f"  dx a/{1 / dx:5.2f} x {aspect:g}, dW {dx if dW is None else dW:.4f}: {r.xc.size:4d} steps, "
+                  f"{r.y_edges.size - 1:3d}x{r.x_edges.size - 1:3d} elements, {time.process_time() - c:6.2f} s CPU; "
+                  f"AS {r.iterations.mean():.2f}, CG {r.cg_iterations.mean():.1f}; {r.regime}, increment "
+                  f"{r.increment_per_period[-1]:.6f} (first {r.increment_per_period[0]:.6f}), twist "
+                  f"{r.twist_per_period[-1]:.4e}, energy {r.dissipation_per_period[-1]:.4e}", flush=True)
+    finally:
+        cone_module.ASPECT = default
+        cone_module._grid_limit.cache_clear()
 
 
 def main(quick=False, fine=True):

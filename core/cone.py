@@ -149,14 +149,24 @@ def cone_w_limit(ft, inner=0.5, load_point="centre"):
 DEFAULT_LENGTH = 10.0
 #: Range of ``length`` (``L / a_m``): long enough for the slice model, short enough for the run's grid.
 LENGTH_RANGE = (4.0, 200.0)
-#: Default element side [a_m] of a cone's runs: a/10, 20 elements across the contact at the mid-length and
-#: ``10 L/a_m`` along it. Measured (benchmarks/solver3d.py, L/a_m = 10, w = 0.3, 10 periods, 1.1 times the grid's
-#: limit): the increment per period 0.00891 (inner 0.5) and 0.00823 (inner 0) at a/10 against 0.00892 and 0.00808
-#: at a/20 (0.1 % and 1.9 %: the full cone's apex, where the contact is narrow, wants the finer grid), at 1.4-1.7 s
-#: CPU against 17-28 s. Those compare each grid at its own 1.1 times the limit; at one ft (0.4041, inner 0.5, w 0.5)
-#: the increment is 0.004421, 0.004463 and 0.004564 at a/8, a/10 and a/20 (issue 31, docs/guide/cone.md): a coarser
-#: default would not be converged.
+#: Default element width [a_m] of a cone's runs, across the contact line: a/10, 20 elements across the contact at
+#: the mid-length (and ``4 L/a_m`` along it, :data:`ASPECT`). Measured (benchmarks/solver3d.py --convergence, issue
+#: 31, results in benchmarks/results/solver3d_cone_s4.txt): at one ft (0.4041, inner 0.5, w 0.5, a ratcheting cone)
+#: the increment per period is 0.004278, 0.004393, 0.004408 and 0.004518 at a/5, a/8, a/10 and a/20 (elements 2.5
+#: times as long along the line), 0.004463 and 0.004564 at a/10 and a/20 with square elements: the default is 3.4 %
+#: below a/20 square (the energy per period 6.2 %, the turn 4.0 %); a coarser default would not be converged.
 DEFAULT_DX = 0.1
+#: Element length along the contact line over its width across it (``dy = ASPECT dx``, :meth:`Cone.run_grid`).
+#: The contact is 4 to 200 half-widths long and its slices' pressure varies slowly along it, so the elements are
+#: longer along the line than across it: at the explorer's first run (a/10, ft 0.32, w 0.5, 10 periods) 43 x 39
+#: elements (a 41 x 26 window, an 81 x 54 FFT grid) instead of 103 x 39 (101 x 26, 216 x 54), 1.24 s CPU a run
+#: against 2.82 s (issue 31 item 15; medians of 10 interleaved runs, benchmarks/results/app_bodies_s4.txt). The
+#: increment per period of a ratcheting cone (inner 0.5, w 0.5, ft 0.4041) at a/10 is 0.004408 against 0.004463
+#: with square elements (-1.2 %) and 0.004564 at a/20 square (-3.4 %, against -2.2 % for a/10 square); the full
+#: cone's (w 0.3, ft 0.6373) 0.008053 against 0.008231 square and 0.00808 at a/20 square (-0.3 %, +1.9 %). Longer
+#: elements are not consistently worse or better beyond 2.5 (0.004414, 0.004335, 0.004658 at 2, 3, 4): the rows at
+#: the cone's ends, which cut the contact's ends, decide.
+ASPECT = 2.5
 #: Sub-rows per element row in the element means of the slice pressure (:meth:`Cone.grid_pressure`).
 _SUB_ROWS = 8
 
@@ -304,16 +314,18 @@ class Cone:
     def run_grid(self, reach_x, scale, h):
         """The edges ``(x_edges, y_edges)`` [a_m] of a run whose mid-length arc reaches ``|xc| <= reach_x``.
 
-        An odd number of square elements each way, centred on the mid-length
+        An odd number of elements each way, centred on the mid-length
         (``y = 0``) and on the unrotated contact line (``x = 0``), covering the
-        contact at every angle ``|theta| <= reach_x / r_m``.
+        contact at every angle ``|theta| <= reach_x / r_m``: ``h`` across the
+        line and ``ASPECT h`` along it (:data:`ASPECT`).
         """
         from .patch import MAX_GRID_ELEMENTS
         theta = reach_x / self.r_m
+        hy = ASPECT * h
         wide = self.r2 * math.sin(theta) + scale * math.sqrt(self.r2 / self.r_m) * 1.01 + h
-        long = 0.5 * self.length + h
+        long = 0.5 * self.length + hy
         xe = h * (np.arange(2 * math.ceil(wide / h - 0.5) + 2) - math.ceil(wide / h - 0.5) - 0.5)
-        ye = h * (np.arange(2 * math.ceil(long / h - 0.5) + 2) - math.ceil(long / h - 0.5) - 0.5)
+        ye = hy * (np.arange(2 * math.ceil(long / hy - 0.5) + 2) - math.ceil(long / hy - 0.5) - 0.5)
         n = (xe.size - 1) * (ye.size - 1)
         if n > MAX_GRID_ELEMENTS:
             raise ValueError(f"dx = {h:g} needs {n} elements for a cone of length {self.length:g} "
@@ -331,13 +343,15 @@ class Cone:
         element the distance ``v`` from the rotated line is linear in ``x``,
         so each of :data:`_SUB_ROWS` sub-rows of an element row is integrated
         exactly across; the means are scaled to the load ``P Fn`` (a fraction of
-        a per cent at the ends, which the sub-rows resolve to ``dx/8``).
+        a per cent at the ends, which the sub-rows resolve to an eighth of an
+        element's length ``dy = ASPECT dx`` along the line).
         """
         P = float(scale) ** 2
         theta = float(xc) / self.r_m
         h = float(x_edges[1] - x_edges[0])
+        hy = float(y_edges[1] - y_edges[0])
         x = 0.5 * (np.asarray(x_edges[1:]) + np.asarray(x_edges[:-1]))
-        ys = (np.asarray(y_edges[:-1])[:, None] + h * (np.arange(_SUB_ROWS) + 0.5)[None, :] / _SUB_ROWS).ravel()
+        ys = (np.asarray(y_edges[:-1])[:, None] + hy * (np.arange(_SUB_ROWS) + 0.5)[None, :] / _SUB_ROWS).ravel()
         c, s = math.cos(theta), math.sin(theta)
         Y = (ys + self.r_m)[:, None]  # from the apex
         u = Y * c + x[None, :] * s
@@ -349,7 +363,7 @@ class Cone:
         # p0(u) a(u) = P: the integral across is P [F(v1/a) - F(v0/a)] / cos(theta)
         band = np.where(inside, P * (_half_integral(v1 / a) - _half_integral(v0 / a)) / (c * h), 0.0)
         p = band.reshape(y_edges.size - 1, _SUB_ROWS, x.size).mean(axis=1)
-        total = float(p.sum()) * h * h
+        total = float(p.sum()) * h * hy
         if total > 0:
             p *= P * self.total_load / total
         return p
@@ -393,7 +407,7 @@ class Cone:
         on = p_min.ravel() > 0
         g = p_min.ravel()[on]
         n = g.size
-        dA = dx * dx
+        dA = dx * (ASPECT * dx)
         cost = -np.concatenate([np.full(n, dA), np.zeros(n)]) / self.total_load
         if self.twist_centre is None:
             A_eq = csr_matrix(np.concatenate([np.zeros(n), np.ones(n)])[None, :])

@@ -256,7 +256,7 @@ def run(body, operator, history, *, solver="auto", tol, maxiter=None, detect_per
     cls = select_solver(solver, n, shape)
     maxiter = cls.default_maxiter(n) if maxiter is None else maxiter
     announce_compile(*getattr(cls, "kernels", ()))  # once per process, before a first run's minute of compiling
-    element_size = body.dx if shape == "line" else body.dx * body.dx
+    element_size = body.dx if shape == "line" else body.dx * body.dy  # a patch's elements may be rectangles (a cone)
     options = dict(solver_options or {})
     coupled = bool(getattr(cls, "coupled", False))
     if coupled:  # it solves the pressure on the body's grid, from the body's profile

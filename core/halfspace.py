@@ -59,21 +59,24 @@ def _x_asinh_y_over_x(x, y):
     return np.where(ax > 0, x * np.arcsinh(y / np.where(ax > 0, ax, 1.0)), 0.0)
 
 
-def _corner_sum(F, x, y, h):
-    """``F`` differenced over the rectangle ``[x - h/2, x + h/2] x [y - h/2, y + h/2]``."""
-    x1, x2, y1, y2 = x - 0.5 * h, x + 0.5 * h, y - 0.5 * h, y + 0.5 * h
+def _corner_sum(F, x, y, h, hy=None):
+    """``F`` differenced over the rectangle ``[x - h/2, x + h/2] x [y - hy/2, y + hy/2]`` (``hy`` default ``h``)."""
+    hy = h if hy is None else hy
+    x1, x2, y1, y2 = x - 0.5 * h, x + 0.5 * h, y - 0.5 * hy, y + 0.5 * hy
     return F(x2, y2) - F(x1, y2) - F(x2, y1) + F(x1, y1)
 
 
-def rectangle_integrals(x, y, h):
-    """Integrals of the Cerruti kernels over a square element of side ``h`` centred at ``(x, y)``.
+def rectangle_integrals(x, y, h, hy=None):
+    """Integrals of the Cerruti kernels over a rectangular element ``h`` by ``hy`` centred at ``(x, y)``.
 
     Parameters
     ----------
     x, y : array_like
         Offset of the element's centre from the field point [length].
     h : float
-        Element side [length], > 0.
+        Element side along x [length], > 0.
+    hy : float, optional
+        Element side along y [length], > 0; default ``h`` (a square element).
 
     Returns
     -------
@@ -93,8 +96,8 @@ def rectangle_integrals(x, y, h):
     def Fxy(u, v):
         return -np.hypot(u, v)
 
-    return (_corner_sum(F1, x, y, h), _corner_sum(Fxx, x, y, h), _corner_sum(Fyy, x, y, h),
-            _corner_sum(Fxy, x, y, h))
+    return (_corner_sum(F1, x, y, h, hy), _corner_sum(Fxx, x, y, h, hy), _corner_sum(Fyy, x, y, h, hy),
+            _corner_sum(Fxy, x, y, h, hy))
 
 
 @jit
@@ -184,13 +187,16 @@ class HalfSpaceOperator:
     ny, nx : int
         Grid rows (along y) and columns (along x), each in [1, 4096].
     h : float
-        Element side [a], > 0.
+        Element side [a], > 0 (along x when ``hy`` is given).
     nu : float
         Poisson ratio of the substrate, in [0, 0.5].
     scale : float
         Kernel factor ``s`` [mu Fn/(E* a) per (mu p0 a)], > 0: the displacement
         is ``s [1/rho + nu/(1 - nu) x_i x_j/rho^3]`` integrated against the
         traction.
+    hy : float, optional
+        Element side along y [a], > 0: rectangular elements ``h`` by ``hy``
+        (a contact long along y, the cone's); default ``h`` (square elements).
 
     Attributes
     ----------
@@ -209,10 +215,11 @@ class HalfSpaceOperator:
     True
     """
 
-    def __init__(self, ny, nx, h, nu=0.5, scale=1.0 / np.pi):
+    def __init__(self, ny, nx, h, nu=0.5, scale=1.0 / np.pi, hy=None):
         self.ny = check_int("ny", ny, 1, 4096)
         self.nx = check_int("nx", nx, 1, 4096)
         self.h = check_scalar("h", h, 0.0, None, lo_closed=False)
+        self.hy = self.h if hy is None else check_scalar("hy", hy, 0.0, None, lo_closed=False)
         self.nu = check_scalar("nu", nu, 0.0, 0.5)
         self.scale = check_scalar("scale", scale, 0.0, None, lo_closed=False)
         self.shape = (2, self.ny, self.nx)
@@ -220,7 +227,7 @@ class HalfSpaceOperator:
         # influence of one element on the offsets -(n-1) .. n-1 in each direction
         iy = np.arange(-(self.ny - 1), self.ny)[:, None]
         ix = np.arange(-(self.nx - 1), self.nx)[None, :]
-        I1, Ixx, Iyy, Ixy = rectangle_integrals(ix * self.h, iy * self.h, self.h)
+        I1, Ixx, Iyy, Ixy = rectangle_integrals(ix * self.h, iy * self.hy, self.h, self.hy)
         c = self.nu / (1.0 - self.nu)
         self._kernels = (self.scale * (I1 + c * Ixx), self.scale * (I1 + c * Iyy), self.scale * c * Ixy)
         # zero-padded circulant embedding of the convolution
@@ -229,7 +236,7 @@ class HalfSpaceOperator:
         # inverse of the continuous symbol, on a periodic grid just covering the field (an approximate
         # inverse needs no padding: its kernel decays like 1/rho^3)
         self._pre_grid = (sfft.next_fast_len(self.ny, real=True), sfft.next_fast_len(self.nx, real=True))
-        ky = 2 * np.pi * sfft.fftfreq(self._pre_grid[0], d=self.h)[:, None]
+        ky = 2 * np.pi * sfft.fftfreq(self._pre_grid[0], d=self.hy)[:, None]
         kx = 2 * np.pi * sfft.rfftfreq(self._pre_grid[1], d=self.h)[None, :]
         k2 = kx * kx + ky * ky
         k2[0, 0] = min(kx[0, 1] ** 2 if kx.size > 1 else 1.0, ky[1, 0] ** 2 if ky.size > 1 else 1.0)

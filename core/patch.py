@@ -173,7 +173,8 @@ class PatchGrid:
     """A point-contact body on a patch of square elements: what :func:`core.engine.run` asks of it.
 
     The patch-grid side of the engine's body protocol (see :mod:`core.engine`):
-    ``shape`` ``(ny, nx)``, ``size``, ``dx``, ``edges`` (along x), ``y_edges``;
+    ``shape`` ``(ny, nx)``, ``size``, ``dx``, ``dy`` (the element's sides: equal but for a
+    body whose ``run_grid`` has longer elements along y, a cone), ``edges`` (along x), ``y_edges``;
     :meth:`bounds` (the traction bound ``mu p`` of each step, one ``(ny, nx)``
     array a step, cached by centre and load scale: a body that only translates
     is solved once per offset from the grid, :func:`_pressure`);
@@ -200,7 +201,8 @@ class PatchGrid:
     body : object
         The body (:class:`core.point_contact.Ellipsoid`, :class:`core.heightmap.HeightMap`, ...).
     x_edges, y_edges : ndarray
-        Edges of square elements [a]; a row centred on ``y = 0``.
+        Edges of the elements [a], uniform along each axis (square elements
+        unless the body's own grid says otherwise); a row centred on ``y = 0``.
     normal : {"exact", "numerical"}
         The Hertz bodies' pressure (see :func:`_pressure`).
     """
@@ -213,6 +215,10 @@ class PatchGrid:
         self.y_edges = read_only(np.array(y_edges, dtype=float))
         self.edges = self.x_edges
         self.dx = float(self.x_edges[1] - self.x_edges[0])
+        #: Element side along y [a]: ``dx`` (square elements, exactly, whatever the edges' round-off) unless the
+        #: body's grid is longer along y (a cone's, :attr:`core.cone.Cone.aspect`).
+        dy = float(self.y_edges[1] - self.y_edges[0]) if self.y_edges.size > 1 else self.dx
+        self.dy = self.dx if abs(dy - self.dx) <= 1e-9 * self.dx else dy
         self.shape = (self.y_edges.size - 1, self.x_edges.size - 1)
         self.size = self.shape[0] * self.shape[1]
         self.solver_options = dict(getattr(body, "solver_options", None) or {})

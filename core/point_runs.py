@@ -95,7 +95,7 @@ def solve_point_schedule(schedule, dx, body, *, nu=0.5, angle=0.0, tol=TOL_3D, d
     params = dict(params or {}, normal=normal)
     check_solver(solver, "patch", body)
     grid = PatchGrid.for_history(body, schedule, dx, normal)
-    operator = _Window(*grid.shape, dx, nu, body.kernel_scale)
+    operator = _Window(*grid.shape, dx, nu, body.kernel_scale, hy=None if grid.dy == grid.dx else grid.dy)
     return run(grid, operator, schedule, solver=solver, tol=tol, detect_periodic=detect_periodic,
                shakedown_rtol=shakedown_rtol, params=params, time_budget=time_budget, cancel=cancel,
                progress=progress, chunk=chunk, kernel="halfspace",
@@ -172,10 +172,12 @@ def solve_static_3d(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol
 
 def _static_patch(bound, ft, x_edges, y_edges, body, *, nu=0.5, angle=0.0, tol=TOL_3D):
     h = float(x_edges[1] - x_edges[0])
-    dA = h * h
+    hy = float(y_edges[1] - y_edges[0]) if len(y_edges) > 1 else h
+    hy = h if abs(hy - h) <= 1e-9 * h else hy  # square elements exactly; rectangular ones on a cone's grid
+    dA = h * hy
     carried = float(bound.sum()) * dA / body.total_load
     ft = check_scalar("ft", ft, 0.0, carried, hi_closed=False)
-    operator = _Window(y_edges.size - 1, x_edges.size - 1, h, nu, body.kernel_scale)
+    operator = _Window(y_edges.size - 1, x_edges.size - 1, h, nu, body.kernel_scale, hy=hy)
     target = ft * body.total_load * np.array([math.cos(angle), math.sin(angle)])
     step = solve_step(operator, np.ascontiguousarray(bound, dtype=float), target, solver="pcg3d", element_size=dA,
                       tol=tol)

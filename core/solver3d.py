@@ -340,11 +340,14 @@ class _Window:
     multiple of :data:`_WINDOW_QUANTUM` elements so that a few operators serve a run.
 
     It is the elastic operator of a patch grid as :func:`core.engine.run` sees
-    it: ``shape`` ``(ny, nx)``, ``size`` (elements) and ``nu``.
+    it: ``shape`` ``(ny, nx)``, ``size`` (elements) and ``nu``; its elements
+    are ``h`` by ``hy`` (default ``h``: square; a cone's are longer along its
+    line, :attr:`core.cone.Cone.aspect`).
     """
 
-    def __init__(self, ny, nx, h, nu, scale):
+    def __init__(self, ny, nx, h, nu, scale, hy=None):
         self.shape, self.args = (ny, nx), (h, nu, scale)
+        self.hy = None if hy is None or hy == h else float(hy)
         self.size = ny * nx
         self.nu = nu
         self.ops = {}
@@ -352,7 +355,7 @@ class _Window:
     def operator(self, shape):
         op = self.ops.get(shape)
         if op is None:
-            op = self.ops[shape] = HalfSpaceOperator(*shape, *self.args)
+            op = self.ops[shape] = HalfSpaceOperator(*shape, *self.args, hy=self.hy)
         return op
 
     @staticmethod

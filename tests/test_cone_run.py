@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import core
-from core.cone import Cone, cone_ft_limit
+from core.cone import ASPECT, Cone, cone_ft_limit
 from core.halfspace import HalfSpaceOperator
 from core.point_contact import Ellipsoid, hertz_element_means
 from core.solver3d import TOL_3D, _WarmStart, solve_increment, twist_field
@@ -115,11 +115,13 @@ def test_cone_pressure_is_the_slice_models_rotated_about_the_apex():
     c = Cone(inner=0.5, length=10.0)
     dx = 0.1
     xe, ye = c.run_grid(0.5, 1.0, dx)
+    dy = ye[1] - ye[0]  # the elements are longer along the line (Cone's ASPECT)
+    assert dy == pytest.approx(ASPECT * dx) and np.allclose(np.diff(ye), dy) and np.allclose(np.diff(xe), dx)
     y = 0.5 * (ye[1:] + ye[:-1])
     x = 0.5 * (xe[1:] + xe[:-1])
     p0 = c.grid_pressure(xe, ye, 0.0)
-    assert p0.sum() * dx * dx == pytest.approx(c.total_load, rel=1e-12)
-    inside = (y + c.r_m > c.r1 + dx) & (y + c.r_m < c.r2 - dx)
+    assert p0.sum() * dx * dy == pytest.approx(c.total_load, rel=1e-12)
+    inside = (y + c.r_m > c.r1 + dy) & (y + c.r_m < c.r2 - dy)
     np.testing.assert_allclose(p0[inside].sum(axis=1) * dx, 0.5 * math.pi, rtol=2e-3)
     u = y[inside] + c.r_m
     half = np.sqrt(u / c.r_m)
@@ -128,7 +130,7 @@ def test_cone_pressure_is_the_slice_models_rotated_about_the_apex():
     np.testing.assert_allclose(p0[inside].max(axis=1), np.sqrt(c.r_m / u), rtol=0.02)
     xc = 0.5
     p = c.grid_pressure(xe, ye, xc)
-    assert p.sum() * dx * dx == pytest.approx(c.total_load, rel=1e-12)
+    assert p.sum() * dx * dy == pytest.approx(c.total_load, rel=1e-12)
     theta = xc / c.r_m
     centroid = (p[inside] * x).sum(axis=1) / p[inside].sum(axis=1)
     np.testing.assert_allclose(centroid, u * math.tan(theta), atol=0.02)
@@ -143,7 +145,7 @@ def test_pressure_under_another_normal_load():
     assert s == pytest.approx(1.2)
     xe, ye = c.run_grid(0.3, s, dx)
     base, loaded = c.grid_pressure(xe, ye, 0.0, 1.0), c.grid_pressure(xe, ye, 0.0, s)
-    assert loaded.sum() * dx * dx == pytest.approx(1.44 * c.total_load, rel=1e-12)
+    assert loaded.sum() * dx * (ye[1] - ye[0]) == pytest.approx(1.44 * c.total_load, rel=1e-12)
     row = (ye.size - 1) // 2
     assert loaded[row].max() / base[row].max() == pytest.approx(1.2, rel=0.02)
     assert (loaded[row] > 0).sum() > (base[row] > 0).sum()
@@ -221,6 +223,22 @@ def test_increment_converges_with_the_rocking_step():
     assert np.all(steps > 0) and np.all(steps < 5e-3), inc
     assert steps[1] < steps[0], inc
     np.testing.assert_allclose(turn, turn[-1], rtol=1e-2, err_msg="the turn per period")
+
+
+def test_run_on_elements_longer_along_the_line_carries_ft():
+    """A cone's run grid has elements ASPECT times as long along the line as across it, and the engine weighs each
+    traction by its element's area dx dy: the field at every stored step carries Ft (sum q dx dy = ft Fn), with no
+    force across it and no moment about the load point."""
+    dx, ft = 0.25, 0.3
+    c = Cone(inner=0.5)
+    r = core.simulate_cycles(ft, 0.3, periods=1, dx=dx, body=c)
+    dy = r.y_edges[1] - r.y_edges[0]
+    assert dy == pytest.approx(ASPECT * dx) and r.x_edges[1] - r.x_edges[0] == pytest.approx(dx)
+    tv = twist_field(r.x_edges, r.y_edges, c.twist_centre)
+    for q in r.traction_snapshots:
+        np.testing.assert_allclose(q.sum(axis=(1, 2)) * dx * dy, [ft * c.total_load, 0.0], rtol=0, atol=1e-6)
+        assert abs(float(np.sum(tv * q)) * dx * dy) <= 1e-6
+    assert r.max_residual <= 10 * TOL_3D
 
 
 def test_result_reports_displacement_and_twist_per_period():

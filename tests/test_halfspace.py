@@ -23,6 +23,36 @@ def test_rectangle_integrals_match_quadrature(x, y):
         np.testing.assert_allclose(value, num, rtol=1e-9, atol=1e-12, err_msg=f"{name} at offset ({x}, {y})")
 
 
+@pytest.mark.parametrize("x, y", [(0.0, 0.0), (0.6, -0.3), (-0.9, 1.2)])
+def test_rectangle_is_the_sum_of_its_squares(x, y):
+    """A rectangle h by 2h (a cone's element, longer along y) integrates like the two squares it is made of, and
+    like the quadrature over it."""
+    h = 0.3
+    rect = rectangle_integrals(x, y, h, 2 * h)
+    halves = [rectangle_integrals(x, y + s * h / 2, h) for s in (-1.0, 1.0)]
+    for name, value, a, b in zip(KERNELS, rect, *halves):
+        np.testing.assert_allclose(value, a + b, rtol=1e-12, atol=1e-14, err_msg=f"{name} at offset ({x}, {y})")
+    if (x, y) != (0.0, 0.0):  # the quadrature away from the kernel's singularity
+        num, _ = dblquad(KERNELS["1/rho"], x - h / 2, x + h / 2, y - h, y + h, epsabs=1e-13, epsrel=1e-11)
+        np.testing.assert_allclose(rect[0], num, rtol=1e-9)
+
+
+@pytest.mark.parametrize("hy", [0.1, 0.25])
+def test_rectangular_operator_fft_equals_dense_and_default_is_square(hy):
+    """Elements h by hy: the FFT product equals the dense matrix, whose entries are the rectangle integrals at
+    offsets (i h, j hy); hy = h (or omitted) is the square operator."""
+    op = HalfSpaceOperator(7, 5, 0.1, 0.5, 0.2, hy=hy)
+    q = np.random.default_rng(2).normal(size=op.shape)
+    np.testing.assert_allclose(op.apply(q).ravel(), op.matrix() @ q.ravel(), rtol=0, atol=1e-13)
+    I1, Ixx, Iyy, Ixy = rectangle_integrals(-2 * 0.1, -3 * hy, 0.1, hy)  # element (0, 0) seen from (3, 2)
+    np.testing.assert_allclose(op.matrix()[3 * 5 + 2, 0], 0.2 * (I1 + Ixx), rtol=1e-12)
+    square = HalfSpaceOperator(7, 5, 0.1, 0.5, 0.2)
+    if hy == 0.1:
+        np.testing.assert_array_equal(op.apply(q), square.apply(q))
+    else:
+        assert not np.allclose(op.apply(q), square.apply(q))
+
+
 def test_self_element_closed_form():
     """Integral of 1/rho over a square of side h about its centre: 4 h asinh(1)."""
     h = 0.25
