@@ -1,7 +1,7 @@
 """Error bars: the discretisation error of a run's increment per period, from the run itself.
 
 The increment per period converges at first order in the element width
-``dx`` (and the rocking step ``dW = dx``): the contact edges cross the
+``dx`` (and the rocking step ``dW``, ``dx`` or the body's multiple of it): the contact edges cross the
 world-fixed elements, and the element-mean bound is exact only up to the
 element in which the edge lies. This holds for the line contact and for the
 point contacts alike. Runs at ``dx``, ``2 dx`` and ``4 dx`` give the observed
@@ -52,7 +52,7 @@ import math
 from dataclasses import dataclass, field
 
 from ._validate import check_int, check_scalar
-from .resolution import default_dx
+from .resolution import default_dW, default_dx
 from .solver import simulate_cycles
 
 __all__ = ["ConvergedIncrement", "converged_increment", "grid_error", "increment_error", "EXPECTED_ORDER", "ORDER_TOLERANCE",
@@ -234,7 +234,7 @@ def grid_error(result, *, grids=2) -> ConvergedIncrement:
     dx = float(params.pop("dx"))
     check_scalar("dx", dx * 2 ** (grids - 1), 0.0, _DX_MAX)
     dW = params.pop("dW", None)
-    follows = dW is None or math.isclose(float(dW), dx)
+    follows = dW is None or math.isclose(float(dW), default_dW(result.body, dx))
     ft, w = params.pop("ft"), params.pop("w")
     body = result.body  # the body object carries its parameters (a punch's flat, an ellipsoid's ratio)
     for key in ("body", "ratio", *getattr(body, "parameters", {})):
@@ -243,7 +243,7 @@ def grid_error(result, *, grids=2) -> ConvergedIncrement:
     runs = [result]
     for i in range(1, grids):
         h = dx * 2 ** i
-        runs.append(simulate_cycles(ft, w, dx=h, dW=h if follows else dW, **options))
+        runs.append(simulate_cycles(ft, w, dx=h, dW=None if follows else dW, **options))
     return _estimate(runs, dx, body)
 
 

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-__all__ = ["default_dx", "DEFAULT_DX_LINE", "DEFAULT_DX_POINT", "GridDefaults", "GRID_DEFAULTS"]
+__all__ = ["default_dx", "default_dW", "DEFAULT_DX_LINE", "DEFAULT_DX_POINT", "GridDefaults", "GRID_DEFAULTS"]
 
 #: Default element width [a] of the line contact (the cylinder): 80 elements across the contact.
 DEFAULT_DX_LINE = 1.0 / 40.0
@@ -89,3 +89,31 @@ def default_dx(body="cylinder") -> float:
     from .registry import kind  # the one code that knows body names
 
     return GRID_DEFAULTS["line" if kind(body) == "line" else "patch"].dx
+
+
+def default_dW(body, dx: float) -> float:
+    """The default rocking step [a] of a body's runs at element width ``dx``.
+
+    The body's own ``rocking_step(dx)`` where it has one (the cone: its elements are longer along the contact
+    line than across it, and its increment hardly moves with a step of two elements), else ``dx``: the contact's
+    edges cross one element a step.
+
+    Parameters
+    ----------
+    body : str or object
+        A body name or a body object.
+    dx : float
+        The run's element width [a].
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from core.resolution import default_dW
+    >>> default_dW("cylinder", 0.025)
+    0.025
+    """
+    own = getattr(body, "rocking_step", None)
+    return float(dx) if own is None or isinstance(body, str) else float(own(dx))

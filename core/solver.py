@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .resolution import DEFAULT_DX_LINE, GRID_DEFAULTS, default_dx
+from .resolution import DEFAULT_DX_LINE, GRID_DEFAULTS, default_dW, default_dx
 from ._validate import check_int, check_scalar
 from .bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS, NORMAL_CHOICES, Body, Cylinder, _edges_for_reach, resolve_body
 from .materials import check_beta
@@ -376,7 +376,8 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
         the point contacts, where it is 0.4 % below 1/40's increment and eight
         times cheaper, see :data:`core.solver3d.DEFAULT_DX_3D`).
     dW : float, optional
-        Rocking step over ``a``; defaults to ``dx`` (as in the paper).
+        Rocking step over ``a``; defaults to ``dx`` (as in the paper), or the body's own multiple of it
+        (:func:`core.resolution.default_dW`: the cone's is ``2 dx``).
     kernel : {"plane", "strip"}
         Plane strain (default) or the truncated-3D strip of length ``L``.
     shape : {"triangle", "sine"}
@@ -492,7 +493,7 @@ def simulate_cycles(ft, w, periods=10, dx=None, dW=None, *, kernel="plane", shap
     defaults = GRID_DEFAULTS["line" if line else "patch"]
     tol = defaults.tol if tol is None else tol
     dx = check_scalar("dx", default_dx(spec) if dx is None else dx, defaults.min_dx, 0.5)
-    dW = dx if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
+    dW = default_dW(spec, dx) if dW is None else check_scalar("dW", dW, 1e-4, 1.0)
     path = as_path(path)
     schedule = histories.for_run(history, ft, w, periods=periods, dW=dW, shape=shape, load_steps=load_steps,
                                  amplitude=amplitude, phase=phase, path=path)

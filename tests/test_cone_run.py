@@ -171,12 +171,13 @@ def test_grid_limit_is_the_slice_formula_to_the_grid():
 @pytest.mark.parametrize("inner, w, periods", [(0.5, 0.3, 20), (0.5, 0.5, 20), (0.0, 0.3, 40)])
 def test_runs_bracket_the_grid_limit(inner, w, periods):
     """10 % below Melan's limit on the run's grid the cone shakes down, 10 % above it ratchets (the result's
-    regime, from the trend of the increments per period), at a/4."""
+    regime, from the trend of the increments per period), at a/4 with the rocking step dx (at the default 2 dx a
+    quarter period is one step and the shakedown below decays too slowly for 20 periods to tell)."""
     c = Cone(inner=inner)
     dx = 0.25
-    lim = c.grid_limit(w, dx=dx)
-    below = core.simulate_cycles(0.9 * lim["lo"], w, periods=periods, dx=dx, body=c)
-    above = core.simulate_cycles(1.1 * lim["hi"], w, periods=periods, dx=dx, body=c)
+    lim = c.grid_limit(w, dx=dx, dW=dx)
+    below = core.simulate_cycles(0.9 * lim["lo"], w, periods=periods, dx=dx, dW=dx, body=c)
+    above = core.simulate_cycles(1.1 * lim["hi"], w, periods=periods, dx=dx, dW=dx, body=c)
     assert below.regime == "shakedown", below.regime_reason
     assert above.regime == "ratcheting", above.regime_reason
     assert max(below.max_residual, above.max_residual) <= 10 * TOL_3D
@@ -280,3 +281,16 @@ def test_bad_cone_parameters(kwargs, match):
 def test_grid_too_fine_is_refused():
     with pytest.raises(ValueError, match="dx"):
         Cone(length=200.0).run_grid(0.5, 1.0, 0.01)
+
+
+def test_the_cones_default_rocking_step_is_two_elements():
+    """A cone run's rocking step defaults to 2 dx (core.cone.STEP_RATIO: its increment within 0.7 % of dW = dx at
+    half the steps), the Melan programme of its grid follows it, and a given dW is kept."""
+    from core.resolution import default_dW
+
+    c = Cone(inner=0.5)
+    r = core.simulate_cycles(0.3, 0.5, periods=1, dx=0.25, body=c)
+    assert r.params["dW"] == pytest.approx(0.5) == default_dW(c, 0.25)
+    assert default_dW("cone", 0.25) == default_dW(core.Cylinder(), 0.25) == 0.25  # a name, a body without its own
+    assert c.grid_limit(0.5, dx=0.25) == c.grid_limit(0.5, dx=0.25, dW=0.5)
+    assert core.simulate_cycles(0.3, 0.5, periods=1, dx=0.25, dW=0.25, body=c).params["dW"] == 0.25
