@@ -1,21 +1,21 @@
-"""The explorer's bodies: every body of :data:`core.registry.REGISTRY`, its parameters as explorer inputs.
+"""The explorer's bodies: every body of :data:`core.geometry.registry.REGISTRY`, its parameters as explorer inputs.
 
 The body selector offers the registry's bodies in its order; each body's
-:class:`core.registry.Parameter` becomes one input of
+:class:`core.geometry.registry.Parameter` becomes one input of
 :class:`app.state.ExplorerState` (same name, default, range and doc; named
 ``<body>_<parameter>`` if another input has the name already), so a body
-registered in :mod:`core.registry` appears in the explorer, with its
+registered in :mod:`core.geometry.registry` appears in the explorer, with its
 parameters kept in the URL, and no edit here. What this module adds:
 
 * :func:`make`: the body object of a name and the inputs' values (built by the
   registry entry, cached: one object per body and parameters, shared by the
   sessions, so a run's cache key and a height map's normal solve are reused);
-* a *source* for each parameter that is a file (:attr:`core.registry.Parameter.path`):
+* a *source* for each parameter that is a file (:attr:`core.geometry.registry.Parameter.path`):
   a built-in demo (:data:`DEMO_FILES`, one line per body) or a file the
   visitor uploads (:func:`store_upload`), named in the URL as ``demo`` or
   ``upload-<digest>``;
 * :func:`runs_cycles`: whether the app can run a body's cycles (a line body of
-  :mod:`core.bodies`, an ellipsoid, or a point body with its own run grid);
+  :mod:`core.geometry.bodies`, an ellipsoid, or a point body with its own run grid);
   one that cannot is shown with its limit only (the "limit only" note).
 
 No physics here: the demo height map is a documented shape (:func:`demo_heights`),
@@ -41,7 +41,7 @@ __all__ = ["BODIES", "DEFAULT", "has_closure", "shown_parameters", "kind", "entr
 
 
 def _registry() -> dict:
-    from core.registry import REGISTRY
+    from core.geometry.registry import REGISTRY
     return REGISTRY
 
 
@@ -55,7 +55,7 @@ DEFAULT: str = BODIES[0]
 def has_closure(body) -> bool:
     """Whether ``body`` (a name or a body object) has the closed-form shaken-down state the cards show beside the
     solver's (stick half-width eq 30, limit eq 35): the registry's body tells (``shakedown_stick_halfwidth``)."""
-    from core.registry import resolve
+    from core.geometry.registry import resolve
 
     try:
         spec = resolve(body)
@@ -161,9 +161,9 @@ def uploaded(source: str):
     ------
     ValueError
         For a file no reader understands (naming the readable formats) or one its reader cannot read, as
-        :func:`core.heightmap.read_topography` says it (the same words as the command line's).
+        :func:`core.geometry.heightmap.read_topography` says it (the same words as the command line's).
     """
-    from core.heightmap import read_topography
+    from core.geometry.heightmap import read_topography
 
     with _LOCK:
         data, filename = _UPLOADS.get(source, (None, ""))
@@ -324,7 +324,7 @@ def own_grid(body) -> bool:
 
 
 def runs_cycles(name: str, body) -> bool:
-    """Whether the explorer can run ``body``'s cycles: a line body of :mod:`core.bodies`, an ellipsoid, or a point
+    """Whether the explorer can run ``body``'s cycles: a line body of :mod:`core.geometry.bodies`, an ellipsoid, or a point
     body with the 3D solver's interface (``run_grid`` and ``grid_pressure``: a height map, the cone). Another
     body is shown with its limit only."""
     import core

@@ -15,7 +15,7 @@ import re
 import numpy as np
 
 import core
-from core.result import COUPLED_GRID_NOTE
+from core.records.result import COUPLED_GRID_NOTE
 
 from . import bodies
 
@@ -57,7 +57,7 @@ def body_name(body) -> str:
 
 def limit_name(body) -> str:
     """How the exact limit of ``body`` (a name or a body object) is cited."""
-    from core.registry import resolve
+    from core.geometry.registry import resolve
 
     try:
         citation = getattr(resolve(body), "limit_citation", None)

@@ -1,8 +1,8 @@
-"""Downloads of the run shown: CSV (one table) and JSON (every table), written by :mod:`core.export`.
+"""Downloads of the run shown: CSV (one table) and JSON (every table), written by :mod:`core.api.export`.
 
 :class:`DownloadsMixin` builds the table menu and the two download buttons and names the files after the run
 (body, ft, w, μ, periods). The app writes no CSV or JSON itself: every body's run goes through
-:func:`core.export.to_csv` and :func:`core.export.to_json`, with the periods numbered as on the cycle player
+:func:`core.api.export.to_csv` and :func:`core.api.export.to_json`, with the periods numbered as on the cycle player
 (``first_period=1``: 0 the loading, 1 the first rocking period).
 """
 
@@ -12,7 +12,7 @@ import io
 
 import panel as pn
 
-from core.export import to_csv, to_json
+from core.api.export import to_csv, to_json
 
 from . import bodies
 from .cards import input_digits

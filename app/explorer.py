@@ -9,7 +9,7 @@ widgets; the other jobs are modules of their own, mixed in here:
 * :mod:`app.figures`: the figures' lifecycle (drawn when shown, updated in place);
 * :mod:`app.cards`: the verdict badge, the cards and the warnings;
 * :mod:`app.mapview`: the numerical map;
-* :mod:`app.downloads`: CSV and JSON of the run (written by :mod:`core.export`);
+* :mod:`app.downloads`: CSV and JSON of the run (written by :mod:`core.api.export`);
 * :mod:`app.layout`: the page.
 
 Analytical layers follow the sliders while they move (bound to the widgets' ``value``); the solver runs when

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import os
 
-from core._validate import env_int
+from core.base._validate import env_int
 
 __all__ = ["env_int", "env_scheduler", "MAX_PERIODS", "MAX_RESOLUTION", "SOLVE_BUDGET_S", "SOLVER_THREADS",
            "CACHE_ITEMS", "CACHE_MB", "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAX_QUEUED_PER_SESSION",

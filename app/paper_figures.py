@@ -2,14 +2,14 @@
 
 :func:`paper_figures_tab` builds a tab's content: every figure is drawn from
 the data shipped in ``app/data/paper_figures.json`` (made by
-``python -m core.paper_figures --out app/data/paper_figures.json``, see
+``python -m core.maps.paper_figures --out app/data/paper_figures.json``, see
 ``app/data/README.md``), and a Recompute button under each one reruns its
-solver part (:mod:`core.paper_figures`) in a worker thread, with a progress
+solver part (:mod:`core.maps.paper_figures`) in a worker thread, with a progress
 bar, and redraws it in the session when done. One recompute runs at a time on
 the whole server, at the shipped settings, so the work a visitor can ask for
 is bounded (a few seconds).
 
-No physics here: the numbers come from :mod:`core.paper_figures`. Every Bokeh,
+No physics here: the numbers come from :mod:`core.maps.paper_figures`. Every Bokeh,
 Panel and HoloViews object is made inside :func:`paper_figures_tab`, per
 session; only the read-only shipped data is shared.
 """
@@ -27,7 +27,7 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 
-from core import paper_figures as pf
+from core.maps import paper_figures as pf
 
 from . import slides
 

@@ -29,7 +29,7 @@ import holoviews.plotting.bokeh  # noqa: F401 - registers the Bokeh backend and 
 import numpy as np
 
 import core
-from core import approximations as approx
+from core.theory import approximations as approx
 
 from . import pinned, sketch
 from .live import Layer, Styled, overlay
@@ -167,8 +167,8 @@ def line_body(result):
 
 @lru_cache(maxsize=16)
 def _body_pressure(body, w: float) -> tuple:
-    """A line body's pressure at ``xc = 0`` and its lowest over the cycle ``[-w, w]`` (:func:`core.melan.lowest_pressure`)."""
-    from core.melan import lowest_pressure
+    """A line body's pressure at ``xc = 0`` and its lowest over the cycle ``[-w, w]`` (:func:`core.pressure.melan.lowest_pressure`)."""
+    from core.pressure.melan import lowest_pressure
     x, p, p_min = lowest_pressure(body, min(max(w, 0.0), 0.999))
     return x, p, p_min
 
@@ -211,8 +211,8 @@ def pressure_curves(w: float, units: Units, body=None) -> tuple:
         ``W / a``.
     units : Units
         Display units.
-    body : core.bodies.Body, optional
-        A line body other than the cylinder: its own pressure (:func:`core.melan.lowest_pressure`).
+    body : core.geometry.bodies.Body, optional
+        A line body other than the cylinder: its own pressure (:func:`core.pressure.melan.lowest_pressure`).
     """
     x = _x_grid(w)
     X, P = x * units.x, units.p
@@ -773,9 +773,9 @@ def map_history(result) -> tuple:
 @lru_cache(maxsize=8)
 def _normal_limit(body, amplitude: float, phase: float, shape: str) -> tuple:
     """Melan's limit ``(ft_lim(w), w)`` of ``body`` rocked under the oscillating normal force
-    (:func:`core.melan.ft_limit_oscillating`), or empty for a body it has no pressure of (a point contact: its
+    (:func:`core.pressure.melan.ft_limit_oscillating`), or empty for a body it has no pressure of (a point contact: its
     integral over the plane takes seconds a point; the run's own limit is in its cards)."""
-    from core.melan import ft_limit_oscillating
+    from core.pressure.melan import ft_limit_oscillating
 
     if not isinstance(body, core.Body):
         return _EMPTY

@@ -16,7 +16,7 @@ A figure's ``result`` entry names the kind of run it draws
 run of another kind, and :func:`shown` tells the layout which figures a body
 shows.
 
-Full fields of a point-contact run are stored by :mod:`core.solver3d` at the
+Full fields of a point-contact run are stored by :mod:`core.solvers.solver3d` at the
 end of the loading, at every turning point and at the last step; the maps of
 the traction and of the zones show the last stored step at or before the
 player's (their title says which), while the pressure map and the cut along
@@ -34,7 +34,7 @@ import numpy as np
 import panel as pn
 
 import core
-from core.point_contact import hertz_pressure_3d
+from core.theory.point_contact import hertz_pressure_3d
 
 from . import bodies, pinned, plots
 from .live import Layer
@@ -453,7 +453,7 @@ def _body_widgets(state, body: str) -> list:
 
 
 def body_inputs(state) -> list:
-    """The body selector (every body of :data:`core.registry.REGISTRY`), the current body's parameters and note,
+    """The body selector (every body of :data:`core.geometry.registry.REGISTRY`), the current body's parameters and note,
     and the point-contact grid (widgets over ``state``). A body's inputs are built when it is first chosen and
     kept (one holder shows the current body's; plain watchers, no reactive expressions: a page of the default
     cylinder builds only the selector and two empty holders)."""

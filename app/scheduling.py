@@ -17,7 +17,7 @@ import panel as pn
 from panel.io.state import set_curdoc
 
 import core
-from core.convergence import increment_error
+from core.api.convergence import increment_error
 
 from . import bodies, runs
 from .cards import SPINNER_DELAY_MS

@@ -20,7 +20,7 @@ import urllib.error
 import urllib.request
 from pathlib import Path
 
-from core.verdict import REGIMES
+from core.records.verdict import REGIMES
 
 __all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "VERDICT_SELECTOR", "SLIDER_TITLES_JS", "CURVE_POINTS_JS", "open_page",
            "wait_until", "free_port", "served_app",

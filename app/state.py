@@ -30,7 +30,7 @@ __all__ = ["ExplorerState", "typed_error", "BODIES", "POINT_RESOLUTION", "MAX_PO
 MAX_QUERY_VALUE_LENGTH = 64
 
 _MM, _MPA = 1e-3, 1e6
-#: The bodies of the body selector: every body of :data:`core.registry.REGISTRY`, in its order (:mod:`app.bodies`).
+#: The bodies of the body selector: every body of :data:`core.geometry.registry.REGISTRY`, in its order (:mod:`app.bodies`).
 BODIES = bodies.BODIES
 #: Default elements per semi-axis of a point-contact run: coarse, so that a run of 10 periods takes seconds.
 POINT_RESOLUTION = 10
@@ -40,7 +40,7 @@ MAX_POINT_RESOLUTION = 40
 
 class ExplorerState(param.Parameterized):
     """Inputs of the rocking-contact model as shown in the explorer: the body (``body``, one of
-    :data:`core.registry.REGISTRY`; each body's parameters are inputs of their own, added below from the
+    :data:`core.geometry.registry.REGISTRY`; each body's parameters are inputs of their own, added below from the
     registry by :mod:`app.bodies`), with loads, geometry, materials, solver and view settings.
 
     ``bounds`` are the physical validity of each input (or an operator cap on
@@ -80,7 +80,7 @@ class ExplorerState(param.Parameterized):
                       doc="Young's modulus of the cylinder E1 [MPa], in (0, 1e7]; used when not rigid.")
     nu1 = param.Number(0.3, bounds=(0.0, 0.5), softbounds=(0.0, 0.5), step=0.01, label="ν cylinder",
                        doc="Poisson ratio of the cylinder ν1 [-], in [0, 0.5]; used when not rigid.")
-    materials = param.Selector(default="custom", objects=["custom", *core.materials.PAIRS], label="Materials",
+    materials = param.Selector(default="custom", objects=["custom", *core.theory.materials.PAIRS], label="Materials",
                                doc="A pair of common materials, the cylinder's on the substrate's: sets E and ν of "
                                    "both ('custom': the values typed). Dissimilar materials (Dundurs β ≠ 0) couple a "
                                    "line contact's normal and tangential problems: they are then solved together, "
@@ -138,8 +138,8 @@ class ExplorerState(param.Parameterized):
 
     # ---- materials ----------------------------------------------------------
     def _pair_values(self, name: str) -> dict:
-        """The inputs a materials pair of :data:`core.materials.PAIRS` sets (E in MPa)."""
-        pair = core.materials.material_pair(name)
+        """The inputs a materials pair of :data:`core.theory.materials.PAIRS` sets (E in MPa)."""
+        pair = core.theory.materials.material_pair(name)
         rigid = math.isinf(pair.body.E)
         return dict(rigid=rigid, E2=pair.substrate.E / _MPA, nu2=pair.substrate.nu,
                     **({} if rigid else dict(E1=pair.body.E / _MPA, nu1=pair.body.nu)))
@@ -332,7 +332,7 @@ PRESET_NOTES: dict[str, str] = {
         "ft_lim(0.26) = 0.673 > 0.58, and the solver agrees: it shakes down. The badge's SHAKEDOWN is not a bug."),
 }
 
-#: Every body's parameters as inputs (from core.registry, :func:`app.bodies.state_parameters`).
+#: Every body's parameters as inputs (from core.geometry.registry, :func:`app.bodies.state_parameters`).
 _BODY_INPUTS = bodies.state_parameters()
 for _name, _p in _BODY_INPUTS.items():
     ExplorerState.param.add_parameter(_name, _p)

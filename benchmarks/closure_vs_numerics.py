@@ -1,7 +1,7 @@
 """Compare the paper's shakedown closure (eqs 22-30) with the numerical shakedown state.
 
 The numerical state is the static partial-slip solution with the bound
-mu * p_min (core.solver.shakedown_state), which equals the end state of the
+mu * p_min (core.api.solver.shakedown_state), which equals the end state of the
 transient (tests/test_solver.py). Prints a Markdown table of the errors.
 
 Run: python benchmarks/closure_vs_numerics.py [dx]
@@ -13,7 +13,7 @@ from fractions import Fraction
 import numpy as np
 
 import core
-from core.solver import shakedown_state
+from core.api.solver import shakedown_state
 
 
 def main(dx: float = 1 / 400) -> None:

@@ -13,7 +13,7 @@ With ``NUMBA_CACHE_DIR`` a new empty directory (so numba compiles the solver), i
 * ``shakedown run --ft 0.3 --w 0.5`` with a cold cache, then again with the cache it filled (warm),
   wall time of each process, and whether it said once on stderr that it compiles.
 
-Also the number of compiled signatures after the explorer's first run (``core._jit.KERNELS``).
+Also the number of compiled signatures after the explorer's first run (``core.base._jit.KERNELS``).
 The machine's load average is printed: on a shared machine the compile time grows with it.
 """
 
@@ -78,13 +78,13 @@ def time_app() -> None:
 
 
 def time_cli() -> None:
-    from core._jit import COMPILE_NOTE
+    from core.base._jit import COMPILE_NOTE
 
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(ROOT)}
         for label in ("cold", "warm"):
             t0 = time.perf_counter()
-            p = subprocess.run([sys.executable, "-m", "core.cli", "run", "--ft", "0.3", "--w", "0.5"], env=env,
+            p = subprocess.run([sys.executable, "-m", "core.command.cli", "run", "--ft", "0.3", "--w", "0.5"], env=env,
                                capture_output=True, text=True, cwd=ROOT)
             wall = time.perf_counter() - t0
             regime = next((line.split()[1] for line in p.stdout.splitlines() if line.strip().startswith("regime")),
@@ -95,7 +95,7 @@ def time_cli() -> None:
 
 def count_signatures() -> None:
     with tempfile.TemporaryDirectory() as cache:
-        code = ("import core, core._jit as j; from app.state import ExplorerState; "
+        code = ("import core, core.base._jit as j; from app.state import ExplorerState; "
                 "s = ExplorerState(); c, o = s.contact(), s.solver_options(); c.simulate(**o); "
                 "print(sum(len(d.signatures) for d in j.KERNELS.values()), "
                 "sum(1 for d in j.KERNELS.values() if d.signatures))")

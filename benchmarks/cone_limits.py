@@ -3,10 +3,10 @@
 For each ``inner`` (0.5: a frustum; 0: the full cone) and ``w`` = 0.1 .. 0.6 at
 ``L/a_m = 10`` and the cone's default grid (a/10, ``dW = dx``), it prints
 
-* ``slice``: :func:`core.cone.cone_ft_limit` (the slice model's limit, Ft at the mid-length) and, in brackets,
+* ``slice``: :func:`core.geometry.cone.cone_ft_limit` (the slice model's limit, Ft at the mid-length) and, in brackets,
   ``restrained`` (no moment condition, the rotation about the normal held);
 * ``along``, ``lo``, ``hi``: Melan's programme on the run's grid with the discrete ``p_min`` of the run's own
-  positions (:meth:`core.cone.Cone.grid_limit`): ``q_y = 0`` (the slice model's programme on the grid), and the
+  positions (:meth:`core.geometry.cone.Cone.grid_limit`): ``q_y = 0`` (the slice model's programme on the grid), and the
   Coulomb disk between an inscribed and a circumscribed 32-gon;
 * the runs: ``0.9 lo`` and ``1.1 hi`` (their regimes), then a bisection of ``ft`` between the highest run that
   shook down and the lowest that ratcheted (``undetermined`` runs are reported and end the bisection), of
@@ -48,7 +48,7 @@ def _label(regime, r):
 
 def curve(inner, ws, dx=0.1, bisections=BISECTIONS):
     import core
-    from core.cone import cone_ft_limit
+    from core.geometry.cone import cone_ft_limit
 
     body = core.Cone(inner=inner)
     print(f"\ninner {inner} (L/a_m = {body.length:g}, dx = a/{round(1 / dx)}, {PERIODS} periods a run, up to "

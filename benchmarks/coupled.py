@@ -48,7 +48,7 @@ CONTACT_FALL = {(0.25, 0.6): 0.25, (0.25, 0.3): 0.08, (0.1, 0.6): 0.04, (0.1, 0.
 def _alternations():
     """Count the coupled solver's alternations per solved step (a wrapper around its ``march``, which records them
     in the trajectory's ``alternations``)."""
-    import core.coupled as cc
+    import core.solvers.coupled as cc
 
     counts = []
     if not hasattr(cc.CoupledSolver, "_bench_march"):

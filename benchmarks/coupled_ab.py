@@ -31,7 +31,7 @@ def worker() -> None:
     import numpy as np
 
     import core
-    import core.coupled as cc
+    import core.solvers.coupled as cc
 
     counts = []
     if "solve" in cc.CoupledSolver.__dict__:  # a tree whose march calls the per-step Python solve

@@ -1,6 +1,6 @@
 """Does the coupled alternation accelerate? Passes per step with Anderson mixing or a relaxation factor.
 
-The coupled solver (:mod:`core.coupled`) alternates the normal and the tangential solves until neither field
+The coupled solver (:mod:`core.solvers.coupled`) alternates the normal and the tangential solves until neither field
 changes by more than the KKT tolerance: about 8.6 passes a step at ``|beta| = 0.25``, 6.1 at 0.1 (rocking
 cylinder, ``w = 0.6``, ``ft`` at eq 35, ``a/40``, 20 periods, ``mu = 0.3``), each pass narrowing the change by
 0.02-0.07. This replays the run through the Python alternation (``CoupledSolver._solve_general``'s passes: the
@@ -26,8 +26,8 @@ import numpy as np
 
 def install(anderson: int, omega: float, counts: list, guess: str = "extrapolated") -> None:
     """Replace the coupled solver's march by a Python one over the mixed alternation (this process only)."""
-    from core import _pdas
-    from core import coupled as cc
+    from core.solvers import _pdas
+    from core.solvers import coupled as cc
 
     def solve(self, k, target):
         st = self.inner.state

@@ -7,7 +7,7 @@ script asks the same of the project's coupled solver. The rocking cylinder at ``
 ``mu = 0.3``, 20 periods (the periods the limits were bisected with), ``beta = 0, +-0.1, +-0.25``, at ``ft``
 0.7, 0.99, 1.01 and 1.3 times the coupled limit (the middle of the bracket in
 ``benchmarks/results/coupled_limits.txt``; eq 35 at ``beta = 0``), under the ten paths of :data:`PATHS`
-(:class:`core.paths.LoadingPath`; every step of a path is in the loading block, so the increments and energies
+(:class:`core.loading.paths.LoadingPath`; every step of a path is in the loading block, so the increments and energies
 are those of the 20 periods after it).
 
 Printed per run: the regime, the increment and the energy of the last period (the steady ones when a period

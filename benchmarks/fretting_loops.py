@@ -1,7 +1,7 @@
 """The energy dissipated per cycle against the closed forms of Cattaneo-Mindlin with Masing's rule (issue 30).
 
 Prints, for the cylinder (plane strain, :func:`core.simulate_cycles` with ``history="tangential"``) and the rigid
-sphere on a nu = 0.5 half-space (:func:`core.point_runs.solve_point_schedule` with the same schedule), the energy of
+sphere on a nu = 0.5 half-space (:func:`core.api.point_runs.solve_point_schedule` with the same schedule), the energy of
 the last period and the area of its fretting loop at several amplitudes and two grids, beside
 :func:`core.fretting_energy`, with the grid error (the difference between the two grids), the verdict and the run
 time. Run: ``PYTHONPATH=. python benchmarks/fretting_loops.py`` (about a minute on a quiet core).
@@ -10,8 +10,8 @@ time. Run: ``PYTHONPATH=. python benchmarks/fretting_loops.py`` (about a minute 
 import time
 
 import core
-from core import histories
-from core.point_runs import solve_point_schedule
+from core.loading import histories
+from core.api.point_runs import solve_point_schedule
 
 PERIODS = 6
 

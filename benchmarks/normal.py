@@ -2,10 +2,10 @@
 
 A body that only translates carries its static pressure along, so
 ``normal="numerical"`` solves the normal problem once per normal load (on a
-line: the direct active set of :mod:`core.normal`, on elements
-:data:`core.bodies.NORMAL_REFINE` times finer than the run's) and then
+line: the direct active set of :mod:`core.pressure.normal`, on elements
+:data:`core.geometry.bodies.NORMAL_REFINE` times finer than the run's) and then
 shifts it: its run should cost at most 1.2x the closed form's. Every run
-starts with the pressure tables cleared (``core.bodies.clear_tables``), so the
+starts with the pressure tables cleared (``core.geometry.bodies.clear_tables``), so the
 solve is inside the time; the exact and the numerical runs alternate (so
 that a change of the machine's load hits both), and each figure is the
 median of ``repeat`` runs. Printed per body and grid: the median wall and CPU
@@ -52,7 +52,7 @@ def _alternated(fns, repeat):
 
 def main(quick=False):
     import core
-    from core.bodies import NORMAL_REFINE, clear_tables
+    from core.geometry.bodies import NORMAL_REFINE, clear_tables
 
     def fresh(fn):
         def call():

@@ -2,11 +2,11 @@
 
 Prints the compile/cache-load time separately from warm runs, and the step and
 iteration counts beside every wall time, so that an algorithmic regression can
-be told from machine noise. Both per-step solvers of :data:`core.engine.STEP_SOLVERS`
+be told from machine noise. Both per-step solvers of :data:`core.march.engine.STEP_SOLVERS`
 are timed: the dense stick-set inverse (``solver="dense"``) and the matrix-free
-one (``solver="fft"``, :mod:`core.matrix_free`), with their active-set and CG
+one (``solver="fft"``, :mod:`core.solvers.matrix_free`), with their active-set and CG
 iterations per step, the fitted exponent of each, and the crossover that
-``solver="auto"`` uses (:data:`core.engine.AUTO_CROSSOVER`), checked at every
+``solver="auto"`` uses (:data:`core.march.engine.AUTO_CROSSOVER`), checked at every
 size printed, and the error bars of :func:`core.converged_increment` (Richardson
 from a/40 and a/80 against a/400). Wall and CPU times are both printed: on
 shared cores the CPU time (``time.process_time``) is the steadier figure.
@@ -98,12 +98,12 @@ def _heavy_schedule(dx, periods=10, rocking_steps=None):
 
 def _fft_march_any_size(schedule, n, dx, first=8):
     """The engine's matrix-free solver marched over ``schedule`` on ``n`` elements (any size up to
-    core.bodies.MAX_FFT_ELEMENTS). Returns (wall [s] of the steps after the first ``first``, CPU [s] of
+    core.geometry.bodies.MAX_FFT_ELEMENTS). Returns (wall [s] of the steps after the first ``first``, CPU [s] of
     them, the Trajectory)."""
-    from core._hertz import element_means
-    from core.dense import Trajectory
-    from core.engine import STEP_SOLVERS
-    from core.operators import FFTOperator
+    from core.base._hertz import element_means
+    from core.solvers.dense import Trajectory
+    from core.march.engine import STEP_SOLVERS
+    from core.elastic.operators import FFTOperator
 
     edges = dx * (np.arange(n + 1) - n // 2)
     steps = len(schedule)
@@ -151,14 +151,14 @@ def _best(fn, reps):
 
 def solvers(quick: bool = False) -> None:
     import core
-    from core.engine import AUTO_CROSSOVER, select_solver
+    from core.march.engine import AUTO_CROSSOVER, select_solver
 
     reps = 2 if quick else 3
     print("\n=== per-step solvers: dense (interval / stick-set inverses) vs matrix-free (active set + PCG, FFT products) ===")
     # (a) the paper's heaviest case, (b) the same at dx = a/400: "auto" runs the solver it picks
     # (outside --quick both solvers run both cases, best of `reps`; (d) compares them step by step)
     for label, case, n_reps in (("(a)", HEAVY, reps), ("(b)", {**HEAVY, "dx": 1 / 400}, reps)):
-        n = core.solver.make_grid(_heavy_schedule(case["dx"]).reach, case["dx"]).size - 1
+        n = core.api.solver.make_grid(_heavy_schedule(case["dx"]).reach, case["dx"]).size - 1
         pick = select_solver("auto", n).name
         timed = {solver: _best(lambda: core.simulate_cycles(**case, solver=solver), n_reps)
                  for solver in (("dense", "fft") if label == "(a)" or not quick else (pick,))}
@@ -201,8 +201,8 @@ def solvers(quick: bool = False) -> None:
     for target in sizes:
         dx = 2 * 1.77 / target
         sched = _heavy_schedule(dx, periods=1, rocking_steps=108)
-        n = core.solver.make_grid(sched.reach, dx, core.bodies.MAX_FFT_ELEMENTS).size - 1
-        d = min(_steady_cost(sched, dx, "dense") for _ in range(reps)) if n <= core.bodies.MAX_ELEMENTS else math.inf
+        n = core.api.solver.make_grid(sched.reach, dx, core.geometry.bodies.MAX_FFT_ELEMENTS).size - 1
+        d = min(_steady_cost(sched, dx, "dense") for _ in range(reps)) if n <= core.geometry.bodies.MAX_ELEMENTS else math.inf
         f = min(_steady_cost(sched, dx, "fft") for _ in range(reps))
         faster = "dense" if d <= f else "fft"
         pick = select_solver("auto", n).name
@@ -222,7 +222,7 @@ def solvers(quick: bool = False) -> None:
             cross = float(np.exp(np.log(n[i]) + t * (np.log(n[i + 1]) - np.log(n[i]))))
     print(f"  fitted exponents of the cost per step: dense n^{kd:.2f}, fft n^{kf:.2f}")
     print("  measured crossover: " + (f"{cross:.0f} elements" if cross is not None else
-                                      (f"none up to the dense cap ({core.bodies.MAX_ELEMENTS}): dense is faster at every size "
+                                      (f"none up to the dense cap ({core.geometry.bodies.MAX_ELEMENTS}): dense is faster at every size "
                                        "it runs" if ratio[-1] <= 0 else "none in range: fft is faster at every size")))
     print(f"  auto picks the faster solver at every size printed: {ok}")
 

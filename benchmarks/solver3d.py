@@ -26,7 +26,7 @@ grid convergence.
 6. The increment per period against CONTACT's (ft 0.6, w 0.3) at 20 to 80 elements across the contact, with
    the traction bound from the discrete normal problem (normal="numerical", the default) and from element means
    of Hertz's pressure (normal="exact").
-7. The discrete bound's normal solve alone. Since it is core.normal.solve_normal (one normal solver, issue 21;
+7. The discrete bound's normal solve alone. Since it is core.pressure.normal.solve_normal (one normal solver, issue 21;
    preconditioned by the inverse continuous symbol), measured back to back, twice, at load average 3.4: one
    window 14.3-14.9, 69-71, 466-497 ms at a/20, a/40, a/80 with the bound's own unpreconditioned CG before,
    7.7-7.8, 30, 165-173 ms after (the same pressures to 2e-12); the timed cases of 1: a/20 1.49 s CPU before,
@@ -45,7 +45,7 @@ grid convergence.
    1.62 and 1.48 s CPU on main, 1.68 and 1.50 s on the cone branch (load average 5-8), the same iterations per
    step (5.46 and 14.3) and increments equal to 3e-16.
 
-10. Issue 31 item 15: the cone's elements 2.5 times as long along its line as across it (core.cone.ASPECT). The
+10. Issue 31 item 15: the cone's elements 2.5 times as long along its line as across it (core.geometry.cone.ASPECT). The
    explorer's first run (--defaults) on a 41 x 26 window instead of 101 x 26: 0.96 s CPU (best of 2, load 13);
    1.24 s against 2.82 s with square elements (medians of 10 interleaved runs, load 5-14,
    benchmarks/results/app_bodies_s4.txt); --convergence prints both element shapes (results:
@@ -101,7 +101,7 @@ def timed_cases(quick=False, fine=True):
 
 def mindlin(dx=0.05, fts=(0.3, 0.6)):
     """Mindlin's partial slip against the solver, nu = 0 (exact) and nu = 0.5 (coupled)."""
-    from core.point_runs import mindlin_state
+    from core.api.point_runs import mindlin_state
 
     print(f"\nMindlin (static, from rest), dx = a/{round(1 / dx)}: c/a exact (1 - ft)^(1/3); displacement "
           "3(2 - nu)/(8(1 - nu)) (1 - (1 - ft)^(2/3)) [mu Fn/(E* a)]")
@@ -207,11 +207,11 @@ def contact_comparison(elements=(20, 40, 60, 80), ft=0.6, w=0.3, periods=10):
 
 
 def normal_solve(dxs=(1 / 20, 1 / 40, 1 / 80)):
-    """The discrete bound's normal solve alone (core.patch._pressure, cache cleared): one window of the sphere."""
-    import core.patch as s3
-    from core.point_contact import Ellipsoid
+    """The discrete bound's normal solve alone (core.geometry.patch._pressure, cache cleared): one window of the sphere."""
+    import core.geometry.patch as s3
+    from core.theory.point_contact import Ellipsoid
 
-    print("\nthe sphere's discrete normal solve on one window (core.normal.solve_normal), best of 3:")
+    print("\nthe sphere's discrete normal solve on one window (core.pressure.normal.solve_normal), best of 3:")
     for dx in dxs:
         xe, ye = s3._centred_edges(1.7, dx), s3._centred_edges(1.0, dx)
         best = np.inf
@@ -228,7 +228,7 @@ def height_maps(quick=False):
     limit at w = 0.3: the pressure solved once and shifted (dW = dx) or solved again per fractional offset
     (dW = 0.6 dx), beside the cost of one normal solve."""
     import core
-    from core.heightmap import HeightMap
+    from core.geometry.heightmap import HeightMap
 
     print("\nheight map (rough paraboloid), ft = 1.1 ft_lim(0.3), 10 periods:")
     for dx, n in ((0.1, 35),) if quick else ((0.1, 35), (0.05, 71)):
@@ -286,8 +286,8 @@ def explorer_defaults(repeats=2):
     import collections
 
     import core
-    import core.solver3d as s3
-    from core.halfspace import HalfSpaceOperator, convolve, convolve_mirror
+    import core.solvers.solver3d as s3
+    from core.elastic.halfspace import HalfSpaceOperator, convolve, convolve_mirror
 
     print("\nexplorer's default grid (a/10), ft 0.32, w 0.5, 10 periods: sphere against cone (inner 0.5, L/a_m 10)")
     for name, body in (("sphere", "sphere"), ("cone", core.Cone(inner=0.5))):
@@ -334,10 +334,10 @@ def cone_convergence(ft=0.4041, w=0.5, inner=0.5, dxs=(0.2, 0.125, 0.1, 0.05), d
                      squares=(0.1, 0.05)):
     """The cone's increment per period against the grid and the time step, at one ft (the explorer's w = 0.5,
     inner 0.5; ft 0.4041 is 1.1 times the upper Melan limit on the a/10 grid: a ratcheting cone), 10 periods:
-    dx at dW = dx (the default) with the default elements (``core.cone.ASPECT`` times longer along the line than
+    dx at dW = dx (the default) with the default elements (``core.geometry.cone.ASPECT`` times longer along the line than
     across), then the square elements (aspect 1, the grid before issue 31's) at ``squares``, then dW at dx = a/10."""
     import core
-    import core.cone as cone_module
+    import core.geometry.cone as cone_module
 
     body = core.Cone(inner=inner)
     default = cone_module.ASPECT

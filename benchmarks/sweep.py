@@ -6,7 +6,7 @@ Run: python benchmarks/sweep.py [--n 5 40] [--workers auto 1 2]
 the job: a small map runs in this process, a large one on every core); a
 number forces that many processes. Also printed: the solver time per cell
 (step x element) of the 1-worker run, the constant
-``core.tasks.SECONDS_PER_CELL`` that the default uses to size the job.
+``core.maps.tasks.SECONDS_PER_CELL`` that the default uses to size the job.
 
 Prints, separately: the compile time of the solver (in a subprocess with an
 empty numba cache, so the shared cache is not touched), the warm-up of this
@@ -29,8 +29,8 @@ import time
 import numpy as np
 
 import core
-from core.grid import run_cells
-from core.tasks import SECONDS_PER_CELL
+from core.maps.grid import run_cells
+from core.maps.tasks import SECONDS_PER_CELL
 
 TARGET_S = 60.0
 
@@ -53,7 +53,7 @@ def main(argv=None) -> None:
     parser.add_argument("--no-compile", action="store_true", help="skip the cold-compile measurement")
     args = parser.parse_args(argv)
 
-    print(f"maps over ft and w in [0.02, 0.95], default resolution (dx = dW = {core.solver.DEFAULT_DX:g} a, "
+    print(f"maps over ft and w in [0.02, 0.95], default resolution (dx = dW = {core.api.solver.DEFAULT_DX:g} a, "
           f"10 periods), {os.cpu_count()} cores")
     if not args.no_compile:
         print(f"compile (empty numba cache, fresh process):   {compile_time():6.2f} s")
@@ -80,7 +80,7 @@ def main(argv=None) -> None:
             print(f"  solver time per run (mean):  {1e3 * table['runtime'].mean():7.2f} ms "
                   f"(median {1e3 * table['runtime'].median():.2f}, max {1e3 * table['runtime'].max():.1f})")
             print(f"  solver time per cell:        {table['runtime'].sum() / cells:9.3g} s "
-                  f"(core.tasks.SECONDS_PER_CELL = {SECONDS_PER_CELL:.3g})")
+                  f"(core.maps.tasks.SECONDS_PER_CELL = {SECONDS_PER_CELL:.3g})")
             print(f"  active-set iterations:       max {int(table['max_iterations'].max())} per step, "
                   f"{int(table['steps'].sum())} steps in all")
             counts = table["regime"].value_counts().to_dict()

@@ -1,7 +1,7 @@
 """Shakedown Explorer core: the physics of a rocking cylindrical contact.
 
 The public names are imported on first use (PEP 562 ``__getattr__``), so that
-a light submodule such as :mod:`core.cli` (``shakedown --help``) starts
+a light submodule such as :mod:`core.command.cli` (``shakedown --help``) starts
 without importing numba, scipy and pandas. ``core.__all__`` lists them all
 (asking for it imports them).
 """
@@ -25,34 +25,35 @@ def _load_locked():
     global _loading
     _loading = threading.get_ident()
     try:
-        from . import analytical
+        from .theory import analytical
         globals().update({name: getattr(analytical, name) for name in analytical.__all__})
-        from .contact import Contact, PAPER_SIMULATION, PAPER_EXPERIMENT, BETA_WARNING_LEVEL  # noqa: F401
-        from . import approximations, histories  # noqa: F401
-        from .kernels import influence_matrix, strip_u0  # noqa: F401
-        from .schedule import Schedule, rocking_schedule  # noqa: F401
-        from .paths import LoadingPath  # noqa: F401
-        from .states import State, Zone, STATE_NAMES, ZONE_NAMES, RESIDUAL_NAMES  # noqa: F401
-        from .bodies import BODIES, Body, Cylinder, LineGrid, Punch, get_body, NORMAL_CHOICES  # noqa: F401
-        from .normal import NormalSolution, solve_normal, solve_line, solve_patch  # noqa: F401
-        from .melan import ft_limit_numerical  # noqa: F401
-        from .limits import ft_limit, w_limit, fretting_energy  # noqa: F401 (any body's, by name or object: over analytical's eq 35)
-        from .cone import Cone  # noqa: F401
-        from .heightmap import HeightMap, HeightProfile  # noqa: F401
-        from .result import CycleResult, LineResult, PerStep, StaticResult, SolverError, SolveCancelled  # noqa: F401
-        from .engine import run, STEP_SOLVERS  # noqa: F401
-        from .solver import (simulate_cycles, solve_schedule, solve_static, shakedown_state,  # noqa: F401
+        from .api.contact import Contact, PAPER_SIMULATION, PAPER_EXPERIMENT, BETA_WARNING_LEVEL  # noqa: F401
+        from .theory import approximations  # noqa: F401
+        from .loading import histories  # noqa: F401
+        from .elastic.kernels import influence_matrix, strip_u0  # noqa: F401
+        from .loading.schedule import Schedule, rocking_schedule  # noqa: F401
+        from .loading.paths import LoadingPath  # noqa: F401
+        from .base.states import State, Zone, STATE_NAMES, ZONE_NAMES, RESIDUAL_NAMES  # noqa: F401
+        from .geometry.bodies import BODIES, Body, Cylinder, LineGrid, Punch, get_body, NORMAL_CHOICES  # noqa: F401
+        from .pressure.normal import NormalSolution, solve_normal, solve_line, solve_patch  # noqa: F401
+        from .pressure.melan import ft_limit_numerical  # noqa: F401
+        from .bounds.limits import ft_limit, w_limit, fretting_energy  # noqa: F401 (any body's, by name or object: over analytical's eq 35)
+        from .geometry.cone import Cone  # noqa: F401
+        from .geometry.heightmap import HeightMap, HeightProfile  # noqa: F401
+        from .records.result import CycleResult, LineResult, PerStep, StaticResult, SolverError, SolveCancelled  # noqa: F401
+        from .march.engine import run, STEP_SOLVERS  # noqa: F401
+        from .api.solver import (simulate_cycles, solve_schedule, solve_static, shakedown_state,  # noqa: F401
                              simulate_point_contact)
-        from .contact import PointContact, simulate_contact, strip_options  # noqa: F401
-        from .convergence import ConvergedIncrement, converged_increment, grid_error, increment_error  # noqa: F401
-        from .resolution import default_dx  # noqa: F401
-        from .point_contact import Ellipsoid, Sphere, POINT_BODIES  # noqa: F401
-        from .halfspace import HalfSpaceOperator  # noqa: F401
-        from .point_runs import solve_point_schedule, mindlin_state, shakedown_state_3d  # noqa: F401
-        from .result import PointContactResult  # noqa: F401
-        from .sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
+        from .api.contact import PointContact, simulate_contact, strip_options  # noqa: F401
+        from .api.convergence import ConvergedIncrement, converged_increment, grid_error, increment_error  # noqa: F401
+        from .geometry.resolution import default_dx  # noqa: F401
+        from .theory.point_contact import Ellipsoid, Sphere, POINT_BODIES  # noqa: F401
+        from .elastic.halfspace import HalfSpaceOperator  # noqa: F401
+        from .api.point_runs import solve_point_schedule, mindlin_state, shakedown_state_3d  # noqa: F401
+        from .records.result import PointContactResult  # noqa: F401
+        from .maps.sweeps import (sweep, sweep_grid, run_points, numerical_w_limit, numerical_limit,  # noqa: F401
                              numerical_limit_curve, LimitResult, SweepCancelled, load_default_map)
-        from .coupled_limits import (coupled_limit, coupled_limit_curve, CoupledLimit,  # noqa: F401
+        from .maps.coupled_limits import (coupled_limit, coupled_limit_curve, CoupledLimit,  # noqa: F401
                                      CoupledLimitCurve)
         public = {k: v for k, v in locals().items() if k != "analytical"}
         globals().update(public)

@@ -45,7 +45,7 @@ extensions = [
     "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
     "sphinx_gallery.gen_gallery",
-    "sphinxarg.ext",  # the command-line reference from core.cli.build_parser
+    "sphinxarg.ext",  # the command-line reference from core.command.cli.build_parser
 ]
 
 # -- sources -------------------------------------------------------------------

@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import core
-from core.cone import slice_amplitude
+from core.geometry.cone import slice_amplitude
 
 w_grid = np.linspace(0.0, 0.99, 34)
 fig, (ax, ax2) = plt.subplots(1, 2, figsize=(9, 3.8), layout="constrained")

@@ -21,7 +21,7 @@ more). The right panel: the final state of the contact of the ratcheting run (st
 backward) on the grid, the apex below.
 
 How it compares: the paper has no cone; it names cones as future work. A frustum far from its apex is
-the cylinder (its limit tends to eq 35, ``core.cone``); here the limit is bracketed by runs, as the
+the cylinder (its limit tends to eq 35, ``core.geometry.cone``); here the limit is bracketed by runs, as the
 paper's solver brackets eq 35 for the cylinder.
 """
 

@@ -4,7 +4,7 @@ The ellipsoid: an elliptical point contact
 
 Beyond the paper: a body with two principal radii (``Ry = 2 Rx``), rocked along its ``x`` axis.
 Its contact is an ellipse, and its exact shakedown limit (Melan's theorem) is the sphere's,
-``(1 - w)^2 (2 + w) / 2``, for every axis ratio (:func:`core.point_contact.ft_limit_point`), with
+``(1 - w)^2 (2 + w) / 2``, for every axis ratio (:func:`core.theory.point_contact.ft_limit_point`), with
 ``w = W / a`` and ``a`` the semi-axis along the rocking.
 
 How it compares: the 3D solver (a coarse grid of ``a/10``, twelve periods) is run just below and

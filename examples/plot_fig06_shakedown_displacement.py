@@ -17,8 +17,8 @@ paper's regression eq 34 (``u_sd = 1 - (1 - ft)^0.92 + 0.3 ft w``, dotted), prin
 import matplotlib.pyplot as plt
 
 import core
-from core import approximations
-from core.paper_figures import paper_model, time_in_periods
+from core.theory import approximations
+from core.maps.paper_figures import paper_model, time_in_periods
 
 
 FT = 0.08

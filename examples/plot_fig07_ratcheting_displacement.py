@@ -16,8 +16,8 @@ increment per period is printed beside the solver's. Paper's strip model (eq 17)
 import matplotlib.pyplot as plt
 
 import core
-from core import approximations
-from core.paper_figures import paper_model, time_in_periods
+from core.theory import approximations
+from core.maps.paper_figures import paper_model, time_in_periods
 
 
 FT = 0.58

@@ -6,7 +6,7 @@ The paper's Fig 10: the half-width of the stick zone after shakedown, ``c_sd / a
 ``ft`` for several amplitudes ``w`` (``w = 0`` is Cattaneo's static ``sqrt(1 - ft)``). It shrinks
 to zero at the limit ``ft_lim(w)`` of eq 35.
 
-How it compares: the solver's direct shaken-down states (:func:`core.paper_figures.stick_halfwidth_curves`,
+How it compares: the solver's direct shaken-down states (:func:`core.maps.paper_figures.stick_halfwidth_curves`,
 the paper's strip model) are drawn as markers on the paper's closure eq 30 (lines). Here on a grid of
 ``a/100`` and eight loads per amplitude (the explorer's shipped data uses ``a/400`` and sixteen);
 the largest difference printed is within about one element, so the closure is right to the
@@ -15,7 +15,7 @@ resolution of the grid.
 
 import matplotlib.pyplot as plt
 
-from core import paper_figures
+from core.maps import paper_figures
 
 data = paper_figures.stick_halfwidth_curves(points=8, dx=1 / 100)
 fig, ax = plt.subplots(figsize=(6.4, 4), layout="constrained")

@@ -14,7 +14,7 @@ this grid, largest at the stick edge where both profiles are steep): the ansatz 
 
 import matplotlib.pyplot as plt
 
-from core import paper_figures
+from core.maps import paper_figures
 
 data = paper_figures.traction_profiles(paper_figures.FIG11_CASES, dx=1 / 100)
 fig, ax = plt.subplots(figsize=(6.4, 4), layout="constrained")

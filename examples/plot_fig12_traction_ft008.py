@@ -13,7 +13,7 @@ most, as in Fig 11.
 
 import matplotlib.pyplot as plt
 
-from core import paper_figures
+from core.maps import paper_figures
 
 data = paper_figures.traction_profiles(paper_figures.FIG12_CASES, dx=1 / 100)
 fig, ax = plt.subplots(figsize=(6.4, 4), layout="constrained")

@@ -14,7 +14,7 @@ difference printed; the paper's own 3D simulation and experiment sit in the same
 
 import matplotlib.pyplot as plt
 
-from core import paper_figures
+from core.maps import paper_figures
 
 data = paper_figures.shakedown_displacement_curves(points=8, dx=1 / 100, check_ft=(0.1,), check_dx=1 / 40, periods=10)
 fig, ax = plt.subplots(figsize=(6.4, 4), layout="constrained")

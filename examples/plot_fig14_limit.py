@@ -16,7 +16,7 @@ the user guide's "Cylinder versus sphere").
 
 import matplotlib.pyplot as plt
 
-from core import paper_figures
+from core.maps import paper_figures
 
 data = paper_figures.limit_curve(ft_values=(0.1, 0.3, 0.5, 0.7, 0.9), tol=5e-3, dx=1 / 40, periods=20)
 line, pts = data["line"], data["points"]

@@ -15,7 +15,7 @@ largest difference printed.
 import matplotlib.pyplot as plt
 import numpy as np
 
-from core import paper_figures
+from core.maps import paper_figures
 
 data = paper_figures.limit_displacement_curve(w_values=tuple(np.round(np.linspace(0.0, 0.9, 10), 6)), dx=1 / 100)
 fig, ax = plt.subplots(figsize=(6.4, 4), layout="constrained")

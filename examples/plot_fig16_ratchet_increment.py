@@ -13,7 +13,7 @@ Treat eq 38 as rough and use the solver.
 
 import matplotlib.pyplot as plt
 
-from core import paper_figures
+from core.maps import paper_figures
 
 data = paper_figures.ratchet_increment_curves(points=6, dx=1 / 40, periods=20)
 fig, ax = plt.subplots(figsize=(6.4, 4), layout="constrained")

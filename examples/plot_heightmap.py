@@ -3,7 +3,7 @@ Sampled surfaces: a wavy cylinder and a worn sphere
 ===================================================
 
 Beyond the paper: bodies given by their sampled gap, as a designed or measured surface would be
-(``core.heightmap``; a profilometer file is read with SurfaceTopography through
+(``core.geometry.heightmap``; a profilometer file is read with SurfaceTopography through
 ``HeightProfile.from_topography`` and ``HeightMap.from_topography``).
 
 * :class:`core.HeightProfile` is a line body (plane strain) on the 1D engine: here the cylinder,
@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import core
-from core.heightmap import HeightMap, HeightProfile
+from core.geometry.heightmap import HeightMap, HeightProfile
 
 fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(11, 3.6), layout="constrained")
 

@@ -3,7 +3,7 @@ Other loading histories: an oscillating normal force, fretting
 ==============================================================
 
 Beyond the paper's rocking (its outlook names oscillating normal forces): the same cylinder under
-three histories of :mod:`core.histories`, at ``ft = 0.3``:
+three histories of :mod:`core.loading.histories`, at ``ft = 0.3``:
 
 * ``rocking``: the paper's, ``w = 0.5`` under constant loads (below the limit ``ft_lim(0.5) = 0.39``);
 * ``normal``: the same rocking with the normal force oscillating by 20 % in phase with the motion;

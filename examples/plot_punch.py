@@ -4,7 +4,7 @@ The rounded flat punch: two pressure peaks
 
 Beyond the paper: the fretting-fatigue indenter, a flat of half-width ``b`` with rounded edges, in
 plane strain (:class:`core.Punch`, ``flat = b/a``; ``flat = 0`` is the paper's cylinder). Its
-pressure (Ciavarella, Hills and Monno 1998, :func:`core.punch.punch_pressure`) has two peaks near
+pressure (Ciavarella, Hills and Monno 1998, :func:`core.theory.punch.punch_pressure`) has two peaks near
 ``x = +-b`` and a dip between them, so the lowest pressure over a rocking period no longer sits at
 a turning point, and its exact shakedown limit comes from Melan's theorem numerically
 (``core.ft_limit(w, body=core.Punch(flat=...))``).
@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import core
-from core.punch import punch_pressure
+from core.theory.punch import punch_pressure
 
 x = np.linspace(-1.1, 1.1, 881)
 w_grid = np.linspace(0.0, 0.95, 20)

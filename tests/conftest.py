@@ -21,14 +21,14 @@ for kernel, L in (("strip", 10.0), ("plane", None)):
         core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, kernel=kernel, L_over_a=L, solver=solver)
 core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body=core.Punch(flat=0.5))
 import numpy as np
-from core.heightmap import HeightProfile
+from core.geometry.heightmap import HeightProfile
 x = np.linspace(-2, 2, 401)
 core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body=HeightProfile((2 / np.pi) * x**2, x[1] - x[0]))
 """,
     "point": """
 import numpy as np
 import core
-from core.heightmap import HeightMap
+from core.geometry.heightmap import HeightMap
 core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body="sphere")
 core.simulate_cycles(0.1, 0.2, periods=1, body="ellipsoid", ratio=2.0)
 core.simulate_cycles(0.1, 0.2, periods=1, body="cone")
@@ -44,7 +44,7 @@ def _numba_cache_is_cold() -> bool:
     import pkgutil
 
     import core
-    from core import _jit
+    from core.base import _jit
 
     for info in pkgutil.iter_modules(core.__path__, "core."):
         if not info.name.endswith(("__main__", ".cli")):

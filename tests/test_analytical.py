@@ -1,4 +1,4 @@
-"""Identities and limits of the closed-form model (core.analytical)."""
+"""Identities and limits of the closed-form model (core.theory.analytical)."""
 
 import numpy as np
 import pytest
@@ -6,7 +6,7 @@ from numpy.testing import assert_allclose
 from scipy.integrate import quad
 
 import core
-from core import analytical as an
+from core.theory import analytical as an
 
 
 W_GRID = np.linspace(0.0, 0.95, 20)

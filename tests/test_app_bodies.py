@@ -1,4 +1,4 @@
-"""The explorer's bodies come from core.registry: the selector, each body's parameters as inputs kept in the URL,
+"""The explorer's bodies come from core.geometry.registry: the selector, each body's parameters as inputs kept in the URL,
 its run, its figures, its limit, and a body registered later (or one the explorer cannot run yet).
 
 Headless (no browser): :class:`app.explorer.Explorer` over :class:`app.state.ExplorerState`; the runs are short
@@ -22,7 +22,7 @@ from app import bodies, plots, sketch
 from app.cards import body_limits
 from app.explorer import Explorer
 from app.state import BODIES, URL_PARAMETERS, ExplorerState, parse_query
-from core.registry import REGISTRY
+from core.geometry.registry import REGISTRY
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 QUICK = "ft=0.3&w=0.5&periods=2&point_resolution=4&kernel=plane"
@@ -212,7 +212,7 @@ def test_the_panel_inputs_are_built_from_the_registry():
 _LATE_BODY = textwrap.dedent("""
     import json, sys
     import core
-    from core.registry import BodyEntry, Parameter, register
+    from core.geometry.registry import BodyEntry, Parameter, register
 
     def _wide_punch(flatness=0.3):
         return core.Punch(flat=flatness)
@@ -236,7 +236,7 @@ _LATE_BODY = textwrap.dedent("""
 
 
 def test_a_body_registered_in_core_appears_and_runs_and_one_that_cannot_run_shows_its_limit_only():
-    """A body registered in core.registry (here in a subprocess, before the app is imported) is in the selector,
+    """A body registered in core.geometry.registry (here in a subprocess, before the app is imported) is in the selector,
     its parameter in the URL, its run on the 1D engine; a body whose cycles the explorer cannot run (the cone
     before its runs exist) is shown as 'limit only', not as an error."""
     out = subprocess.run([sys.executable, "-c", _LATE_BODY], capture_output=True, text=True, timeout=600,
@@ -288,8 +288,8 @@ def test_uploading_a_file_in_the_page_opens_it_and_a_bad_one_is_reported(tmp_pat
     assert select and "demo" in select[0].options.values()  # back to the demo is one choice away
     upload.param.update(filename="notes.txt", value=b"not a height map at all")
     assert ex.contact is None and "cannot be built" in ex.error and "heightmap" in ex.error
-    # the same words as the command line's (core.heightmap.read_topography), every readable format named
-    from core.heightmap import readable_formats
+    # the same words as the command line's (core.geometry.heightmap.read_topography), every readable format named
+    from core.geometry.heightmap import readable_formats
 
     assert "the uploaded file notes.txt is in no format that can be read; the readable formats: " in ex.error
     assert all(f in ex.error for f in readable_formats()) and "Network Common Data Format (NetCDF) (.nc)" in ex.error

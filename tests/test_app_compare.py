@@ -122,7 +122,7 @@ def body_explorer(request, scroll_through):
 
 def test_pin_compare_and_downloads_work_for_every_body(body_explorer):
     """Pin two runs of the body, see them on its figures and in the table, download its CSV and JSON (written by
-    core.export: the same text as core's own, periods numbered as the player)."""
+    core.api.export: the same text as core's own, periods numbered as the player)."""
     ex = body_explorer
     body = ex.state.body
     point = ex.state.point

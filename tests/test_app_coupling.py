@@ -13,7 +13,7 @@ from app import plots
 from app.cards import coupled_beta, coupled_prediction, cylinder_rows, strip_html
 from app.runs import LimitCurves
 from app.state import ExplorerState
-from core.coupled_limits import CoupledLimit, CoupledLimitCurve
+from core.maps.coupled_limits import CoupledLimit, CoupledLimitCurve
 
 
 def _curve(beta=0.25, mu=0.3, amplitudes=(0.3, 0.5)):
@@ -35,7 +35,7 @@ def test_a_materials_pair_sets_both_bodies_and_a_typed_value_makes_it_custom():
     s = ExplorerState()
     assert s.materials == "custom" and s.contact().beta == 0.0 and not s.contact().coupled  # the paper's
     s.materials = "steel/aluminium"
-    pair = core.materials.material_pair("steel/aluminium")
+    pair = core.theory.materials.material_pair("steel/aluminium")
     assert (s.rigid, s.E1, s.nu1, s.E2, s.nu2) == (False, 210e3, 0.30, 70e3, 0.33)
     c = s.contact()
     options = s.solver_options()  # solved together, on the coupled solver's plane kernel, with the contact's beta
@@ -77,9 +77,9 @@ def test_the_explorer_runs_a_coupled_contact_and_says_its_limit_is_a_reference(b
                      ready="[data-regime]:not([data-regime='pending'])", timeout_ms=300_000)
     try:
         badge = page.locator("[data-regime]").first
-        assert badge.get_attribute("data-regime") in core.verdict.REGIMES, badge.get_attribute("data-regime")
+        assert badge.get_attribute("data-regime") in core.records.verdict.REGIMES, badge.get_attribute("data-regime")
         note = page.locator(".regime-note").first.inner_text()
-        beta = core.materials.material_pair("steel/aluminium").beta
+        beta = core.theory.materials.material_pair("steel/aluminium").beta
         assert "uncoupled reference" in note and f"β = {beta:.3g}" in note, note
         box = badge.bounding_box()
         assert box is not None and box["y"] + box["height"] <= 720

@@ -147,7 +147,7 @@ def test_pin_compare_download_and_svg_for_every_body(browser, app_url, body, tmp
         displacement = next(FIGURES[n]["opts"]["title"] for n in key_figures(body) if "displacement" in n)
         wait_until(lambda: len(page.evaluate(_CURVES, displacement) or []) >= 3, 30,
                    message="the pinned runs on the displacement figure")
-        # downloads, written by core.export
+        # downloads, written by core.api.export
         for label, check in (("Download CSV", lambda text: "# regime = " in text and (
                                  f"# body = {body}" in text if bodies.kind(body) == "point"
                                  else "displacement_muP_Estar" in text)),

@@ -653,7 +653,7 @@ def test_point_runs_are_cached_and_downloaded(sphere_explorer):
 
 def test_fig14_and_the_map_show_both_bodies_exact_limits():
     from app import paper_figures as apf
-    from core import paper_figures as pf
+    from core.maps import paper_figures as pf
 
     line = apf.shipped_data()["figures"]["fig14"]["line"]
     ft = np.array(line["ft"])
@@ -684,7 +684,7 @@ def test_the_map_draws_only_the_current_bodys_sweep(sphere_explorer):
 
 def test_the_oscillating_normal_force_is_a_loading_option():
     """Issue 10, item 6: rocking under an oscillating normal force is among the loading options of the cylinder,
-    kept in the URL, passed to the solver as core.histories' 'normal' history, and flagged beside eq 35."""
+    kept in the URL, passed to the solver as core.loading.histories' 'normal' history, and flagged beside eq 35."""
     from app.state import URL_PARAMETERS, parse_query
 
     assert {"loading", "amplitude", "phase"} <= set(URL_PARAMETERS)

@@ -1,7 +1,7 @@
 """Numbers, shading and state a class can trust (issue 31, items 3, 4, 6, 9, 10), without a browser.
 
 - item 3: the traction figure's shading is computed from the states its curve and the numbers come from, for
-  every body of :data:`core.registry.REGISTRY`: at a step inside the run, slip is shaded where the traction is
+  every body of :data:`core.geometry.registry.REGISTRY`: at a step inside the run, slip is shaded where the traction is
   on ±μ p and stick where it is below; at the last step, the zones are the final zones the strip's c_sd is
   measured on (its stick width is c_sd), and nothing is shaded 'zero traction' where traction is left;
 - item 4: a printed ft or w never crosses its limit (notes, cards, pins, sliders);
@@ -23,10 +23,10 @@ from app import runs
 from app.cards import inputs_text, on_side
 from app.explorer import SLIDER_FORMAT, Explorer
 from app.state import URL_PARAMETERS, ExplorerState
-from core.result import STICK_MARGIN, ZERO_TRACTION
+from core.records.result import STICK_MARGIN, ZERO_TRACTION
 
 #: Every body the explorer runs, with inputs that give a short run (the heightmap: the built-in demo map).
-RUNNABLE = [b for b in core.registry.REGISTRY if bodies.runs_cycles(b, ExplorerState(body=b).body_object())]
+RUNNABLE = [b for b in core.geometry.registry.REGISTRY if bodies.runs_cycles(b, ExplorerState(body=b).body_object())]
 
 
 def _run(**inputs):
@@ -61,7 +61,7 @@ def _check_shading(result):
     zones, q = plots.traction_zones(result, last), _magnitude(result, last)
     low = result.lowest_pressure[result.cut_row] if result.is_patch else result.lowest_pressure
     np.testing.assert_array_equal(zones, result.final_zones)
-    assert core.result.central_halfwidth(zones == Zone.STICK, result.edges) == result.stick_halfwidth
+    assert core.records.result.central_halfwidth(zones == Zone.STICK, result.edges) == result.stick_halfwidth
     assert np.all(q[zones == Zone.STICK] < low[zones == Zone.STICK]), "stick shaded at or above μ p_min"
     assert np.all(q[zones == Zone.SLIP] >= low[zones == Zone.SLIP] - STICK_MARGIN), "slip shaded below μ p_min"
     assert np.all(q[zones == Zone.RELEASED] <= ZERO_TRACTION), "zero traction shaded under traction"

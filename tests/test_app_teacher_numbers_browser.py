@@ -116,7 +116,7 @@ def test_the_shading_at_the_last_step_agrees_with_the_curve_and_the_strip(browse
                                  and len(d["curve"][0]) > 10 and d, 120, message=f"the figure {title!r} drawn")
             x, q = shading["curve"]
             zero = shading["zones"].get("zero traction", [])
-            loaded = [(xi, qi) for xi, qi in zip(x, q) if abs(qi) > core.result.ZERO_TRACTION]
+            loaded = [(xi, qi) for xi, qi in zip(x, q) if abs(qi) > core.records.result.ZERO_TRACTION]
             crossing = [(xi, qi) for xi, qi in loaded for lo, hi in zero if lo < xi < hi]
             assert not crossing, f"{width}x{height}: 'zero traction' shaded under traction: {crossing[:5]}"
             stick = shading["zones"].get("stick", [])
@@ -189,7 +189,7 @@ def test_the_cone_s_inputs_and_the_body_tooltip_speak_a_users_words(browser, app
             page.set_viewport_size({"width": width, "height": height})
             page.locator(".body-inputs").first.wait_for(timeout=60_000)
             texts = " | ".join(page.evaluate(_TEXTS)) + page.locator("body").inner_text()
-            for word in ("load_at (cone)", "core/cone.py", "core.registry", "(core/", "SHAKEDOWN_MAX"):
+            for word in ("load_at (cone)", "core/geometry/cone.py", "core.geometry.registry", "(core/", "SHAKEDOWN_MAX"):
                 assert word not in texts, (width, word)
             assert "Where Ft acts (0 inner end, 1 outer end)" in texts, width
             # the body selector's tooltip: one short sentence (it listed the registry's bodies with their docs, ran

@@ -8,7 +8,7 @@ import pytest
 
 from app import styles
 from app.styles import BADGE_COLORS, colour_report, contrast_ratio, lightness, relative_luminance
-from core.verdict import REGIMES
+from core.records.verdict import REGIMES
 
 #: Lightness difference (CIE L*) two badges keep at least: apart in a greyscale print or a dim projector.
 MIN_DL = 20.0

@@ -1,4 +1,4 @@
-"""The body (core.bodies) and the state codes (core.states): grid, traction bound, Hertz scales, registry."""
+"""The body (core.geometry.bodies) and the state codes (core.base.states): grid, traction bound, Hertz scales, registry."""
 
 import numpy as np
 import pytest
@@ -6,18 +6,18 @@ from numpy.testing import assert_allclose
 from scipy.integrate import quad
 
 import core
-import core.export
-from core.bodies import MAX_ELEMENTS, Cylinder, get_body
-from core.states import STATE_NAMES, ZONE_NAMES, State, Zone
+import core.api.export
+from core.geometry.bodies import MAX_ELEMENTS, Cylinder, get_body
+from core.base.states import STATE_NAMES, ZONE_NAMES, State, Zone
 
 
 def test_state_and_zone_codes_are_the_stored_numbers_and_the_old_aliases():
     assert [int(s) for s in State] == [0, 1, 2, 3]
     assert State.SLIP_BACKWARD.label == "slip backward" and STATE_NAMES[State.STICK] == "stick"
     assert Zone.RELEASED.label == "zero traction" and ZONE_NAMES[Zone.NONE] == "no contact"
-    assert core.result.STATE_SLIP_FORWARD is State.SLIP_FORWARD
+    assert core.records.result.STATE_SLIP_FORWARD is State.SLIP_FORWARD
     assert core.ZONE_STICK is Zone.STICK and core.ZONE_RELEASED == 3
-    assert core.STATE_NAMES is STATE_NAMES and core.export.ZONE_NAMES is ZONE_NAMES
+    assert core.STATE_NAMES is STATE_NAMES and core.api.export.ZONE_NAMES is ZONE_NAMES
 
 
 def test_grid_is_symmetric_with_a_spare_element_each_side():
@@ -66,7 +66,7 @@ def test_lowest_bound_is_the_minimum_over_a_sampled_period():
 def test_references_and_registry():
     assert Cylinder.ft_limit(0.26) == pytest.approx(0.6727, abs=1e-4)  # eq 35
     assert Cylinder.reach(np.array([0.0, 0.5]), np.array([1.0, 0.25])) == pytest.approx(1.0)
-    assert core.registry.resolve("cylinder") == Cylinder() and core.registry.kind("punch") == "line"
+    assert core.geometry.registry.resolve("cylinder") == Cylinder() and core.geometry.registry.kind("punch") == "line"
     with pytest.raises(ValueError, match="body must be one of"):
         get_body("torus")
     with pytest.raises(ValueError, match="body"):

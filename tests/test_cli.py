@@ -13,8 +13,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import core
-from core.cli import main, parse_range
-from core.tables import normalise_table
+from core.command.cli import main, parse_range
+from core.maps.tables import normalise_table
 
 FAST = ["--periods", "4", "--workers", "1", "--no-progress"]
 
@@ -27,7 +27,7 @@ def _run(capsys, *argv):
 
 def _command():
     exe = shutil.which("shakedown")
-    return [exe] if exe else [sys.executable, "-m", "core.cli"]
+    return [exe] if exe else [sys.executable, "-m", "core.command.cli"]
 
 
 # --------------------------------------------------------------------------
@@ -79,7 +79,7 @@ def test_sweep_resumes_and_skips_rows_already_done(capsys, tmp_path):
 
 
 def test_an_interrupted_sweep_resumes_from_its_journal(capsys, tmp_path, monkeypatch):
-    sweep_module = sys.modules["core.sweeps"]
+    sweep_module = sys.modules["core.maps.sweeps"]
     real, calls = sweep_module.run_chunk, []
 
     def interrupted(points):
@@ -259,7 +259,7 @@ def test_history_names_reach_the_solver(capsys, name, says):
 
 def test_help_and_version_import_nothing_heavy():
     code = ("import sys, contextlib, io\n"
-            "from core.cli import main\n"
+            "from core.command.cli import main\n"
             "with contextlib.redirect_stdout(io.StringIO()):\n"
             "    for argv in (['--help'], ['sweep', '--help'], ['--version']):\n"
             "        assert main(argv) == 0, argv\n"
@@ -272,15 +272,18 @@ def test_help_and_version_import_nothing_heavy():
 
 
 def test_the_cli_copies_of_library_constants_agree():
-    import core.cli as cli
-    from core import grid, kernels, schedule, solver
+    import core.command.cli as cli
+    from core.loading import schedule
+    from core.elastic import kernels
+    from core.api import solver
+    from core.maps import grid
 
     assert cli._KERNELS == tuple(kernels.KERNELS) and cli._SHAPES == schedule.SHAPES
     assert cli._DEFAULT_DX == solver.DEFAULT_DX and cli._MAX_ELEMENTS == solver.MAX_FFT_ELEMENTS
-    from core import resolution
+    from core.geometry import resolution
     assert (cli._DEFAULT_DX, cli._DEFAULT_DX_POINT) == (resolution.default_dx("cylinder"), resolution.default_dx("sphere"))
     assert (cli._MAX_RUNS, cli._MAX_CELLS) == (grid.MAX_RUNS, grid.MAX_CELLS)
-    from core import engine
+    from core.march import engine
     assert set(cli._SOLVERS) == {"auto", *engine.STEP_SOLVERS}
     fft = solver.MAX_FFT_ELEMENTS
     solver.make_grid(1.0, cli._DX_MIN, fft)  # the finest dx --dx accepts works at w = 0

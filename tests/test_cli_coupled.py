@@ -6,8 +6,8 @@ import io
 import pandas as pd
 import pytest
 
-from core.cli import main
-from core.materials import PAIRS
+from core.command.cli import main
+from core.theory.materials import PAIRS
 
 COARSE = ["--periods", "3", "--dx", "0.1"]
 

@@ -18,7 +18,7 @@ import pandas as pd
 import pytest
 
 import core
-from core.tables import read_table
+from core.maps.tables import read_table
 
 FT, W = [0.1, 0.6], [0.2, 0.7]
 OPTIONS = dict(periods=6)
@@ -37,7 +37,7 @@ def _dask_command(*args):
 
 def _shakedown_command():
     exe = shutil.which("shakedown")
-    return [exe] if exe else [sys.executable, "-m", "core.cli"]
+    return [exe] if exe else [sys.executable, "-m", "core.command.cli"]
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""The rocking cone's limit (core/cone.py): Melan's p_min over the rotation, the moment condition as an LP."""
+"""The rocking cone's limit (core/geometry/cone.py): Melan's p_min over the rotation, the moment condition as an LP."""
 
 import numpy as np
 import pytest
@@ -6,7 +6,7 @@ from scipy.ndimage import minimum_filter1d
 from scipy.optimize import linprog
 
 import core
-from core.cone import Cone, cone_ft_limit, cone_w_limit, lowest_pressure_density
+from core.geometry.cone import Cone, cone_ft_limit, cone_w_limit, lowest_pressure_density
 
 
 @pytest.mark.parametrize("inner", [0.0, 0.5])

@@ -1,4 +1,4 @@
-"""The rocking cone's cycles (core/cone.py on core/solver3d.py): the twist option of the 3D per-step solver, the
+"""The rocking cone's cycles (core/geometry/cone.py on core/solvers/solver3d.py): the twist option of the 3D per-step solver, the
 cone's pressure on the run grid, Melan's limit on that grid (a linear programme) and the runs that bracket it."""
 
 import math
@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 import core
-from core.cone import ASPECT, Cone, cone_ft_limit
-from core.halfspace import HalfSpaceOperator
-from core.point_contact import Ellipsoid, hertz_element_means
-from core.solver3d import TOL_3D, _WarmStart, solve_increment, twist_field
+from core.geometry.cone import ASPECT, Cone, cone_ft_limit
+from core.elastic.halfspace import HalfSpaceOperator
+from core.theory.point_contact import Ellipsoid, hertz_element_means
+from core.solvers.solver3d import TOL_3D, _WarmStart, solve_increment, twist_field
 
 
 class _TwistingSphere(Ellipsoid):
@@ -24,7 +24,7 @@ def test_twist_on_the_sphere_gives_the_same_increments(monkeypatch):
     the twist enabled the run gives the same increments, to the solver's tolerance, and a rotation of ~0. The
     mirror path would drop the twist by symmetry, so it is switched off: the twist's own path is what runs.
     Measured: displacements 8e-10 apart, tractions 2e-8, rotation at most 7e-10."""
-    from core import solver3d
+    from core.solvers import solver3d
 
     monkeypatch.setattr(solver3d, "_MIRROR", False)
     plain = core.simulate_cycles(0.4, 0.6, periods=3, dx=0.2, body=Ellipsoid(1.0))
@@ -259,8 +259,8 @@ def test_result_reports_displacement_and_twist_per_period():
 
 
 def test_registry_name_cli_and_limit():
-    from core.cli import main
-    from core.registry import make_body
+    from core.command.cli import main
+    from core.geometry.registry import make_body
 
     assert make_body("cone", inner=0.0, length=20.0, load_at=0.25) == Cone(0.0, 0.25, 20.0)
     assert make_body("cone") == Cone()
@@ -284,9 +284,9 @@ def test_grid_too_fine_is_refused():
 
 
 def test_the_cones_default_rocking_step_is_two_elements():
-    """A cone run's rocking step defaults to 2 dx (core.cone.STEP_RATIO: its increment within 0.7 % of dW = dx at
+    """A cone run's rocking step defaults to 2 dx (core.geometry.cone.STEP_RATIO: its increment within 0.7 % of dW = dx at
     half the steps), the Melan programme of its grid follows it, and a given dW is kept."""
-    from core.resolution import default_dW
+    from core.geometry.resolution import default_dW
 
     c = Cone(inner=0.5)
     r = core.simulate_cycles(0.3, 0.5, periods=1, dx=0.25, body=c)

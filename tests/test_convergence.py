@@ -1,4 +1,4 @@
-"""Error bars (core.convergence): the increment's own discretisation error, checked against a fine grid."""
+"""Error bars (core.api.convergence): the increment's own discretisation error, checked against a fine grid."""
 
 import math
 
@@ -25,7 +25,7 @@ def test_no_extrapolation_where_the_order_is_not_clean():
     c = core.converged_increment(0.4, 0.52, dx=1 / 40, periods=4)  # a/10 is too coarse for a clean order
     assert not c.clean and c.extrapolated == c.value
     # an order that is not clean is not trusted: the expected order, with Roache's safety factor 3
-    assert c.safety == core.convergence.SAFETY_FACTOR_UNCLEAN
+    assert c.safety == core.api.convergence.SAFETY_FACTOR_UNCLEAN
     assert c.error == pytest.approx(3 * abs(c.value - c.coarse))
     with pytest.raises(ValueError, match="dx"):
         core.converged_increment(0.4, 0.52, dx=0.2)
@@ -62,11 +62,11 @@ def test_grid_error_of_a_cylinder_run():
 
 
 def test_default_grid_per_body_in_one_place():
-    """Issue 21.4: point contacts a/20, the cylinder a/40, from core.resolution, printed with every result."""
-    from core.resolution import default_dx
+    """Issue 21.4: point contacts a/20, the cylinder a/40, from core.geometry.resolution, printed with every result."""
+    from core.geometry.resolution import default_dx
 
-    assert default_dx("cylinder") == core.solver.DEFAULT_DX == 1 / 40
-    assert default_dx("sphere") == default_dx("ellipsoid") == core.solver3d.DEFAULT_DX_3D == 1 / 20
+    assert default_dx("cylinder") == core.api.solver.DEFAULT_DX == 1 / 40
+    assert default_dx("sphere") == default_dx("ellipsoid") == core.solvers.solver3d.DEFAULT_DX_3D == 1 / 20
     assert default_dx(core.Sphere()) == 1 / 20
     sphere = core.simulate_cycles(0.3, 0.3, periods=1, body="sphere")
     assert sphere.dx == pytest.approx(1 / 20) and sphere.summary()["dx"] == pytest.approx(1 / 20)

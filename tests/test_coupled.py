@@ -1,4 +1,4 @@
-"""The coupled per-step solver (core/coupled.py) in the one engine: beta = 0 reproduces today's runs, the coupled
+"""The coupled per-step solver (core/solvers/coupled.py) in the one engine: beta = 0 reproduces today's runs, the coupled
 solver at beta = 0 reproduces the dense solver on its own pressures to round-off, Spence's stick zone under a
 growing normal load, the refusals (point contacts, bad beta or mu), and a coupled result's Melan reference."""
 
@@ -7,10 +7,10 @@ import pytest
 from numpy.testing import assert_allclose
 
 import core
-from core import histories
-from core.bodies import Cylinder
-from core.engine import make_operator, run, select_solver
-from core.materials import spence_stick_ratio
+from core.loading import histories
+from core.geometry.bodies import Cylinder
+from core.march.engine import make_operator, run, select_solver
+from core.theory.materials import spence_stick_ratio
 
 
 def test_beta_zero_is_today_s_run_and_mu_is_irrelevant():
@@ -112,8 +112,8 @@ def test_a_coupled_run_keeps_melan_as_the_uncoupled_reference():
 
 def test_a_contact_of_two_intervals_takes_the_general_normal_solve():
     """Two bumps: the contact is two intervals, which the compiled alternation hands to the Python one (the general
-    normal solve, core.normal.solve_line): solved to the tolerance with every named residual."""
-    from core.heightmap import HeightProfile
+    normal solve, core.pressure.normal.solve_line): solved to the tolerance with every named residual."""
+    from core.geometry.heightmap import HeightProfile
 
     x = np.linspace(-3, 3, 1201)
     body = HeightProfile(4 * (x ** 2 - 0.5) ** 2, 0.005)
@@ -136,10 +136,10 @@ def test_a_physical_contact_runs_coupled_unless_it_names_its_kernel():
 
 
 def test_the_compiled_march_is_the_python_alternation(monkeypatch):
-    """The compiled march (core._coupled.march) and the Python alternation with the general normal solve
+    """The compiled march (core.solvers._coupled.march) and the Python alternation with the general normal solve
     (CoupledSolver._solve_general, taken for every step when the kernel hands each step back) solve the same
     coupled steps: the same states, increments and tractions to the alternation's tolerance."""
-    from core import _coupled
+    from core.solvers import _coupled
 
     kw = dict(periods=2, dx=1 / 20, beta=0.25, mu=0.3)
     compiled = core.simulate_cycles(0.2, 0.6, **kw)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import core
-from core.coupled_limits import CoupledLimit, CoupledLimitCurve
+from core.maps.coupled_limits import CoupledLimit, CoupledLimitCurve
 
 #: benchmarks/results/coupled_limits.txt: beta = +-0.25, mu = 0.3, w = 0.6 at a/40: the limit in [0.735, 0.741] x eq 35
 A40_BRACKET = (0.735, 0.741)
@@ -43,7 +43,7 @@ def test_the_coupled_limit_at_w_06_agrees_with_the_finer_grids_bracket_and_lies_
     fts = [r[0] for r in point.runs]
     assert len(set(fts)) == len(fts) == curve.runs
     regimes = dict((r[0], r[1]) for r in point.runs)
-    assert regimes[point.ft_shakedown] in core.coupled_limits.NOT_RATCHETING
+    assert regimes[point.ft_shakedown] in core.maps.coupled_limits.NOT_RATCHETING
     assert regimes[point.ft_ratcheting] == "ratcheting"
     with pytest.raises(dataclasses.FrozenInstanceError):
         curve.beta = 0.1

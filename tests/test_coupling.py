@@ -1,4 +1,4 @@
-"""The coupled plane-strain operator (core/coupling.py): its sign kernel, its forms, the direction of its cross
+"""The coupled plane-strain operator (core/elastic/coupling.py): its sign kernel, its forms, the direction of its cross
 terms, and Bufler's sliding pressure solved with it (the normal problem under q = mu p everywhere)."""
 
 import math
@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from core.coupling import CoupledOperator, cross_apply, cross_matrix, coupling_factors
-from core.materials import bufler_exponent, bufler_pressure
-from core.normal import solve_line
+from core.elastic.coupling import CoupledOperator, cross_apply, cross_matrix, coupling_factors
+from core.theory.materials import bufler_exponent, bufler_pressure
+from core.pressure.normal import solve_line
 
 
 def test_cross_apply_is_the_sign_matrix():

@@ -77,7 +77,7 @@ def test_core_all_is_every_public_name():
 def test_cli_reference_parser_keeps_every_option():
     from cli_parser import parser
 
-    from core.cli import build_parser
+    from core.command.cli import build_parser
 
     def flags(p):
         out = {tuple(a.option_strings) for a in p._actions}

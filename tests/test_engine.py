@@ -11,12 +11,12 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 import core
-from core.bodies import Cylinder
-from core.dense import RESIDUALS, DenseSolver, Trajectory
-from core.engine import AUTO_CROSSOVER, run, select_solver
-from core.matrix_free import FFTSolver
-from core.operators import DenseOperator, FFTOperator
-from core.states import State
+from core.geometry.bodies import Cylinder
+from core.solvers.dense import RESIDUALS, DenseSolver, Trajectory
+from core.march.engine import AUTO_CROSSOVER, run, select_solver
+from core.solvers.matrix_free import FFTSolver
+from core.elastic.operators import DenseOperator, FFTOperator
+from core.base.states import State
 
 
 def _solver(n=40, dx=1 / 20, tol=1e-10):
@@ -65,8 +65,8 @@ def test_solver_choice():
 
 def test_each_solver_gets_the_operator_form_it_needs():
     """Dense matrix only for "dense"; the FFT form (no n x n matrix) for "fft"."""
-    dense = core.engine.make_operator(DenseSolver, 40, 0.05)
-    fft = core.engine.make_operator(FFTSolver, 40, 0.05)
+    dense = core.march.engine.make_operator(DenseSolver, 40, 0.05)
+    fft = core.march.engine.make_operator(FFTSolver, 40, 0.05)
     assert isinstance(dense, DenseOperator) and isinstance(fft, FFTOperator)
     assert not any(isinstance(v, np.ndarray) and v.ndim == 2 for v in vars(fft).values())
     with pytest.raises(ValueError, match="operator"):
@@ -98,8 +98,8 @@ def test_import_on_a_read_only_install_without_a_numba_cache(tmp_path):
     env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "XDG_", "PYTHON"))}
     env.update(HOME="/dev/null", PYTHONPATH=str(root), PYTHONDONTWRITEBYTECODE="1")
     # a small kernel, compiled without a cache (a whole run would compile every kernel: ~40 s)
-    code = ("import core, core._jit; p = core.hertz_pressure_element_mean([-1.0, -0.3, 0.2, 1.0], 0.1); "
-            "print(core.__file__, core._jit.CACHING, repr(float(p.sum())))")
+    code = ("import core, core.base._jit; p = core.hertz_pressure_element_mean([-1.0, -0.3, 0.2, 1.0], 0.1); "
+            "print(core.__file__, core.base._jit.CACHING, repr(float(p.sum())))")
     try:
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300,
                              cwd=tmp_path)
@@ -123,12 +123,12 @@ class _MatrixOnly:
 
 
 @pytest.mark.parametrize("history", [
-    core.histories.rocking(0.58, 0.52, periods=3, dW=1 / 40),                # ratcheting: large slip zones
-    core.histories.rocking(0.3, 0.5, periods=3, dW=1 / 60, normal_amplitude=0.3, normal_phase=0.7),
-    core.histories.rocking(0.08, 0.77, periods=2, dW=1 / 50, shape="sine"),
+    core.loading.histories.rocking(0.58, 0.52, periods=3, dW=1 / 40),                # ratcheting: large slip zones
+    core.loading.histories.rocking(0.3, 0.5, periods=3, dW=1 / 60, normal_amplitude=0.3, normal_phase=0.7),
+    core.loading.histories.rocking(0.08, 0.77, periods=2, dW=1 / 50, shape="sine"),
 ])
 def test_dense_interval_inverses_equal_the_stick_set_inverse(history):
-    """The Toeplitz path (inverses of K on the contact interval, core._pdas) and the classical rank-one
+    """The Toeplitz path (inverses of K on the contact interval, core.solvers._pdas) and the classical rank-one
     updates solve the same KKT conditions: same iterations, increments equal to round-off, also when the
     contact width changes every step (oscillating normal force) and when it switches between the two."""
     dx = 1 / 60
@@ -152,7 +152,7 @@ def test_dense_interval_inverses_equal_the_stick_set_inverse(history):
 def test_grid_caps_by_solver():
     """The dense solver's grid cap (MAX_ELEMENTS, its n x n matrices) is lifted for the matrix-free one up to
     MAX_FFT_ELEMENTS; both refusals name dx and the smallest it may be."""
-    from core.bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS
+    from core.geometry.bodies import MAX_ELEMENTS, MAX_FFT_ELEMENTS
 
     dx = 2.0 / (MAX_ELEMENTS + 100)
     assert Cylinder.for_reach(1.0, dx, MAX_FFT_ELEMENTS).size > MAX_ELEMENTS
@@ -164,9 +164,9 @@ def test_grid_caps_by_solver():
 
 # ---- one engine for lines and patches -----------------------------------------------------------------------
 def test_one_set_of_residual_names_and_state_codes_for_every_grid():
-    from core.solver3d import _state_codes
-    from core.states import RESIDUAL_NAMES
-    # every solver's run reports the one set of residuals, by the names of core.states
+    from core.solvers.solver3d import _state_codes
+    from core.base.states import RESIDUAL_NAMES
+    # every solver's run reports the one set of residuals, by the names of core.base.states
     line = core.simulate_cycles(0.2, 0.3, periods=1, dx=0.25)
     patch = core.simulate_cycles(0.2, 0.3, periods=1, dx=0.25, body="sphere")
     assert tuple(line.residuals) == tuple(patch.residuals) == tuple(RESIDUAL_NAMES)
@@ -179,8 +179,8 @@ def test_one_set_of_residual_names_and_state_codes_for_every_grid():
 
 
 def test_every_step_solver_is_registered_for_one_grid_shape():
-    from core.engine import STEP_SOLVERS, SOLVER_CHOICES_BY_GRID
-    from core.solver3d import PatchSolver
+    from core.march.engine import STEP_SOLVERS, SOLVER_CHOICES_BY_GRID
+    from core.solvers.solver3d import PatchSolver
     assert STEP_SOLVERS["pcg3d"] is PatchSolver
     for name, cls in STEP_SOLVERS.items():
         assert name in SOLVER_CHOICES_BY_GRID[cls.grid] and cls.name == name
@@ -202,10 +202,10 @@ def test_a_patch_runs_through_the_same_loop_with_its_period_repeated():
 
 
 def test_a_patch_run_can_be_cancelled_between_chunks():
-    from core.result import SolveCancelled
-    from core.schedule import rocking_schedule
-    from core.point_runs import solve_point_schedule
-    from core.point_contact import Ellipsoid
+    from core.records.result import SolveCancelled
+    from core.loading.schedule import rocking_schedule
+    from core.api.point_runs import solve_point_schedule
+    from core.theory.point_contact import Ellipsoid
     with pytest.raises(SolveCancelled, match="cancelled after 10 of"):
         solve_point_schedule(rocking_schedule(0.3, 0.3, periods=4, dW=0.2), 0.2, Ellipsoid(1.0), chunk=10,
                              cancel=lambda: True)
@@ -245,8 +245,8 @@ def test_one_result_type_keeps_the_body_object_for_both_shapes():
 def test_a_result_keeps_the_bounds_and_the_limit_the_run_used(body, dx):
     """The engine stores each step's bound and the grid's Melan limit when the run ends: they are the grid's own,
     recomputed here, and a copied period's steps share the rows of the period they repeat."""
-    from core import melan
-    from core.patch import PatchGrid
+    from core.pressure import melan
+    from core.geometry.patch import PatchGrid
     r = core.simulate_cycles(0.2, 0.3, periods=12, dx=dx, body=body)
     assert r.periodic_from is not None and r.periodic_from < r.periods - 1  # the march stopped: periods copied
     grid = (PatchGrid(r.body, r.edges, r.y_edges, r.params["normal"]) if r.is_patch
@@ -263,9 +263,9 @@ def test_a_result_keeps_the_bounds_and_the_limit_the_run_used(body, dx):
 
 
 def test_result_module_computes_nothing_through_the_registry_or_a_solver():
-    """core/result.py is a record: no import of the registry, the bodies' grids, Melan's limit or a solver."""
+    """core/records/result.py is a record: no import of the registry, the bodies' grids, Melan's limit or a solver."""
     import ast
-    tree = ast.parse(Path(core.result.__file__).read_text())
+    tree = ast.parse(Path(core.records.result.__file__).read_text())
     imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
     imported |= {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
     assert imported <= {"__future__", "math", "warnings", "dataclasses", "functools", "typing", "numpy", "states",
@@ -298,7 +298,7 @@ def test_one_static_solve_for_a_line_and_a_patch():
     """core.solve_static dispatches on the bound's shape, one step of each grid's solver: under mu p it is
     Cattaneo's stick zone on a line (c = sqrt(1 - Q), eq 7) and Mindlin's on a patch (c = (1 - ft)^(1/3) at nu = 0);
     shakedown_state takes a point body."""
-    from core.patch import _grid, _pressure
+    from core.geometry.patch import _grid, _pressure
     body = core.Ellipsoid(1.0)
     xe, ye = _grid(body, 1.0, 1.0, 0.05)
     p = _pressure(xe, ye, 0.0, body, normal="exact")
@@ -351,11 +351,11 @@ class _TabulatedSphere:  # noqa: D101
         self.total_load, self.kernel_scale = self.sphere.total_load, self.sphere.kernel_scale
 
     def run_grid(self, reach_x, scale, h):
-        from core.patch import _grid
+        from core.geometry.patch import _grid
         return _grid(self.sphere, reach_x + scale, scale, h)
 
     def grid_pressure(self, x_edges, y_edges, xc, scale):
-        from core.patch import _pressure
+        from core.geometry.patch import _pressure
         return _pressure(x_edges, y_edges, xc, self.sphere, scale)
 
 

@@ -1,4 +1,4 @@
-"""Tests of core.export: tables, CSV with a parameter header, JSON."""
+"""Tests of core.api.export: tables, CSV with a parameter header, JSON."""
 
 import io
 import json
@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 import core
-from core.export import TABLES, parameters, result_table, to_csv, to_json
+from core.api.export import TABLES, parameters, result_table, to_csv, to_json
 
 
 @pytest.fixture(scope="module")

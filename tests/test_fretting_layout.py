@@ -94,7 +94,7 @@ def test_the_map_draws_the_lines_of_each_history():
                               "melan": True, "levels": False, "regions": ["ratcheting", "shakedown"]}
     np.testing.assert_allclose(normal[0][0], 0.7)  # gross sliding at the lowest force: ft = 1 - A
     ft_lim, w = normal[5]
-    np.testing.assert_allclose(ft_lim, core.melan.ft_limit_oscillating(w, core.Cylinder(), 0.3, math.pi / 2,
+    np.testing.assert_allclose(ft_lim, core.pressure.melan.ft_limit_oscillating(w, core.Cylinder(), 0.3, math.pi / 2,
                                                                        dx=1 / 500, samples=200))
     assert np.all(ft_lim <= 0.7 + 1e-4)
     # without a line body (a point contact's run) no Melan curve: not another body's under "this body"

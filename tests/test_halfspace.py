@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.integrate import dblquad
 
-from core.halfspace import HalfSpaceOperator, convolve, convolve_mirror, rectangle_integrals
+from core.elastic.halfspace import HalfSpaceOperator, convolve, convolve_mirror, rectangle_integrals
 
 KERNELS = {
     "1/rho": lambda v, u: 1.0 / np.hypot(u, v),

@@ -1,4 +1,4 @@
-"""Bodies from sampled surfaces (core/heightmap.py): a line profile on the 1D engine, a height map's limit."""
+"""Bodies from sampled surfaces (core/geometry/heightmap.py): a line profile on the 1D engine, a height map's limit."""
 
 import re
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import core
-from core.heightmap import HeightMap, HeightProfile
-from core.punch import punch_profile
+from core.geometry.heightmap import HeightMap, HeightProfile
+from core.theory.punch import punch_profile
 
 
 def test_sampled_cylinder_is_the_cylinder():
@@ -130,13 +130,13 @@ def test_non_hertzian_map_brackets_its_limit(name, heights, limit):
 
 
 def _cli(*args):
-    """``shakedown ARGS`` run by core.cli.main in this process (a subprocess cost seconds of imports each; the
+    """``shakedown ARGS`` run by core.command.cli.main in this process (a subprocess cost seconds of imports each; the
     command as a process: tests/test_cli.py): its exit status and output."""
     import contextlib
     import io
     import types
 
-    from core.cli import main
+    from core.command.cli import main
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = main(list(args))
@@ -166,7 +166,7 @@ def test_cli_runs_a_height_map_file(tmp_path):
 
 
 def test_a_height_map_has_one_name_registry_cli_and_result():
-    from core.registry import REGISTRY
+    from core.geometry.registry import REGISTRY
     assert HeightMap.name == "heightmap" and "heightmap" in REGISTRY and REGISTRY["heightmap"].kind == "point"
     assert HeightProfile.name not in REGISTRY  # a line profile is given as an object, under its own name
 
@@ -176,7 +176,7 @@ def test_cli_says_a_height_map_file_is_missing_or_unreadable(tmp_path):
     understands names every format that can be read (SurfaceTopography's own list of readers)."""
     from SurfaceTopography.IO import readers
 
-    from core.heightmap import readable_formats
+    from core.geometry.heightmap import readable_formats
 
     missing = tmp_path / "missing.nc"
     p = _cli("run", "--ft", "0.3", "--w", "0.3", "--body", "heightmap", "--file", str(missing))
@@ -201,7 +201,7 @@ def test_read_topography_from_memory_and_its_errors(tmp_path):
 
     import SurfaceTopography as st
 
-    from core.heightmap import read_topography
+    from core.geometry.heightmap import read_topography
 
     path = tmp_path / "bowl.nc"
     st.Topography(np.arange(64.0).reshape(8, 8), (1.0, 1.0)).to_netcdf(str(path))

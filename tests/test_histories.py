@@ -1,4 +1,4 @@
-"""Loading histories as data (core.histories): the recipes, their validation, and runs on them."""
+"""Loading histories as data (core.loading.histories): the recipes, their validation, and runs on them."""
 
 import math
 
@@ -8,7 +8,7 @@ from numpy.testing import assert_allclose
 
 import core
 from core import solve_schedule
-from core.histories import HISTORIES, from_arrays, history, rocking, tangential
+from core.loading.histories import HISTORIES, from_arrays, history, rocking, tangential
 
 
 def test_rocking_without_normal_oscillation_is_the_paper_schedule():
@@ -86,7 +86,7 @@ def test_tangential_oscillation_follows_masing_and_does_not_ratchet():
 
 
 def test_simulate_cycles_takes_the_named_histories_and_arrays():
-    """core.simulate_cycles(history=...): each name runs its recipe of core.histories, a Schedule or a
+    """core.simulate_cycles(history=...): each name runs its recipe of core.loading.histories, a Schedule or a
     mapping of arrays runs as given, and the result records which."""
     kw = dict(periods=2, dx=1 / 30, dW=1 / 30)
     normal = core.simulate_cycles(0.3, 0.4, history="normal", amplitude=0.25, phase=1.0, **kw)

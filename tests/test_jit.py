@@ -1,4 +1,4 @@
-"""core/_jit.py: a run says once per process, before it waits, that numba compiles the solver, and only when
+"""core/base/_jit.py: a run says once per process, before it waits, that numba compiles the solver, and only when
 its kernels are neither compiled in this process nor in numba's on-disk cache (issue 29)."""
 
 import os
@@ -12,7 +12,7 @@ ROOT = str(Path(__file__).resolve().parent.parent)
 _SCRIPT = textwrap.dedent("""
     import json, logging, sys
     sys.path.insert(0, sys.argv[1])
-    import core._jit as j
+    import core.base._jit as j
     import tiny_kernel
 
     said = [j.announce_compile("tiny_kernel.double", "no.such.kernel")]
@@ -32,9 +32,9 @@ def _run(tmp_path, cache):
 
 
 def test_the_first_compile_is_announced_once_and_not_when_cached(tmp_path):
-    from core._jit import COMPILE_NOTE
+    from core.base._jit import COMPILE_NOTE
 
-    (tmp_path / "tiny_kernel.py").write_text("from core._jit import jit\n\n\n@jit\ndef double(x):\n"
+    (tmp_path / "tiny_kernel.py").write_text("from core.base._jit import jit\n\n\n@jit\ndef double(x):\n"
                                              "    return 2.0 * x\n")
     cache = tmp_path / "numba-cache"
     cache.mkdir()
@@ -47,13 +47,13 @@ def test_the_first_compile_is_announced_once_and_not_when_cached(tmp_path):
 
 def test_a_kernel_compiled_in_this_process_is_not_announced():
     import core
-    from core import _jit
+    from core.base import _jit
 
     core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25)  # compiled (or loaded) here
-    assert _jit.KERNELS["core._pdas.march"].signatures
+    assert _jit.KERNELS["core.solvers._pdas.march"].signatures
     before = _jit._ANNOUNCED
     try:
         _jit._ANNOUNCED = False
-        assert _jit.announce_compile("core._pdas.march", "core._pdas.solve_step") is False
+        assert _jit.announce_compile("core.solvers._pdas.march", "core.solvers._pdas.solve_step") is False
     finally:
         _jit._ANNOUNCED = before

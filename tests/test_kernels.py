@@ -5,8 +5,8 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.integrate import dblquad, quad
 
-from core import kernels
-from core.approximations import u0_approx
+from core.elastic import kernels
+from core.theory.approximations import u0_approx
 
 
 @pytest.mark.parametrize("d", [0.0, 0.05, 0.37, 2.0])

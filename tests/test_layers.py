@@ -116,13 +116,13 @@ LAYERS_NAME = list(LAYERS)
 def test_the_checks_can_fail(tmp_path):
     """A function-level upward import and a two-module cycle are both found."""
     probe = tmp_path / "probe.py"
-    probe.write_text("from . import states\n\ndef f():\n    from .engine import run\n    import core.cli\n")
+    probe.write_text("from . import states\n\ndef f():\n    from .engine import run\n    import core.command.cli\n")
     assert imports(probe) == [(1, "states"), (4, "engine"), (5, "cli")]
     assert cycles({"a": {"b"}, "b": {"a"}, "c": {"a"}}) == [["a", "b"]]
     assert cycles({"a": {"b"}, "b": set()}) == []
 
 
-@pytest.mark.parametrize("module", ["core.cli", "core.resolution"])
+@pytest.mark.parametrize("module", ["core.command.cli", "core.geometry.resolution"])
 def test_light_modules_stay_light(module):
     """The command line's help reads these: importing them imports no numba (a subprocess, fresh)."""
     import subprocess

@@ -1,4 +1,4 @@
-"""The loading path of a history (core.paths.LoadingPath, issue 32 item 4): its checks, its text, the default
+"""The loading path of a history (core.loading.paths.LoadingPath, issue 32 item 4): its checks, its text, the default
 path's bitwise sameness, the schedule a path makes, and Melan's promise at beta = 0 (the steady state does not
 depend on the path: Barber, Davies & Hills 2011)."""
 
@@ -7,10 +7,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import core
-from core.cli import main
-from core.histories import for_run, rocking, tangential
-from core.paths import DEFAULT_PATH, LoadingPath, as_path
-from core.schedule import rocking_schedule
+from core.command.cli import main
+from core.loading.histories import for_run, rocking, tangential
+from core.loading.paths import DEFAULT_PATH, LoadingPath, as_path
+from core.loading.schedule import rocking_schedule
 
 FAST = dict(periods=8, dx=0.05)
 

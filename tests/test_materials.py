@@ -1,4 +1,4 @@
-"""The material model (core/materials.py): E*, Dundurs' beta and its sign, the presets, the checks, and the closed
+"""The material model (core/theory/materials.py): E*, Dundurs' beta and its sign, the presets, the checks, and the closed
 forms of coupled contact the coupled operator is checked against (Spence's stick zone, Bufler's sliding pressure)."""
 
 import math
@@ -10,7 +10,7 @@ from scipy.integrate import quad
 from scipy.special import ellipk
 
 import core
-from core import materials as m
+from core.theory import materials as m
 
 
 def test_beta_sign_and_special_pairs():

@@ -7,11 +7,11 @@ from numpy.testing import assert_allclose
 
 import core
 from core import Schedule, solve_schedule
-from core.bodies import Cylinder
-from core.dense import RESIDUALS
-from core.engine import run
-from core.matrix_free import FFTSolver, solve_increment_fft
-from core.operators import FFTOperator
+from core.geometry.bodies import Cylinder
+from core.solvers.dense import RESIDUALS
+from core.march.engine import run
+from core.solvers.matrix_free import FFTSolver, solve_increment_fft
+from core.elastic.operators import FFTOperator
 
 PROPS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
@@ -78,7 +78,7 @@ def test_one_step_reports_named_residuals_within_tolerance():
         assert 0.0 <= getattr(res, name) <= 1e-10, name
     assert res.worst == info["residual"]
     # the same step by the dense solver: Cattaneo-Mindlin from zero
-    dense = core.solver.solve_static(g, 0.4, dx, solver="dense")
+    dense = core.api.solver.solve_static(g, 0.4, dx, solver="dense")
     assert_allclose(q, dense.traction, atol=1e-9)
     assert lam == pytest.approx(dense.displacement, abs=1e-10)
     # the same through the solver class the engine registers, with its named residuals
@@ -118,7 +118,7 @@ def test_auto_picks_by_size_and_records_the_solver():
     assert small.solver == "dense" and not small.cg_iterations.any()
     fft = core.simulate_cycles(0.2, 0.3, periods=1, dx=0.1, solver="fft")
     assert fft.solver == "fft" and fft.cg_iterations.max() > 0
-    big = core.simulate_cycles(0.2, 0.0, periods=1, dx=2 / (core.engine.AUTO_CROSSOVER + 2))
-    assert big.edges.size - 1 > core.engine.AUTO_CROSSOVER and big.solver == "fft"
+    big = core.simulate_cycles(0.2, 0.0, periods=1, dx=2 / (core.march.engine.AUTO_CROSSOVER + 2))
+    assert big.edges.size - 1 > core.march.engine.AUTO_CROSSOVER and big.solver == "fft"
     with pytest.raises(ValueError, match="solver"):
         core.simulate_cycles(0.2, 0.3, periods=1, solver="sparse")

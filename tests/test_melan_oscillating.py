@@ -1,4 +1,4 @@
-"""Melan's limit under the rocking with an oscillating normal force (core.melan.ft_limit_oscillating, issue 30 item
+"""Melan's limit under the rocking with an oscillating normal force (core.pressure.melan.ft_limit_oscillating, issue 30 item
 5): the constant force's closed forms at A = 0, the engine's grid limit of a run, its bounds and its inputs."""
 
 import math
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import core
-from core.melan import ft_limit_oscillating
+from core.pressure.melan import ft_limit_oscillating
 
 
 @pytest.mark.parametrize("w", [0.0, 0.26, 0.52, 0.77])

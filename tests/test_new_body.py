@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import core
-from core.bodies import Body
+from core.geometry.bodies import Body
 
 
 class Crowned(Body):
@@ -70,9 +70,9 @@ def test_exact_is_refused():
 
 def test_one_registry_line_makes_its_cli_flag(monkeypatch, capsys):
     """Registered, the body is a --body of the command line with its parameter's flag (built from the registry:
-    core/cli.py names no body), refused with another body."""
-    from core import bodies, registry
-    from core.cli import build_parser, main
+    core/command/cli.py names no body), refused with another body."""
+    from core.geometry import bodies, registry
+    from core.command.cli import build_parser, main
     monkeypatch.setattr(registry, "REGISTRY", dict(registry.REGISTRY))
     monkeypatch.setattr(bodies, "BODIES", dict(bodies.BODIES))
     registry.register(registry.BodyEntry("crowned", Crowned, "line", "a roller crowned by a quartic term",

@@ -3,7 +3,7 @@
 The 3D active-set loop cycled on a weakly active element (traction at its
 bound, slip near zero) whose tests it took on the noise of inexact linear
 solves: ft 0.65, w 0.3 at a/40 stopped at step 77 (violations of 9e-8 against
-CG residuals of 3e-6). :func:`core.solver3d._increment_kernel` now detects a
+CG residuals of 3e-6). :func:`core.solvers.solver3d._increment_kernel` now detects a
 return to an earlier active set and falls back to exact linear solves, then to
 one change of kind per iteration.
 """
@@ -13,8 +13,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import core
-from core.solver3d import RESIDUAL_NAMES, TOL_3D, _WarmStart, solve_increment
-from core.halfspace import HalfSpaceOperator
+from core.solvers.solver3d import RESIDUAL_NAMES, TOL_3D, _WarmStart, solve_increment
+from core.elastic.halfspace import HalfSpaceOperator
 
 def _sphere_limit(w):
     return 1.0 - 1.5 * w + 0.5 * w**3

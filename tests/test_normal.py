@@ -1,13 +1,13 @@
-"""The numerical normal solve (core/normal.py): Hertz to grid accuracy, converging with dx, and an independent code."""
+"""The numerical normal solve (core/pressure/normal.py): Hertz to grid accuracy, converging with dx, and an independent code."""
 
 import numpy as np
 import pytest
 from scipy.special import ellipe, ellipk
 
 import core
-from core._hertz import element_means
-from core.normal import PatchOperator, solve_line, solve_normal, solve_patch, line_operator
-from core.point_contact import Ellipsoid, hertz_element_means
+from core.base._hertz import element_means
+from core.pressure.normal import PatchOperator, solve_line, solve_normal, solve_patch, line_operator
+from core.theory.point_contact import Ellipsoid, hertz_element_means
 
 
 def _line(dx, half=1.5):
@@ -179,7 +179,7 @@ def test_ellipsoid_profile_gives_its_hertz_pressure(ratio):
 # ---- the direct solve of a line (active set on the Toeplitz matrix) against the conjugate gradient ----------
 
 def _profiles():
-    from core.punch import punch_profile
+    from core.theory.punch import punch_profile
     return {
         "cylinder": lambda x: (2 / np.pi) * x**2,
         "punch 0.5": lambda x: punch_profile(x, 0.5),
@@ -244,7 +244,7 @@ def test_body_solve_direct_equals_cg(make, dx):
 
 
 def _two_bump_body():
-    from core.heightmap import HeightProfile
+    from core.geometry.heightmap import HeightProfile
     x = np.linspace(-2.5, 2.5, 1001)
     return HeightProfile(4 * (x**2 - 0.8) ** 2, x[1] - x[0], centre=500)
 
@@ -257,7 +257,7 @@ def test_two_bump_body_has_two_contacts():
 def test_direct_hands_over_to_cg(monkeypatch):
     """A direct solve that does not settle (here: allowed one contact set, started from every element), or meets
     too many holes, is solved by the CG instead, and says so."""
-    import core.normal as normal
+    import core.pressure.normal as normal
     dx = 0.02
     _, x = _line(dx, half=2.0)
     h = (2 / np.pi) * x**2
@@ -283,7 +283,7 @@ def test_indefinite_matrix_is_shifted():
     to every influence (a longer reference length: the same pressures, the approach shifted). The pressures are
     those of the default operator (4 a) and of the CG; and a contact 36 a wide (beyond 4 times the default
     reference length) is solved directly too."""
-    from core.operators import elastic_operator
+    from core.elastic.operators import elastic_operator
     dx = 0.02
     _, x = _line(dx, half=2.0)
     h = (2 / np.pi) * x**2
@@ -308,7 +308,7 @@ def test_indefinite_matrix_is_shifted():
 
 def test_methods_of_a_patch_and_of_a_large_line():
     """'auto' is the CG on a patch (no Toeplitz column) and on a line above DIRECT_MAX_ELEMENTS."""
-    from core.normal import DIRECT_MAX_ELEMENTS
+    from core.pressure.normal import DIRECT_MAX_ELEMENTS
     e, x = _line(0.1)
     X, Y = np.meshgrid(x, x)
     assert solve_patch(0.375 * (X**2 + Y**2), 0.1).method == "cg"

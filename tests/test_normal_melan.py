@@ -1,15 +1,15 @@
-"""Melan's limit for any uncoupled body (core/melan.py): the numerical integral equals the closed forms."""
+"""Melan's limit for any uncoupled body (core/pressure/melan.py): the numerical integral equals the closed forms."""
 
 import numpy as np
 import pytest
 
 import core
-from core.melan import ft_limit_numerical, lowest_pressure
+from core.pressure.melan import ft_limit_numerical, lowest_pressure
 
 
 @pytest.mark.parametrize("w", [0.0, 0.1, 0.26, 0.52, 0.77, 0.95])
 def test_cylinder(w):
-    exact = float(core.analytical.ft_limit(w))
+    exact = float(core.theory.analytical.ft_limit(w))
     assert ft_limit_numerical(w, core.Cylinder()) == pytest.approx(exact, abs=2e-6)
     assert ft_limit_numerical(w, core.Cylinder(), normal="numerical") == pytest.approx(exact, abs=2e-5)
 
@@ -24,7 +24,7 @@ def test_sphere_and_ellipsoid(w):
 
 def test_convergence_with_dx():
     """The numerical limit of the cylinder converges about as dx^1.5 (w = 0.3)."""
-    exact = float(core.analytical.ft_limit(0.3))
+    exact = float(core.theory.analytical.ft_limit(0.3))
     errs = [abs(ft_limit_numerical(0.3, core.Cylinder(), dx=dx) - exact) for dx in (1e-2, 1e-3)]
     assert errs[1] < errs[0] / 20 and errs[1] < 2e-5
 
@@ -35,7 +35,7 @@ def test_default_and_names():
     # Melan's integral over the numerical normal solve of the cylinder (not its closed form) is eq 35
     assert ft_limit_numerical(0.3, core.Cylinder(), normal="numerical") == pytest.approx(0.6238377, abs=2e-3)
     # a punch without a flat is the cylinder: its limit by name and parameter is eq 35's
-    assert float(core.ft_limit(0.3, body=core.registry.make_body("punch", flat=0.0))) == pytest.approx(
+    assert float(core.ft_limit(0.3, body=core.geometry.registry.make_body("punch", flat=0.0))) == pytest.approx(
         0.6238377, abs=1e-5)
     ws = np.array([0.1, 0.5])
     assert core.ft_limit(ws, body="punch").shape == (2,)

@@ -7,8 +7,8 @@ from numpy.testing import assert_allclose
 from scipy.integrate import quad
 from scipy.linalg import eigh, null_space
 
-from core import kernels
-from core.operators import MAX_DENSE_SIZE, elastic_operator
+from core.elastic import kernels
+from core.elastic.operators import MAX_DENSE_SIZE, elastic_operator
 
 STRIP = dict(L_over_a=40.0, b_coefficient=kernels.strip_b_coefficient(0.3))
 KERNELS = [("plane", {}), ("strip", STRIP)]

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import core
-from core import paper_figures as pf
+from core.maps import paper_figures as pf
 
 
 def _a(values):
@@ -95,7 +95,7 @@ def test_fig16_increment_grows_with_ft_and_eq38_is_rough():
     assert c["regime"] == ["ratcheting"] * 3
     assert np.all(du > 0) and np.all(np.diff(du) > 0), du
     eq38 = _a(c["eq38"])
-    np.testing.assert_allclose(eq38, core.approximations.ratchet_increment_approx(_a(c["ft"]), 0.52), rtol=1e-5)
+    np.testing.assert_allclose(eq38, core.theory.approximations.ratchet_increment_approx(_a(c["ft"]), 0.52), rtol=1e-5)
     # the regression is a rough fit: within 30 % of the solver at w = 0.52 (measured up to 22 %)
     np.testing.assert_allclose(eq38, du, rtol=0.3)
 
@@ -157,7 +157,7 @@ def test_command_line_writes_a_subset(tmp_path, capsys):
     assert pf.main(["--out", str(out), "--only", "fig12"]) == 0
     data = json.loads(out.read_text())
     assert list(data["figures"]) == ["fig12"]
-    assert data["meta"]["command"] == f"python -m core.paper_figures --out {out} --only fig12"
+    assert data["meta"]["command"] == f"python -m core.maps.paper_figures --out {out} --only fig12"
     assert "fig12: max |solver - paper|" in capsys.readouterr().out
     with pytest.raises(SystemExit) as stop:
         pf.main(["--out", str(out), "--only", "fig99"])

@@ -8,8 +8,8 @@ from scipy.integrate import dblquad
 from scipy.special import ellipe, ellipk
 
 import core
-from core.contact import Contact
-from core.point_contact import Ellipsoid, ft_limit_point, hertz_element_means, hertz_pressure_3d, w_limit_point
+from core.api.contact import Contact
+from core.theory.point_contact import Ellipsoid, ft_limit_point, hertz_element_means, hertz_pressure_3d, w_limit_point
 
 
 @pytest.mark.parametrize("w", [0.0, 0.3, 0.8])

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import core
-from core.cli import main
+from core.command.cli import main
 
 
 def _mindlin(q):

@@ -4,7 +4,7 @@ import numpy as np
 from hypothesis import given, settings, strategies as st
 
 import core
-from core import analytical as an
+from core.theory import analytical as an
 
 unit = st.floats(0.0, 1.0, exclude_max=True, allow_nan=False)
 

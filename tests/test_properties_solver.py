@@ -53,7 +53,7 @@ def test_arbitrary_schedules_keep_the_invariants(schedule, inv_dx, check_invaria
 @given(ft=st.floats(0.0, 0.95), w=st.floats(0.0, 0.9))
 def test_more_load_never_shrinks_the_slip(ft, w):
     """Monotonicity: at a higher load the shaken-down stick zone is not larger."""
-    from core.solver import shakedown_state
+    from core.api.solver import shakedown_state
 
     hi = min(ft + 0.05, 0.99)
     c_lo = shakedown_state(ft, w, 1 / 40).stick_halfwidth if ft <= core.ft_limit(w) else 0.0

@@ -1,4 +1,4 @@
-"""The rounded flat punch (core/punch.py, core.Punch): its closed form, its limit, its runs on the 1D engine."""
+"""The rounded flat punch (core/theory/punch.py, core.Punch): its closed form, its limit, its runs on the 1D engine."""
 
 import math
 
@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import core
-from core.bodies import LineGrid
-from core.punch import punch_half_width, punch_load, punch_pressure, punch_profile
-from core.normal import solve_line
+from core.geometry.bodies import LineGrid
+from core.theory.punch import punch_half_width, punch_load, punch_pressure, punch_profile
+from core.pressure.normal import solve_line
 
 
 def _element_means(flat, e, sub=400):
@@ -72,7 +72,7 @@ def test_limit_with_flat_zero_is_the_cylinders():
 def test_limit_numerical_normal_equals_exact(flat):
     b = core.Punch(flat=flat)
     for w in (0.1, 0.3, 0.6):
-        assert core.melan.ft_limit(w, body=b, normal="numerical") == pytest.approx(core.ft_limit(w, body=b), abs=2e-5)
+        assert core.pressure.melan.ft_limit(w, body=b, normal="numerical") == pytest.approx(core.ft_limit(w, body=b), abs=2e-5)
 
 
 def test_limit_needs_the_whole_cycle():
@@ -82,7 +82,7 @@ def test_limit_needs_the_whole_cycle():
     w = 0.3
     x = np.linspace(-1.5, 1.5, 30001)
     turning = np.minimum(b.pressure(x, -w), b.pressure(x, w))
-    from core.melan import lowest_pressure
+    from core.pressure.melan import lowest_pressure
     xs, p, p_min = lowest_pressure(b, w)
     assert p_min[np.argmin(np.abs(xs))] == pytest.approx(b.pressure(0.0), rel=1e-9)  # the dip at x = 0
     ft_turning = np.trapezoid(turning, x) / (np.pi / 2)
@@ -157,8 +157,8 @@ def test_normal_load_history():
     (lambda: punch_half_width(0.0, 0.5), "P"),
     (lambda: core.ft_limit(1.2, body=core.Punch(0.5)), "w"),
     (lambda: core.w_limit(1.5, body=core.Punch(0.5)), "ft"),
-    (lambda: core.bodies.resolve_body(core.Punch(0.5), flat=0.2), "parameters"),
-    (lambda: core.bodies.resolve_body("torus"), "body"),
+    (lambda: core.geometry.bodies.resolve_body(core.Punch(0.5), flat=0.2), "parameters"),
+    (lambda: core.geometry.bodies.resolve_body("torus"), "body"),
 ])
 def test_bad_inputs(call, match):
     with pytest.raises(ValueError, match=match):

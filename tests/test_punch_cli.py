@@ -1,5 +1,5 @@
 """The CLI's body flags (--body punch --flat, --body ellipsoid --ratio --angle, --normal), run by the command's
-own function (the installed ``shakedown`` and ``python -m core.cli`` as processes: tests/test_cli.py)."""
+own function (the installed ``shakedown`` and ``python -m core.command.cli`` as processes: tests/test_cli.py)."""
 
 import contextlib
 import io
@@ -9,7 +9,7 @@ import types
 
 import pytest
 
-from core.cli import main
+from core.command.cli import main
 
 
 def _cli(*args):
@@ -66,8 +66,8 @@ def test_ellipsoid_ratio_angle_parse():
 
 
 def test_help_lists_the_registry():
-    from core.cli import _BODY_FLAGS, _BODY_NAMES
-    from core.registry import REGISTRY
+    from core.command.cli import _BODY_FLAGS, _BODY_NAMES
+    from core.geometry.registry import REGISTRY
     assert set(_BODY_NAMES) == set(REGISTRY)
     for flag, bodies in _BODY_FLAGS.items():
         assert all(b in REGISTRY for b in bodies)

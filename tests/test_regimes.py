@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import core
-from core import histories
-from core.result import classify_energy, combine_verdicts, classify_increments
-from core.point_runs import solve_point_schedule
+from core.loading import histories
+from core.records.result import classify_energy, combine_verdicts, classify_increments
+from core.api.point_runs import solve_point_schedule
 
 
 @pytest.fixture(scope="module")
@@ -153,7 +153,7 @@ def test_fretting_energy_validates_and_is_zero_without_amplitude():
 
 
 def test_the_energy_is_in_the_tables_and_in_physical_units(fretting):
-    from core.export import parameters, result_table
+    from core.api.export import parameters, result_table
 
     contact = core.PAPER_SIMULATION
     df = result_table(fretting, "periods")
@@ -179,7 +179,7 @@ def test_the_badge_and_cards_show_cyclic_slip_and_the_energy(fretting):
 
 
 def test_the_cli_prints_the_regime_and_the_energy(capsys):
-    from core.cli import main
+    from core.command.cli import main
 
     code = main(["run", "--ft", "0.3", "--w", "0", "--history", "tangential", "--periods", "4", "--dx", "0.05"])
     out = capsys.readouterr().out

@@ -6,8 +6,8 @@ from numpy.testing import assert_allclose
 
 import core
 from core import Schedule, SolverError, simulate_cycles, solve_schedule
-from core.analytical import _ellipse_primitive
-from core.solver import shakedown_state
+from core.theory.analytical import _ellipse_primitive
+from core.api.solver import shakedown_state
 
 
 # ---------------------------------------------------------------------------
@@ -158,9 +158,9 @@ def test_strip_kernel_in_physical_units():
     assert r.regime == "shakedown"
     u_sd = r.u[-1]
     # eq 34 (a regression of the paper) within 5 %
-    assert u_sd == pytest.approx(core.approximations.shakedown_displacement_approx(0.08, 0.26), rel=0.05)
+    assert u_sd == pytest.approx(core.theory.approximations.shakedown_displacement_approx(0.08, 0.26), rel=0.05)
     # static value after loading within 5 % of eq 13
-    assert r.u[0] == pytest.approx(core.approximations.static_displacement_approx(0.08), rel=0.05)
+    assert r.u[0] == pytest.approx(core.theory.approximations.static_displacement_approx(0.08), rel=0.05)
 
 
 def test_oscillating_normal_load_is_just_another_schedule(check_invariants):

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import core
-from core.point_contact import hertz_element_means, w_limit_point
-from core.point_runs import mindlin_state, shakedown_state_3d
-from core.solver3d import RESIDUAL_NAMES
+from core.theory.point_contact import hertz_element_means, w_limit_point
+from core.api.point_runs import mindlin_state, shakedown_state_3d
+from core.solvers.solver3d import RESIDUAL_NAMES
 
 
 @pytest.mark.parametrize("ft", [0.3, 0.6])
@@ -165,9 +165,9 @@ def test_grid_convergence_of_the_increment():
 
 
 def test_window_solve_equals_whole_grid():
-    """A step solved on the rectangle carrying traction (core.solver3d._Window) equals the whole grid's solve."""
-    from core.halfspace import HalfSpaceOperator
-    from core.solver3d import TOL_3D, _Window, _WarmStart, solve_increment
+    """A step solved on the rectangle carrying traction (core.solvers.solver3d._Window) equals the whole grid's solve."""
+    from core.elastic.halfspace import HalfSpaceOperator
+    from core.solvers.solver3d import TOL_3D, _Window, _WarmStart, solve_increment
 
     r = core.simulate_cycles(0.5, 0.4, periods=1, dx=0.1, body="sphere")
     k = int(r.snapshot_steps[1])  # a turning point: the next step moves back
@@ -186,7 +186,7 @@ def test_window_solve_equals_whole_grid():
 def test_mirror_solve_equals_full_solve(monkeypatch):
     """Ft along x: the increments solved as mirror-symmetric in y (half-cost products) are the full solver's,
     to its tolerance (measured: displacements 1e-9, tractions 2e-8 apart)."""
-    from core import solver3d
+    from core.solvers import solver3d
 
     fast = core.simulate_cycles(0.4, 0.6, periods=3, dx=0.2, body="sphere")
     monkeypatch.setattr(solver3d, "_MIRROR", False)
@@ -203,7 +203,7 @@ def test_discrete_normal_pressure(ratio):
     """The traction bound's pressure (the discrete normal problem on the grid): the body's gap, the exact load,
     symmetric, a translate for aligned centres, Hertz's up to the discretization (peak -> p0, means off by a few %
     only in the edge elements)."""
-    from core.patch import _gap_curvatures, _grid, _pressure
+    from core.geometry.patch import _gap_curvatures, _grid, _pressure
 
     body = core.Ellipsoid(ratio)
     A, B = _gap_curvatures(body.kappa)
@@ -229,7 +229,7 @@ def _vanishing_residual_inputs():
     """A 5 x 5 patch: the centre element sticks, the others slip along x with the Newton curvature of a
     vanishing bound (1e300: a tiny numerically solved pressure), and a residual of 1e-175, so that r.z
     underflows to exactly 0 while p A p > 0 (the curvature): rz == 0 with the residual above tol."""
-    from core.halfspace import HalfSpaceOperator
+    from core.elastic.halfspace import HalfSpaceOperator
 
     n = 5
     spec = HalfSpaceOperator(n, n, 0.2, 0.5, 1.5 / math.pi**2).spectra()
@@ -249,7 +249,7 @@ def _vanishing_residual_inputs():
 def test_pcg_stops_on_zero_rz():
     """rz == 0 (zero preconditioned residual) stops the projected CG instead of dividing by it (numba raised
     ZeroDivisionError at beta = rz_new / rz on these inputs): x and K dq are left as they were."""
-    from core.solver3d import _pcg_kernel
+    from core.solvers.solver3d import _pcg_kernel
 
     spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, kdq = _vanishing_residual_inputs()
     kdq0 = kdq.copy()
@@ -262,8 +262,8 @@ def test_pcg_stops_on_zero_rz():
 
 
 def _pcg_unguarded(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, Kdq, tol, maxiter):
-    """The loop of core.solver3d._pcg_kernel before the rz == 0 guard (vectorised, pure Python)."""
-    from core.solver3d import _convolve, _precondition, _project
+    """The loop of core.solvers.solver3d._pcg_kernel before the rz == 0 guard (vectorised, pure Python)."""
+    from core.solvers.solver3d import _convolve, _precondition, _project
 
     r, z, Ap = (np.zeros_like(x) for _ in range(3))
     _project.py_func(pxx, pyy, pxy, minv, -Kdq - curv * x, r, False)

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 import core
-from core.sweeps import ProgressBar, normalise_table, sweep_grid
+from core.maps.sweeps import ProgressBar, normalise_table, sweep_grid
 
 # a small grid with a failing axis value: the strip runs stop on a tiny time budget except the shortest
 FT = [0.1, 0.5]
@@ -42,7 +42,7 @@ def test_grid_is_the_product_in_order():
     got = [(p["ft"], p["w"], p["periods"], p["shape"]) for p in points]
     want = [(f, w, n, "sine") for f in (0.1, 0.2) for w in (0.3, 0.4) for n in (4, 8)]
     assert got == want
-    assert all(p["dx"] == core.solver.DEFAULT_DX and p["kernel"] == "plane" for p in points)
+    assert all(p["dx"] == core.api.solver.DEFAULT_DX and p["kernel"] == "plane" for p in points)
 
 
 @pytest.mark.parametrize("kwargs, match", [
@@ -150,8 +150,8 @@ def test_a_map_like_callable_is_used_as_scipy_does(serial_table):
 
 
 def test_workers_follow_the_size_of_the_job():
-    from core.grid import run_cells
-    from core.tasks import auto_workers
+    from core.maps.grid import run_cells
+    from core.maps.tasks import auto_workers
 
     def cells(n):
         grid = np.linspace(0.02, 0.95, n)
@@ -309,7 +309,7 @@ def test_default_map_loads_and_matches_eq35():
     assert (m["regime"][far] == expected[far]).all()
     # undetermined only near the limit, where 10 periods are too few to tell
     assert (np.abs(margin[m["regime"] == "undetermined"]) < 0.05).all()
-    module = importlib.import_module("core.tables")
+    module = importlib.import_module("core.maps.tables")
     assert list(m.columns) == list(module.INPUT_COLUMNS) + list(module.RESULT_COLUMNS)
 
 

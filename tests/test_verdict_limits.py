@@ -1,6 +1,6 @@
 """The numerical limit of every body (issue 21, item 5): the search brackets the body's exact limit.
 
-The sphere's exact limit is ``ft = 1 - 3w/2 + w^3/2`` (:func:`core.point_contact.ft_limit_point`). The
+The sphere's exact limit is ``ft = 1 - 3w/2 + w^3/2`` (:func:`core.theory.point_contact.ft_limit_point`). The
 searches here run on a coarse grid (dx = 0.2 a, ten elements across the contact) to stay cheap; the
 table at the default grid a/20 is in docs/guide/verdicts.md.
 """
@@ -15,7 +15,7 @@ import pandas as pd
 import pytest
 
 import core
-from core.point_contact import ft_limit_point
+from core.theory.point_contact import ft_limit_point
 
 ROOT = pathlib.Path(__file__).parents[1]
 
@@ -40,13 +40,13 @@ def test_ellipsoid_limit_search_brackets_the_same_exact_limit():
 @pytest.mark.slow
 def test_sphere_limit_search_at_the_default_grid_uses_a20():
     res = core.numerical_limit(float(ft_limit_point(0.5)), tol=0.05, body="sphere", periods=6)
-    assert set(res.runs["dx"]) == {core.resolution.default_dx("sphere")} == {0.05}
+    assert set(res.runs["dx"]) == {core.geometry.resolution.default_dx("sphere")} == {0.05}
     assert res.converged and res.exact_within_tol, res
 
 
 def test_an_undetermined_midpoint_is_decided_on_either_side(monkeypatch):
     """A run that stays undetermined is close to the limit: the search decides w -+ tol/2 and stops there."""
-    from core import limits_search
+    from core.maps import limits_search
 
     limit = 0.41
     calls = []
@@ -78,7 +78,7 @@ def test_a_search_that_cannot_decide_keeps_the_bracket_of_the_runs_that_did(monk
     """Runs within 0.02 of the limit stay undetermined (the free cone near its limit decays by 0.96-0.98 a period):
     the search does not converge to tol, but it reports the highest w that shook down and the lowest that ratcheted,
     with the limit between them, instead of no bracket at all."""
-    from core import limits_search
+    from core.maps import limits_search
 
     limit = 0.384
 
@@ -99,7 +99,7 @@ def test_cli_limit_for_the_sphere_as_a_subprocess(tmp_path):
     """One search, its table in a CSV file and its text on stdout (the CSV on stdout, --out -: tests/test_cli.py)."""
     ft = float(ft_limit_point(0.3))
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    done = subprocess.run([sys.executable, "-m", "core.cli", "limit", "--ft", f"{ft:.6f}", "--tol", "0.01",
+    done = subprocess.run([sys.executable, "-m", "core.command.cli", "limit", "--ft", f"{ft:.6f}", "--tol", "0.01",
                            "--body", "sphere", "--dx", "0.2", "--workers", "1", "--no-progress",
                            "--out", str(tmp_path / "limit.csv")],
                           capture_output=True, text=True, env=env, timeout=600, cwd=ROOT)

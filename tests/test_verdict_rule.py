@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import core
-from core.result import MIN_FIT_PERIODS, VERDICT_SIGMAS, classify_increments, fit_trend
+from core.records.result import MIN_FIT_PERIODS, VERDICT_SIGMAS, classify_increments, fit_trend
 
 NOISE = 1e-8  # the solver's tolerance, relative to the largest increment
 
@@ -193,11 +193,11 @@ def test_both_results_use_the_rule():
 def test_tol_reaches_point_contacts():
     r = core.simulate_cycles(0.4, 0.3, periods=1, dx=0.25, body="sphere", tol=1e-6)
     assert r.tol == 1e-6
-    assert core.simulate_cycles(0.4, 0.3, periods=1, dx=0.25, body="sphere").tol == core.solver3d.TOL_3D
+    assert core.simulate_cycles(0.4, 0.3, periods=1, dx=0.25, body="sphere").tol == core.solvers.solver3d.TOL_3D
 
 
 def test_the_cli_prints_the_trend_and_the_grid(capsys):
-    from core.cli import main
+    from core.command.cli import main
 
     assert main(["run", "--ft", "0.3", "--w", "0.3", "--periods", "6"]) == 0
     out = capsys.readouterr().out

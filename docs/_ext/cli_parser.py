@@ -6,7 +6,7 @@ help of ``--amplitude``) would be a substitution reference; the text printed by 
 
 import argparse
 
-from core.cli import build_parser
+from core.command.cli import build_parser
 
 _RST = str.maketrans({"|": r"\|", "*": r"\*", "`": r"\`"})
 
@@ -27,7 +27,7 @@ def _escape(parser: argparse.ArgumentParser) -> None:
 
 
 def parser() -> argparse.ArgumentParser:
-    """:func:`core.cli.build_parser`, its help texts escaped for reStructuredText."""
+    """:func:`core.command.cli.build_parser`, its help texts escaped for reStructuredText."""
     p = build_parser()
     _escape(p)
     return p
