@@ -46,8 +46,8 @@ def _numba_cache_is_cold() -> bool:
     import core
     from core.base import _jit
 
-    for info in pkgutil.iter_modules(core.__path__, "core."):
-        if not info.name.endswith(("__main__", ".cli")):
+    for info in pkgutil.walk_packages(core.__path__, "core."):  # the layer packages and their modules
+        if not info.ispkg and not info.name.endswith(("__main__", ".cli")):
             importlib.import_module(info.name)
     return any(not _jit._cached(kernel) for kernel in _jit.KERNELS.values())
 

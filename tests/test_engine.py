@@ -92,7 +92,8 @@ def test_import_on_a_read_only_install_without_a_numba_cache(tmp_path):
     """numba cannot cache next to a read-only source or in an unusable home: `import core` must still work."""
     root = tmp_path / "site"
     shutil.copytree(Path(core.__file__).parent, root / "core", ignore=shutil.ignore_patterns("__pycache__"))
-    (root / "core" / "__pycache__").write_text("")  # a file: no cache directory can be made there (even as root)
+    for package in [root / "core", *(p.parent for p in (root / "core").glob("*/__init__.py"))]:
+        (package / "__pycache__").write_text("")  # a file: no cache directory can be made there (even as root)
     for path in sorted(root.rglob("*"), reverse=True) + [root]:
         path.chmod(0o555 if path.is_dir() else 0o444)
     env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "XDG_", "PYTHON"))}

@@ -80,7 +80,7 @@ def defining_module(core, name: str) -> str:
 def _module(name: str):
     """The module ``name``, or None if this checkout's core has no such file (a title kept for later)."""
     core = importlib.import_module("core")
-    if not (Path(core.__file__).parent / f"{name.rpartition('.')[2]}.py").exists():
+    if not (Path(core.__file__).parent.joinpath(*name.split(".")[1:]).with_suffix(".py")).exists():
         return None
     return importlib.import_module(name)
 
