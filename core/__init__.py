@@ -4,11 +4,21 @@ The public names are imported on first use (PEP 562 ``__getattr__``), so that
 a light submodule such as :mod:`core.command.cli` (``shakedown --help``) starts
 without importing numba, scipy and pandas. ``core.__all__`` lists them all
 (asking for it imports them).
+
+The modules live in one package per layer (``core.march.engine``, ``core.geometry.registry``, ...;
+docs/dev/architecture.md). Their former flat names (``core.engine``, ``import core.solver3d``,
+``from core import melan``, a pickle or a mock target naming ``core.result``) still import the same
+module object, with a :class:`DeprecationWarning` naming the new one: an import hook, :class:`FormerNames`.
 """
 
 import importlib
+import importlib.abc
 import importlib.util
+import os
+import pkgutil
+import sys
 import threading
+import warnings
 
 # the thread running _load (its own look-ups inside it must fail fast); other threads wait on the lock,
 # e.g. the app's warm-up thread loading core while the main thread reads core.PAPER_SIMULATION
@@ -83,3 +93,73 @@ def __getattr__(name):
 def __dir__():
     _load()
     return sorted(globals())
+
+
+def former_names() -> dict[str, str]:
+    """Each module's former flat name (before the layer packages) -> its name now.
+
+    Returns
+    -------
+    dict
+        ``{"core.engine": "core.march.engine", ...}``: every module of every layer package.
+    """
+    here = os.path.dirname(__file__)
+    out = {}
+    for layer in pkgutil.iter_modules([here]):
+        if layer.ispkg:
+            for module in pkgutil.iter_modules([os.path.join(here, layer.name)]):
+                if not module.ispkg:
+                    out.setdefault(f"{__name__}.{module.name}", f"{__name__}.{layer.name}.{module.name}")
+    return out
+
+
+def _caller_level() -> int:
+    """The ``stacklevel`` of the first frame outside importlib and this file (the import statement), counted as
+    :func:`warnings.warn` counts: it skips importlib's bootstrap frames by itself."""
+    frame, level = sys._getframe(2), 2  # the caller of the function that warns
+    while frame is not None:
+        name = frame.f_code.co_filename
+        if not ("importlib" in name and "_bootstrap" in name):
+            if name not in (__file__, importlib.__file__):
+                return level
+            level += 1
+        frame = frame.f_back
+    return level
+
+
+class FormerNames(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """The import hook of the former module names: ``core.X`` imports ``core.<layer>.X``, with a warning.
+
+    The same module object under both names (so a mock target or ``monkeypatch.setattr`` on the former name
+    patches the module the code uses), a :class:`DeprecationWarning` naming the new one on the first import.
+    """
+
+    _names: dict[str, str] | None = None
+
+    def _new_name(self, fullname: str) -> str | None:
+        if not fullname.startswith(f"{__name__}.") or fullname.count(".") != 1:
+            return None
+        if FormerNames._names is None:
+            FormerNames._names = former_names()
+        return FormerNames._names.get(fullname)
+
+    def find_spec(self, fullname, path=None, target=None):
+        """A spec for a former name, None for any other."""
+        return importlib.util.spec_from_loader(fullname, self) if self._new_name(fullname) else None
+
+    def create_module(self, spec):
+        """The module under its new name (imported if need be): the former name is an alias of it."""
+        new = self._new_name(spec.name)
+        warnings.warn(f"{spec.name} is now {new} (core's layer packages, issue 28): import it from there",
+                      DeprecationWarning, stacklevel=_caller_level())
+        return importlib.import_module(new)
+
+    def exec_module(self, module):
+        """Nothing to run: the module ran under its new name."""
+
+
+if not any(type(finder).__name__ == "FormerNames" and type(finder).__module__ == __name__
+           for finder in sys.meta_path):
+    # first: a former name is this package's module even where another finder (an editable install of another
+    # checkout, a stale copy) could find a file of that name
+    sys.meta_path.insert(0, FormerNames())
