@@ -12,10 +12,8 @@ module object, with a :class:`DeprecationWarning` naming the new one: an import 
 """
 
 import importlib
-import importlib.abc
 import importlib.util
 import os
-import pkgutil
 import sys
 import threading
 import warnings
@@ -103,6 +101,8 @@ def former_names() -> dict[str, str]:
     dict
         ``{"core.engine": "core.march.engine", ...}``: every module of every layer package.
     """
+    import pkgutil  # here: `import core` (the command line's help) stays light
+
     here = os.path.dirname(__file__)
     out = {}
     for layer in pkgutil.iter_modules([here]):
@@ -127,10 +127,12 @@ def _caller_level() -> int:
     return level
 
 
-class FormerNames(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+class FormerNames:
     """The import hook of the former module names: ``core.X`` imports ``core.<layer>.X``, with a warning.
 
-    The same module object under both names (so a mock target or ``monkeypatch.setattr`` on the former name
+    A finder of :data:`sys.meta_path` and its own loader (the protocols of :class:`importlib.abc.MetaPathFinder`
+    and :class:`importlib.abc.Loader`, not subclassed: importing ``importlib.abc`` would cost every start). The
+    same module object under both names (so a mock target or ``monkeypatch.setattr`` on the former name
     patches the module the code uses), a :class:`DeprecationWarning` naming the new one on the first import.
     """
 
