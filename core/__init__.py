@@ -127,6 +127,7 @@ def _caller_level() -> int:
     return level
 
 
+# move_core: former names (the script that made the layer packages leaves the former names here as they are)
 class FormerNames:
     """The import hook of the former module names: ``core.X`` imports ``core.<layer>.X``, with a warning.
 

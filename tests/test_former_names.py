@@ -9,6 +9,7 @@ import sys
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+# move_core: former names (the script that made the layer packages leaves this file's former names as they are)
 
 
 def _run(code: str) -> subprocess.CompletedProcess:
