@@ -101,15 +101,13 @@ def former_names() -> dict[str, str]:
     dict
         ``{"core.engine": "core.march.engine", ...}``: every module of every layer package.
     """
-    import pkgutil  # here: `import core` (the command line's help) stays light
-
     here = os.path.dirname(__file__)
     out = {}
-    for layer in pkgutil.iter_modules([here]):
-        if layer.ispkg:
-            for module in pkgutil.iter_modules([os.path.join(here, layer.name)]):
-                if not module.ispkg:
-                    out.setdefault(f"{__name__}.{module.name}", f"{__name__}.{layer.name}.{module.name}")
+    for layer in sorted(os.listdir(here)):
+        if os.path.isfile(os.path.join(here, layer, "__init__.py")):
+            for file in sorted(os.listdir(os.path.join(here, layer))):
+                if file.endswith(".py") and file != "__init__.py":
+                    out.setdefault(f"{__name__}.{file[:-3]}", f"{__name__}.{layer}.{file[:-3]}")
     return out
 
 
@@ -142,6 +140,8 @@ class FormerNames:
     def _new_name(self, fullname: str) -> str | None:
         if not fullname.startswith(f"{__name__}.") or fullname.count(".") != 1:
             return None
+        if os.path.isdir(os.path.join(os.path.dirname(__file__), fullname.partition(".")[2])):
+            return None  # a layer package (``import core.march``): the usual finders have it, no table needed
         if FormerNames._names is None:
             FormerNames._names = former_names()
         return FormerNames._names.get(fullname)
