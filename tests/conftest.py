@@ -11,8 +11,9 @@ os.environ.setdefault("BOKEH_VALIDATE_DOC", "true")
 
 # ---- numba's cache, filled once before the workers start ----
 #: Small runs through the public API that compile (or load) the solver's numba kernels, in two groups run side by
-#: side: the line solvers (dense and FFT, both kernels, the punch, a sampled profile's normal solve and tables) and the
-#: patch solver (the sphere, as the served app warms it, the ellipsoid, the cone's twist, a height map).
+#: side: the line solvers (dense and FFT, both kernels, the punch, the coupled march, a sampled profile's normal solve
+#: and tables) and the patch solver (the sphere, as the served app warms it, the ellipsoid, the cone's twist, a
+#: height map).
 _PRECOMPILE = {
     "line": """
 import core
@@ -20,6 +21,7 @@ for kernel, L in (("strip", 10.0), ("plane", None)):
     for solver in ("dense", "fft"):
         core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, kernel=kernel, L_over_a=L, solver=solver)
 core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body=core.Punch(flat=0.5))
+core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, beta=0.25, mu=0.3)  # the coupled march
 import numpy as np
 from core.geometry.heightmap import HeightProfile
 x = np.linspace(-2, 2, 401)
