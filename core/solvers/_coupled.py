@@ -257,29 +257,16 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
 @jit
 def gap_residual(K, gap0, p, q, cn, dx, work):
     """The worst gap residual of a solved step [P/E*]: ``|gap|`` where ``p > 0`` and the penetration elsewhere,
-    the approach ``delta`` being the gap's mean over the contact."""
+    the approach ``delta`` being the gap's mean over the contact (:func:`_gap_residual_from` with ``K p``)."""
     n = gap0.size
-    shift, gap = work[5], work[6]
-    cross(q, dx, shift)
-    total = 0.0
-    m = 0
+    kp = work[5]
     for i in range(n):
-        g = gap0[i] + cn * shift[i]
+        g = 0.0
         for j in range(n):
             if p[j] != 0.0:
                 g += K[i, j] * p[j]
-        gap[i] = g
-        if p[i] > 0.0:
-            total += g
-            m += 1
-    delta = total / m if m else 0.0
-    worst = 0.0
-    for i in range(n):
-        if p[i] > 0.0:
-            worst = max(worst, abs(gap[i] - delta))
-        else:
-            worst = max(worst, delta - gap[i])
-    return worst
+        kp[i] = g
+    return _gap_residual_from(gap0, p, q, kp, cn, dx, work[6])
 
 
 @jit
