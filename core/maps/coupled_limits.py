@@ -112,30 +112,34 @@ class CoupledLimitCurve:
     periods: int
     points: tuple
 
+    def _column(self, name: str) -> np.ndarray:
+        """Attribute ``name`` of every point, in the order of ``w``."""
+        return np.array([getattr(p, name) for p in self.points])
+
     @property
     def w(self) -> np.ndarray:
         """The amplitudes."""
-        return np.array([p.w for p in self.points])
+        return self._column("w")
 
     @property
     def ft_shakedown(self) -> np.ndarray:
         """The lower end of each bracket."""
-        return np.array([p.ft_shakedown for p in self.points])
+        return self._column("ft_shakedown")
 
     @property
     def ft_ratcheting(self) -> np.ndarray:
         """The upper end of each bracket."""
-        return np.array([p.ft_ratcheting for p in self.points])
+        return self._column("ft_ratcheting")
 
     @property
     def ft_limit(self) -> np.ndarray:
         """The midpoints (NaN where a search did not converge)."""
-        return np.array([p.ft_limit for p in self.points])
+        return self._column("ft_limit")
 
     @property
     def ft_eq35(self) -> np.ndarray:
         """Eq 35 at each ``w``: the uncoupled reference."""
-        return np.array([p.ft_eq35 for p in self.points])
+        return self._column("ft_eq35")
 
     @property
     def runs(self) -> int:
