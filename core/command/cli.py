@@ -177,6 +177,17 @@ def _add_solver_options(parser, kernel_default="plane", mu_flag=True):
         help="strip length over a [-], in [2, 1e9] (strip kernel with normalised inputs)")
     add("--nu", type=_number("nu", 0.0, 0.5), action=_Once,
         help="Poisson ratio of the substrate [-], in [0, 0.5] (strip kernel with normalised inputs; default 0.5)")
+    add("--path", type=_arg(_loading_path), action=_Once, metavar="FIELDS",
+        help="the loading path before the periods (core.LoadingPath; the verdict reads the periods after it; "
+             "sweep and limit give every run the same path): "
+             "comma-separated KEY=VALUE, any of order=P-then-Q or order=together (P raised before Q, the default, "
+             "or both in proportion), ramp=N (steps of the P ramp, in [0, 10000]; 0: P at once, or with together "
+             "the --load-steps), first=+1 or first=-1 (the centre first towards +W or -W), start=X, start=+W or "
+             "start=-W (the centre while the loads are raised, a fraction X of W in [-1, 1]; then back to 0), "
+             "preload=FT:W:N[+FT:W:N...] (N "
+             "earlier periods at each other ft and w; with --history tangential W is the force's amplitude); "
+             "e.g. --path order=together,ramp=10,first=-1,start=+W,preload=0.2:0.6:5 (default: P and Q at once "
+             "at xc = 0, then towards +W)")
     add("--shakedown-rtol", dest="shakedown_rtol", type=_number("shakedown_rtol", 0.0, 1.0, lo_closed=False),
         action=_Once, metavar="R",
         help="shaken down when the last increment per period is <= R times the largest, in (0, 1] (default 1e-3)")
@@ -271,17 +282,6 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--W", type=_number("W", 0.0, None), action=_Once,
                    help="rocking amplitude of the contact centre [m], in [0, a) (or give --w)")
     _add_solver_options(run, kernel_default="plane; strip for a physical contact", mu_flag=False)
-    run.add_argument(
-        "--path", type=_arg(_loading_path), action=_Once, metavar="FIELDS",
-        help="the loading path before the periods (core.LoadingPath; the verdict reads the periods after it): "
-             "comma-separated KEY=VALUE, any of order=P-then-Q or order=together (P raised before Q, the default, "
-             "or both in proportion), ramp=N (steps of the P ramp, in [0, 10000]; 0: P at once, or with together "
-             "the --load-steps), first=+1 or first=-1 (the centre first towards +W or -W), start=X, start=+W or "
-             "start=-W (the centre while the loads are raised, a fraction X of W in [-1, 1]; then back to 0), "
-             "preload=FT:W:N[+FT:W:N...] (N "
-             "earlier periods at each other ft and w; with --history tangential W is the force's amplitude); "
-             "e.g. --path order=together,ramp=10,first=-1,start=+W,preload=0.2:0.6:5 (default: P and Q at once "
-             "at xc = 0, then towards +W)")
     run.add_argument("--out", type=_output((".csv", ".json")), action=_Once, metavar="FILE",
                      help="also write the result: FILE.csv (one row of scalars) or FILE.json "
                           "(scalars, increments per period, contact)")
@@ -600,13 +600,15 @@ def _cmd_sweep(args) -> int:
     from ..maps.sweeps import run_points
     from ..maps.tables import CSV_FLOAT_FORMAT, TableFile
 
-    points = sweep_grid(args.ft, args.w, max_runs=args.max_runs, **_solver_options(args))
+    options = _solver_options(args)
+    points = sweep_grid(args.ft, args.w, max_runs=args.max_runs, **options)
     to_stdout = args.out == "-"
     target = None if to_stdout else TableFile(args.out, points, overwrite=args.overwrite)
     todo = points if target is None else target.todo
     where = "stdout" if to_stdout else args.out.name
     _say(f"shakedown sweep: {len(points)} runs in the grid, {len(points) - len(todo)} already in "
-         f"{where}, {len(todo)} to run", stream=sys.stderr)
+         f"{where}, {len(todo)} to run" + (f" (loading path: {options['path']})" if "path" in options else ""),
+         stream=sys.stderr)
     t0 = time.perf_counter()
     progress = ProgressBar() if args.progress else None
     try:
@@ -658,6 +660,8 @@ def _cmd_limit(args) -> int:
             from ..geometry.resolution import default_dx
 
             grid = default_dx(body)
+        if "path" in options:
+            _say(f"loading path: {options['path']} (every run of the search; the verdict reads the periods after it)")
         _say(f"numerical shakedown limit w_lim(ft) of the {name} (dx = {grid:.6g} a), tolerance {args.tol:g} in w: "
              "each search starts from [start_lo, start_hi] and ends with w_shakedown shaking down and w_ratcheting "
              f"ratcheting; w_limit_eq35: the exact limit ({exact}); eq35_inside: it lies in that final bracket; "
