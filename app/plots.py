@@ -887,11 +887,20 @@ def _map_layers(i: Inputs) -> tuple:
     body = None if i.result is None else getattr(i.result, "body_spec", None) or getattr(i.result, "body", None)
     lines = map_lines(history, body if isinstance(body, core.Body) else None)
     coupled = i.coupled if history[0] == "rocking" else None
-    if coupled is not None:  # eq 35 drawn as the uncoupled reference, not as the limit
-        k = 2 + _ROCKING_LINES.index("eq 35 (exact)")
-        lines = (*lines[:k], _EMPTY, *lines[k + 1:])
+    if coupled is not None:
+        lines = _coupled_lines(lines)
     return (*map_numerical(table), *lines, body_limit(i.result) if history[0] == "rocking" else _EMPTY,
             *map_coupled(coupled), map_point(i.ft, y, regime))
+
+
+def _coupled_lines(lines: tuple) -> tuple:
+    """The rocking lines (:func:`map_lines`) of a coupled contact: none of the uncoupled closed forms. eq 35 is drawn
+    as the one uncoupled reference by :func:`map_coupled`; the closure's c_sd contours (and their labels), the
+    sphere's limit and the eq 36 regression are not drawn: the closure's stick zone is the uncoupled one (the
+    traction figure draws no closure for a coupled run either), the point contacts take no β ≠ 0, and eq 36 fits
+    eq 35."""
+    gross, _, *curves, melan, _, names = lines
+    return (gross, [], *[_EMPTY] * len(curves), melan, _EMPTY + ([],), names)
 
 
 def _same_coupling(table, beta: float) -> bool:
@@ -978,7 +987,9 @@ FIGURES = {
                         "the plane of the mean ft and the amplitude A (read the vertical axis as A): cyclic slip below "
                         "the dashed gross-sliding line |ft| + A = 1, no run beyond it. Dissimilar materials (Dundurs β ≠ 0, rocking): eq 35 "
                         "is only the uncoupled reference (black, dashed); the coupled limit (vermillion) is the "
-                        "solver's, bisected at a few w (thick: each w's bracket), drawn as it is computed. The big marker is the current "
+                        "solver's, bisected at a few w (thick: each w's bracket), drawn as it is computed; the "
+                        "uncoupled closed forms (the closure's c_sd/a, the sphere's limit, eq 36) are not drawn. "
+                        "The big marker is the current "
                         "run (circle: shakedown, hexagon: cyclic slip, triangle: ratcheting).",
                 specs=lambda units: _map_specs(), layers=_map_layers, inputs=("ft", "w", "result", "table", "coupled"),
                 result=(core.CycleResult, core.PointContactResult)),

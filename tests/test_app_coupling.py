@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import holoviews as hv
 import numpy as np
 import pytest
 
@@ -156,13 +157,48 @@ def test_the_map_draws_the_coupled_limit_beside_eq_35_as_the_uncoupled_reference
     ft, w = layers[plots.COUPLED_LIMIT]
     np.testing.assert_allclose(ft, curve.ft_limit, rtol=1e-12)
     np.testing.assert_allclose(w, [0.3, 0.5])
-    brackets = next(d for k, d in layers.items() if k.startswith("#") and len(d[0]) == 6)  # two segments, NaN apart
+    brackets = next(d for k, d in layers.items() if k.startswith("#") and len(d) == 2 and len(d[0]) == 6)  # NaN apart
     np.testing.assert_allclose(brackets[0][[0, 1, 3, 4]], [p for q in curve.points
                                                            for p in (q.ft_shakedown, q.ft_ratcheting)])
     assert np.isnan(brackets[0][2]) and np.isnan(brackets[1][5])
     partial = _map(CoupledLimitCurve(0.25, 0.3, 0.05, 0.02, 20, ()))  # computing: eq 35 already the reference
     assert len(partial["eq 35 (exact)"][0]) == 0 and len(partial[plots.EQ35_REFERENCE][0]) > 100
     assert len(partial[plots.COUPLED_LIMIT][0]) == 0
+
+
+def _closed_form_layers(curve) -> dict:
+    """The map's layers of the uncoupled closed forms besides eq 35: the closure's c_sd contours and their labels
+    (the unlabelled Contours and the small Labels), the sphere's exact limit and the eq 36 regression."""
+    inputs = plots.Inputs(ft=0.3, w=0.4, units=plots.Units("normalised"), coupled=curve)
+    specs, data = plots.specs("map", inputs.units), plots.layers("map", inputs)
+    by_kind = {}
+    for s, d in zip(specs, data):
+        if s.kind is hv.Contours:
+            by_kind["c_sd contours"] = d
+        elif s.kind is hv.Labels and s.opts.get("text_font_size") == "11px":
+            by_kind["c_sd labels"] = d
+        elif s.label in ("sphere, ellipsoid (exact)", "eq 36 regression"):
+            by_kind[s.label] = d
+    assert len(by_kind) == 4, sorted(by_kind)
+    return by_kind
+
+
+def _drawn(data) -> bool:
+    return len(data) > 0 and len(data[0]) > 0
+
+
+def test_a_coupled_contacts_map_draws_no_uncoupled_closed_form_but_eq_35_as_its_reference():
+    """The closure's stick zone (eq 30), the sphere's limit and the eq 36 regression are closed forms of an
+    uncoupled contact: the map of a coupled one (its curve computing or computed) keeps eq 35 as the one uncoupled
+    reference, and draws none of them."""
+    plain = _closed_form_layers(None)
+    assert all(_drawn(d) for d in plain.values()), {k: _drawn(d) for k, d in plain.items()}
+    for curve in (_curve(), CoupledLimitCurve(0.25, 0.3, 0.05, 0.02, 20, ())):
+        coupled = _closed_form_layers(curve)
+        assert not any(_drawn(d) for d in coupled.values()), {k: _drawn(d) for k, d in coupled.items()}
+        assert len(_map(curve)[plots.EQ35_REFERENCE][0]) > 100
+    caption = plots.FIGURES["map"]["caption"]
+    assert "c_sd" in caption.split("Dissimilar materials")[1], caption
 
 
 def test_the_badge_compares_a_coupled_run_with_the_coupled_limit_once_the_curve_reaches_its_w():
