@@ -957,8 +957,10 @@ FIGURES = {
     "pressure": dict(opts=dict(title="Pressure and μ p_min", **key_opts()),
                 caption="What you see: the body's pressure (the cylinder's: Hertz's) moves with the rocking centre xc (at the centre, at the reversals xc = ±W and at the player's step); its lowest value over the cycle (black) bounds the traction that can stay.", specs=_pressure_specs,
                      layers=_pressure_layers, inputs=("w", "units", "result", "frame")),
-    "traction": dict(opts=dict(title="Traction vs closure", **key_opts()),
-                caption="What you see: the solver's traction (solid) against the paper's closure (dashed), inside ±μ p; shaded: what each element does at the player's step (stick, slip on ±μ p, hatched, zero traction); at the last step, the final zones against ±μ p_min that the c_sd of the numbers is measured on.", specs=_traction_specs,
+    # the title says what every run's figure draws: the closure is the uncoupled cylinder's under the constant-load
+    # rocking only (closed_forms_apply), and the title is the figure's name for the slides, screenshots and benchmarks
+    "traction": dict(opts=dict(title="Traction and its bounds", **key_opts()),
+                caption="What you see: the solver's traction (solid) inside its bounds ±μ p, against the paper's closure (dashed) where it applies (the cylinder of an uncoupled contact rocked under constant loads); shaded: what each element does at the player's step (stick, slip on ±μ p, hatched, zero traction); at the last step, the final zones against ±μ p_min that the c_sd of the numbers is measured on.", specs=_traction_specs,
                      layers=_traction_layers, inputs=("ft", "w", "units", "result", "frame", "pinned")),
     "states": dict(opts=dict(title="Element states over the run"),
                 caption="What you see: each element's state (colour bar) against time; the stick zone narrows to ±c_sd if the contact shakes down.", specs=_states_specs,

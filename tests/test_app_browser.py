@@ -130,9 +130,9 @@ def test_figures_are_drawn_as_the_page_is_scrolled_to_them(browser, app_url):
         shown = [f["opts"]["title"] for n, f in FIGURES.items() if point_view.shown(n, "cylinder")]
         assert sorted(titles) == sorted(shown), titles
         assert len(titles) == 8 and "Fretting loop" in titles, titles
-        before = page.evaluate(_TRACTION, "Traction vs closure")
+        before = page.evaluate(_TRACTION, FIGURES["traction"]["opts"]["title"])
         page.evaluate(_SET_SLIDER, [FT_TITLE, 0.2, False])  # a drag: the closure follows
-        page.wait_for_function(f"() => ({_TRACTION})('Traction vs closure') !== {before!r}",
+        page.wait_for_function(f"() => ({_TRACTION})({FIGURES['traction']['opts']['title']!r}) !== {before!r}",
                                timeout=30_000)
     finally:
         page.close()
@@ -184,7 +184,7 @@ def test_csv_download_has_the_right_columns(open_app):
 
 def test_player_changes_the_traction_plot(open_app):
     page, errors = open_app("?ft=0.58&w=0.52&periods=3")
-    title = "Traction vs closure"
+    title = FIGURES["traction"]["opts"]["title"]
     page.wait_for_function(f"() => ({_TRACTION})({title!r}) !== null")
     before = page.evaluate(_TRACTION, title)
     page.evaluate(_SET_PLAYER, 3)

@@ -18,7 +18,10 @@ import time
 import pytest
 
 import core
+from app.plots import FIGURES
 from app.serving import FIND_MODEL_JS, open_page, wait_until
+
+TRACTION = FIGURES["traction"]["opts"]["title"]
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 
@@ -102,7 +105,7 @@ def _strip_csd(page) -> float:
 
 
 # ---------------------------------------------------------------- item 3: shading agrees with curve and numbers
-@pytest.mark.parametrize("query, title", [("?ft=0.74&w=0.8", "Traction vs closure"),
+@pytest.mark.parametrize("query, title", [("?ft=0.74&w=0.8", TRACTION),
                                           ("?body=sphere&ft=0.35", "Traction on y = 0"),
                                           ("?body=sphere", "Traction on y = 0")],
                          ids=["cylinder-ratcheting", "sphere-ratcheting", "sphere-default"])
@@ -222,7 +225,7 @@ def test_a_typed_length_below_the_contact_is_named_in_mm_and_no_run_stays(browse
             page.locator("[data-regime='invalid']").first.wait_for(timeout=60_000)
             note = page.locator(".regime-note").first.inner_text()
             assert re.search(r"L must exceed the contact width 2a = [\d.]+ mm, got 3 mm", note), (width, note)
-            wait_until(lambda: not any(len(c[1] or []) > 0 for c in [page.evaluate(_SHADING, "Traction vs closure")
+            wait_until(lambda: not any(len(c[1] or []) > 0 for c in [page.evaluate(_SHADING, TRACTION)
                                                                       ["curve"] or [[], []]]), 30,
                        message="the old run's traction gone")
             assert page.evaluate(_SET, ["L [mm]", 500.0])

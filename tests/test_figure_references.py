@@ -77,3 +77,13 @@ def test_the_tangential_loading_has_no_closure_and_its_bound_at_the_fixed_centre
     bound = _layer("traction", i, "±μ p_min")
     np.testing.assert_allclose(bound[1], U.q * core.lowest_pressure(np.asarray(bound[0]), 0.0), atol=1e-12)
     assert plots.displacement_curves(r, U)[1] == []
+
+
+@pytest.mark.parametrize("kind", ["rocking", "normal", "coupled", "tangential"])
+def test_the_traction_title_names_only_what_every_run_draws(runs, kind):
+    """The closure is drawn beside the constant-load rocking only; the title is the same for every run (it names
+    the figure for the slides and screenshots), so it must not promise the closure."""
+    title = plots.FIGURES["traction"]["opts"]["title"]
+    assert "traction" in title.lower() and "bound" in title.lower(), title
+    closure = _layer("traction", plots.Inputs(0.3, 0.4, U, runs[kind]), "closure (paper)")
+    assert len(closure[0]) > 0 or "closure" not in title.lower(), (kind, title)
