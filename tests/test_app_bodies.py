@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import core
-from app import bodies, plots, sketch
+from app import bodies, plots, regime_map, sketch
 from app.cards import body_limits
 from app.explorer import Explorer
 from app.state import BODIES, URL_PARAMETERS, ExplorerState, parse_query
@@ -110,7 +110,7 @@ def test_every_body_runs_with_its_figures_verdict_and_limit(explorer):
 def test_the_map_draws_the_bodys_own_limit_curve(explorer):
     ex = explorer
     body, spec = ex.state.body, ex.state.body_object()
-    ft, w = plots.body_limit(ex.result)
+    ft, w = regime_map.body_limit(ex.result)
     if body == "cylinder" or bodies.is_ellipsoid(spec):  # drawn already: eq 35 and the ellipsoids' closed form
         assert ft.size == 0
         return
@@ -251,7 +251,7 @@ def test_a_body_registered_in_core_appears_and_runs_and_one_that_cannot_run_show
 def test_the_map_draws_a_sweep_only_beside_runs_of_its_body_and_parameters():
     """The shipped map is the cylinder's: not drawn beside a punch run; a map computed for the punch (its object,
     with its flat) is, and not beside another flat."""
-    regimes = len(plots._MAP_REGIMES)  # the runs' layers, one per regime (issue 30 added cyclic slip: four)
+    regimes = len(regime_map._MAP_REGIMES)  # the runs' layers, one per regime (issue 30 added cyclic slip: four)
     ex = Explorer(query="body=punch&flat=0.8&ft=0.3&w=0.5&periods=1&kernel=plane")
     shown = plots.layers("map", ex._inputs())
     assert all(len(layer.data[0]) == 0 for layer in shown[:regimes])  # the shipped cylinder map is not drawn

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import core
-from app import plots
+from app import plots, regime_map
 from app.cards import coupled_beta, coupled_prediction, cylinder_rows, strip_html
 from app.runs import LimitCurves
 from app.state import ExplorerState
@@ -131,9 +131,9 @@ def test_a_coupled_contact_shows_its_coupled_limit_beside_eq_35_on_the_map(brows
         assert badge is not None and badge["y"] + badge["height"] <= 720
         page.locator(".place-map").first.scroll_into_view_if_needed(timeout=60_000)
         title = plots.FIGURES["map"]["opts"]["title"]
-        legend = wait_until(lambda: (lambda items: items if items and items.get(plots.COUPLED_LIMIT) else None)(
+        legend = wait_until(lambda: (lambda items: items if items and items.get(regime_map.COUPLED_LIMIT) else None)(
             page.evaluate(_LEGEND_JS, title)), 300, interval=0.5, message="the coupled limit on the map")
-        assert legend[plots.EQ35_REFERENCE] and legend["current point"], legend
+        assert legend[regime_map.EQ35_REFERENCE] and legend["current point"], legend
         assert not legend.get("eq 35 (exact)", False), legend  # eq 35 is there, as the reference
         status = page.locator(".coupled-status-text").first
         wait_until(lambda: "coupled limit: 5 amplitudes" in status.inner_text() or None, 300, interval=0.5,
@@ -148,13 +148,13 @@ def test_a_coupled_contact_shows_its_coupled_limit_beside_eq_35_on_the_map(brows
 def test_the_map_draws_the_coupled_limit_beside_eq_35_as_the_uncoupled_reference():
     plain = _map(None)
     assert plain["eq 35 (exact)"][0].size > 100  # uncoupled: eq 35 is the limit, no coupled layer
-    assert all(len(plain[k][0]) == 0 for k in (plots.EQ35_REFERENCE, plots.COUPLED_LIMIT))
+    assert all(len(plain[k][0]) == 0 for k in (regime_map.EQ35_REFERENCE, regime_map.COUPLED_LIMIT))
     curve = _curve()
     layers = _map(curve)
     assert len(layers["eq 35 (exact)"][0]) == 0  # the same line, now labelled the uncoupled reference
-    np.testing.assert_array_equal(layers[plots.EQ35_REFERENCE][0], plain["eq 35 (exact)"][0])
-    np.testing.assert_array_equal(layers[plots.EQ35_REFERENCE][1], plain["eq 35 (exact)"][1])
-    ft, w = layers[plots.COUPLED_LIMIT]
+    np.testing.assert_array_equal(layers[regime_map.EQ35_REFERENCE][0], plain["eq 35 (exact)"][0])
+    np.testing.assert_array_equal(layers[regime_map.EQ35_REFERENCE][1], plain["eq 35 (exact)"][1])
+    ft, w = layers[regime_map.COUPLED_LIMIT]
     np.testing.assert_allclose(ft, curve.ft_limit, rtol=1e-12)
     np.testing.assert_allclose(w, [0.3, 0.5])
     brackets = next(d for k, d in layers.items() if k.startswith("#") and len(d) == 2 and len(d[0]) == 6)  # NaN apart
@@ -162,8 +162,8 @@ def test_the_map_draws_the_coupled_limit_beside_eq_35_as_the_uncoupled_reference
                                                            for p in (q.ft_shakedown, q.ft_ratcheting)])
     assert np.isnan(brackets[0][2]) and np.isnan(brackets[1][5])
     partial = _map(CoupledLimitCurve(0.25, 0.3, 0.05, 0.02, 20, ()))  # computing: eq 35 already the reference
-    assert len(partial["eq 35 (exact)"][0]) == 0 and len(partial[plots.EQ35_REFERENCE][0]) > 100
-    assert len(partial[plots.COUPLED_LIMIT][0]) == 0
+    assert len(partial["eq 35 (exact)"][0]) == 0 and len(partial[regime_map.EQ35_REFERENCE][0]) > 100
+    assert len(partial[regime_map.COUPLED_LIMIT][0]) == 0
 
 
 def _closed_form_layers(curve) -> dict:
@@ -196,7 +196,7 @@ def test_a_coupled_contacts_map_draws_no_uncoupled_closed_form_but_eq_35_as_its_
     for curve in (_curve(), CoupledLimitCurve(0.25, 0.3, 0.05, 0.02, 20, ())):
         coupled = _closed_form_layers(curve)
         assert not any(_drawn(d) for d in coupled.values()), {k: _drawn(d) for k, d in coupled.items()}
-        assert len(_map(curve)[plots.EQ35_REFERENCE][0]) > 100
+        assert len(_map(curve)[regime_map.EQ35_REFERENCE][0]) > 100
     caption = plots.FIGURES["map"]["caption"]
     assert "c_sd" in caption.split("Dissimilar materials")[1], caption
 

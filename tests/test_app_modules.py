@@ -92,3 +92,13 @@ def test_no_app_module_runs_the_solver_itself():
             continue
         text = (APP / f"{name}.py").read_text(encoding="utf-8")
         assert not any(f"core.{s}(" in text for s in _SOLVERS), name
+
+
+def test_the_map_names_plots_exported_are_the_regime_maps():
+    """The map's layers moved from app.plots to app.regime_map: the public names plots exported are the same
+    objects, and the map is one entry of plots.FIGURES like every figure."""
+    from app import plots, regime_map
+
+    for name in ("map_base", "map_numerical", "map_point", "grid_boundary"):
+        assert name in plots.__all__ and getattr(plots, name) is getattr(regime_map, name), name
+    assert plots.FIGURES["map"]["layers"] is regime_map.layers and plots.FIGURES["map"]["specs"] is regime_map.specs

@@ -12,7 +12,7 @@ import pytest
 from bokeh.model import Model
 
 import core
-from app import plots, point_view
+from app import plots, point_view, regime_map
 from app.compare import MAX_PINS
 from app.figures import key_figures
 from app.explorer import Explorer
@@ -390,7 +390,7 @@ def test_the_template_builds():
 def test_the_shipped_map_shows_and_a_new_one_can_be_computed():
     ex = Explorer(ExplorerState(periods=4, kernel="plane"))
     assert len(ex.map_table) == 1600 and "shipped" in ex.map_label
-    fts, ws = plots.grid_boundary(ex.map_table)
+    fts, ws = regime_map.grid_boundary(ex.map_table)
     assert np.abs(ws - core.w_limit(fts)).max() < 0.05  # the shipped numerical limit lies near eq 35
     ex.map_scheduler = "serial"
     ex.map_points.value = 3
@@ -664,7 +664,7 @@ def test_fig14_and_the_map_show_both_bodies_exact_limits():
     assert np.all(np.array(line["w_sphere"])[inner] < np.array(line["w_eq35"])[inner])
     labels = [e.label for e in apf.figure("fig14", apf.shipped_data())]
     assert any(lab.startswith("sphere, ellipsoid") for lab in labels) and "exact limit eq 35" in labels
-    curves = {e.label: e for e in plots.map_base() if isinstance(e, hv.Curve)}
+    curves = {e.label: e for e in regime_map.map_base() if isinstance(e, hv.Curve)}
     np.testing.assert_allclose(curves["sphere, ellipsoid (exact)"].dimension_values(1),
                                core.w_limit(curves["sphere, ellipsoid (exact)"].dimension_values(0), body="sphere"))
 
@@ -672,7 +672,7 @@ def test_fig14_and_the_map_show_both_bodies_exact_limits():
 def test_the_map_draws_only_the_current_bodys_sweep(sphere_explorer):
     ex = sphere_explorer
     u = plots.make_units("normalised", None, "plane")
-    n_runs = sum(len(layer.data[0]) for layer in plots.map_numerical(ex.map_table)[:3])
+    n_runs = sum(len(layer.data[0]) for layer in regime_map.map_numerical(ex.map_table)[:3])
     assert n_runs == len(ex.map_table) > 0  # the shipped (cylinder) map
     sphere = plots.layers("map", plots.Inputs(0.6, 0.3, u, ex.result, None, ex.map_table))
     assert all(len(layer.data[0]) == 0 for layer in sphere[:3])  # not beside a sphere's run

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import core
-from app import plots
+from app import plots, regime_map
 from app.bodies import BODIES
 from app.explorer import Explorer
 from app.figures import KEY_FIGURES, ORDER, key_figures
@@ -80,16 +80,16 @@ def _drawn(lines) -> dict:
 
 
 def test_the_map_draws_the_lines_of_each_history():
-    rocking = _drawn(plots.map_lines(("rocking", 0.0, 0.0, "triangle")))
+    rocking = _drawn(regime_map.map_lines(("rocking", 0.0, 0.0, "triangle")))
     assert rocking == {"gross": False, "contours": True, "eq35": True, "sphere": True, "eq36": True,
                        "melan": False, "levels": True, "regions": ["ratcheting", "shakedown"]}
-    tangential = plots.map_lines(("tangential", 0.4, 0.0, "triangle"))
+    tangential = regime_map.map_lines(("tangential", 0.4, 0.0, "triangle"))
     assert _drawn(tangential) == {"gross": True, "contours": False, "eq35": False, "sphere": False,
                                   "eq36": False, "melan": False, "levels": False,
                                   "regions": ["cyclic slip", "gross sliding"]}
     ft, A = tangential[0]
     np.testing.assert_allclose(ft + A, 1.0)  # |Q| = mu P
-    normal = plots.map_lines(("normal", 0.3, math.pi / 2, "triangle"), core.Cylinder())
+    normal = regime_map.map_lines(("normal", 0.3, math.pi / 2, "triangle"), core.Cylinder())
     assert _drawn(normal) == {"gross": True, "contours": False, "eq35": False, "sphere": False, "eq36": False,
                               "melan": True, "levels": False, "regions": ["ratcheting", "shakedown"]}
     np.testing.assert_allclose(normal[0][0], 0.7)  # gross sliding at the lowest force: ft = 1 - A
@@ -98,7 +98,7 @@ def test_the_map_draws_the_lines_of_each_history():
                                                                        dx=1 / 500, samples=200))
     assert np.all(ft_lim <= 0.7 + 1e-4)
     # without a line body (a point contact's run) no Melan curve: not another body's under "this body"
-    assert _drawn(plots.map_lines(("normal", 0.3, math.pi / 2, "triangle")))["melan"] is False
+    assert _drawn(regime_map.map_lines(("normal", 0.3, math.pi / 2, "triangle")))["melan"] is False
 
 
 def test_the_map_reads_the_history_of_the_run():
@@ -107,12 +107,12 @@ def test_the_map_reads_the_history_of_the_run():
                          (dict(history="normal", amplitude=0.2, phase=0.5), "normal"),
                          (dict(history="normal", amplitude=0.0), "rocking")):
         r = core.simulate_cycles(0.3, 0.3, periods=1, dx=0.05, **kwargs)
-        assert plots.map_history(r)[0] == name, kwargs
+        assert regime_map.map_history(r)[0] == name, kwargs
         data = plots.layers("map", plots.Inputs(0.3, 0.3, u, r))
         assert len(data) == len(plots.specs("map", u))
         eq35 = data[[getattr(s, "label", None) for s in plots.specs("map", u)].index("eq 35 (exact)")]
         assert (len(eq35[0]) > 0) == (name == "rocking"), kwargs
-    assert plots.map_history(None)[0] == "rocking"
+    assert regime_map.map_history(None)[0] == "rocking"
 
 
 def test_the_map_draws_a_sweep_only_beside_a_run_of_its_loading():

@@ -220,7 +220,7 @@ def test_the_explorer_map_of_the_tangential_loading():
     drawn where it was run, no run beyond |ft| + A = 1 (gross sliding, an error row), and that line drawn."""
     import holoviews as hv
 
-    from app import plots
+    from app import plots, regime_map
     from app.explorer import Explorer
     from app.state import ExplorerState
 
@@ -244,7 +244,7 @@ def test_the_explorer_map_of_the_tangential_loading():
     layers = plots.layers("map", inputs)
     specs = plots.specs("map", inputs.units)
     labels = [getattr(s, "label", None) for s in specs]
-    for regime in plots._MAP_REGIMES:
+    for regime in regime_map._MAP_REGIMES:
         x, y = layers[labels.index(f"{regime}, solver")].data
         rows = table[table["regime"] == regime]
         np.testing.assert_allclose(np.sort(x), np.sort(rows["ft"]), err_msg=regime)
