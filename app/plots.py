@@ -59,17 +59,83 @@ HEIGHT = 480
 KEY_HEIGHT = 330
 
 
+#: The major ticks of a log axis, in the browser (a ``CustomJSTicker``'s code; ``fewest``, ``most``: how many
+#: labels): powers of ten where they give at least ``fewest`` (every few decades beyond ``most``), else the first
+#: of the mantissas 1-3, 1-2-5, 1-2-3-5-7, 1 to 9 in every decade that gives ``fewest`` (or the densest within
+#: ``most``), else, on a range narrower than that, a linear step of 1, 2 or 5. Bokeh's own LogTicker ticks a log
+#: axis of less than two decades linearly: three ticks labelled only its top, 0.05 and 0.1 over 0.002 to 0.1.
+LOG_TICKS_JS = """
+const lo = Math.min(cb_data.start, cb_data.end), hi = Math.max(cb_data.start, cb_data.end);
+if (!(lo > 0) || !isFinite(hi) || !(hi > lo)) return [];
+const e0 = Math.floor(Math.log10(lo)), e1 = Math.ceil(Math.log10(hi));
+const inside = (mantissas) => {
+  const out = [];
+  for (let e = e0; e <= e1; e++)
+    for (const k of mantissas) {
+      const v = Number((k * Math.pow(10, e)).toPrecision(12));
+      if (v >= lo && v <= hi) out.push(v);
+    }
+  return out;
+};
+let ticks = inside([1]);
+if (ticks.length > most) {
+  const step = Math.ceil(ticks.length / most);
+  ticks = ticks.filter((v) => Math.round(Math.log10(v)) % step === 0);
+}
+for (const mantissas of [[1, 3], [1, 2, 5], [1, 2, 3, 5, 7], [1, 2, 3, 4, 5, 6, 7, 8, 9]]) {
+  if (ticks.length >= fewest) break;
+  const denser = inside(mantissas);
+  if (denser.length > most && ticks.length >= 2) break;
+  ticks = denser;
+}
+if (ticks.length < 2) {
+  const raw = (hi - lo) / fewest, p = Math.pow(10, Math.floor(Math.log10(raw)));
+  const step = [1, 2, 5, 10].map((k) => k * p).find((s) => s >= raw);
+  ticks = [];
+  for (let v = Math.ceil(lo / step) * step; v <= hi * (1 + 1e-12); v += step) ticks.push(Number(v.toPrecision(12)));
+}
+return ticks;
+"""
+#: The minor ticks of a log axis: 1 to 9 times each power of ten over up to six decades, the powers beyond.
+LOG_MINOR_TICKS_JS = """
+const lo = Math.min(cb_data.start, cb_data.end), hi = Math.max(cb_data.start, cb_data.end);
+if (!(lo > 0) || !isFinite(hi) || !(hi > lo)) return [];
+const e0 = Math.floor(Math.log10(lo)), e1 = Math.ceil(Math.log10(hi));
+const mantissas = e1 - e0 <= 6 ? [1, 2, 3, 4, 5, 6, 7, 8, 9] : [1];
+const out = [];
+for (let e = e0; e <= e1; e++)
+  for (const k of mantissas) { const v = k * Math.pow(10, e); if (v >= lo && v <= hi) out.push(v); }
+return out;
+"""
+#: A log axis's tick label: the shortest decimal (6 significant digits at most) between 1e-3 and 1e4, else 3e-5.
+LOG_LABEL_JS = """
+const v = Number(tick.toPrecision(6));
+return v !== 0 && (Math.abs(v) < 1e-3 || Math.abs(v) >= 1e4) ? v.toExponential() : String(v);
+"""
+
+
+def log_ticker(fewest: int = 3, most: int = 6):
+    """The ticker of a log axis (:data:`LOG_TICKS_JS`): at least ``fewest`` labelled ticks whatever the span, at
+    most ``most``; a new Bokeh model (made in a render hook, never at import)."""
+    from bokeh.models import CustomJSTicker
+
+    return CustomJSTicker(major_code=LOG_TICKS_JS, minor_code=LOG_MINOR_TICKS_JS,
+                          args={"fewest": int(fewest), "most": int(most)})
+
+
 def readable_ticks(plot, element) -> None:
     """A render hook: few tick labels on a narrow figure's axes, so that they never run into each other (a first
-    screen's figure is 240 to 420 px wide: the default six ticks gave "-1.5-1-0.5" on a wide x range, and a log
-    axis spanning less than two decades, where Bokeh ticks linearly, piled 0.04 to 0.09 at its top)."""
-    from bokeh.models import LogTicker
+    screen's figure is 240 to 420 px wide: the default six ticks gave "-1.5-1-0.5" on a wide x range), and a log
+    axis labelled whatever its span (:func:`log_ticker`: Bokeh's LogTicker, linear below two decades, labelled
+    only 0.05 and 0.1 of an axis from 0.002 to 0.1, and its LogTickFormatter can name 0.2 "10^-1")."""
+    from bokeh.models import CustomJSTickFormatter, LogTicker
 
     fig = plot.state
     for axis in (*fig.xaxis, *fig.yaxis):
         ticker = getattr(axis, "ticker", None)
         if isinstance(ticker, LogTicker):
-            ticker.desired_num_ticks = 3
+            axis.ticker = log_ticker()
+            axis.formatter = CustomJSTickFormatter(code=LOG_LABEL_JS)
         elif ticker is not None and hasattr(ticker, "desired_num_ticks"):
             ticker.desired_num_ticks = 4
 
