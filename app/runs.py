@@ -168,9 +168,13 @@ _WARM_RUNS = (*(functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=
                                   L_over_a=10.0 if kernel == "strip" else None) for kernel in ("strip", "plane")),
               # the point contacts' compiled 3D loop (about a minute to compile cold): warmed before the server
               # says it is ready, so the first sphere visitor does not freeze the server while numba compiles
-              functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, body="sphere"))
-#: Which grid's solver each warm-up run makes ready (a session's solve waits for its own: :func:`on_warm`).
-_WARM_GROUPS = ("line", "line", "point")
+              functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, body="sphere"),
+              # the coupled line solver (dissimilar materials, Dundurs beta != 0: its own kernels, about half a
+              # minute to compile cold), last: the first page's line solver and the sphere's are ready as before
+              functools.partial(core.simulate_cycles, 0.1, 0.2, periods=1, dx=0.25, beta=0.1, mu=0.3))
+#: Which solver each warm-up run makes ready (a session's solve waits for its own: :func:`on_warm`): ``"line"``
+#: the uncoupled line contacts', ``"point"`` the point contacts', ``"coupled"`` a coupled line contact's.
+_WARM_GROUPS = ("line", "line", "point", "coupled")
 
 
 class _Local:
@@ -532,8 +536,8 @@ _WARM_COUNTS: dict = {}  # group -> warm-up runs of it done
 
 
 def warmed(group: str) -> bool:
-    """Whether the solver of ``group`` (``"line"`` or ``"point"``) is compiled (or loaded) by the warm-up; True
-    where no warm-up was started (a notebook, a test: nothing to wait for)."""
+    """Whether the solver of ``group`` (``"line"``, ``"point"`` or ``"coupled"``) is compiled (or loaded) by the
+    warm-up; True where no warm-up was started (a notebook, a test: nothing to wait for)."""
     return not _STARTED or _event(group).is_set()
 
 

@@ -20,7 +20,7 @@ import core
 from core.api.convergence import increment_error
 
 from . import bodies, runs
-from .cards import SPINNER_DELAY_MS
+from .cards import SPINNER_DELAY_MS, coupled_beta
 from .runs import RESULTS, run_key, solve, submit
 
 __all__ = ["SolveMixin", "SPINNER_DELAY_MS"]
@@ -224,8 +224,11 @@ class SolveMixin:
                               f"<div class='solve-status-line' style='padding: 6px 4px'>{compiling}</div>")
 
     def _solver_group(self) -> str:
-        """Which of the server's warm-up groups (:func:`app.runs.on_warm`) solves the current inputs."""
-        return "point" if self.state.point else "line"
+        """Which of the server's warm-up groups (:func:`app.runs.on_warm`) solves the current inputs: a point
+        contact's, a coupled line contact's (Dundurs β ≠ 0) or an uncoupled line contact's solver."""
+        if self.state.point:
+            return "point"
+        return "coupled" if coupled_beta(self.contact) is not None else "line"
 
     def _compiling_line(self) -> str | None:
         """``compiling the solver (first start only), N s`` while the server's warm-up still compiles the solver

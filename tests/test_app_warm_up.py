@@ -36,3 +36,32 @@ def test_sessions_wait_for_their_own_grids_solver():
     p = subprocess.run([sys.executable, "-c", _SCRIPT], capture_output=True, text=True, timeout=300, cwd=ROOT,
                        env={**os.environ, "PYTHONPATH": ROOT})
     assert p.returncode == 0 and p.stdout.strip().endswith("ok"), p.stderr[-3000:]
+
+
+def test_the_warm_up_compiles_the_coupled_solver_after_the_first_pages():
+    """A coupled contact's solver (Dundurs beta != 0, kernels of its own) is warmed at start, in a group of its own
+    and after the first page's line solver, whose readiness it does not delay."""
+    from app import runs
+
+    assert len(runs._WARM_RUNS) == len(runs._WARM_GROUPS)
+    assert runs._WARM_GROUPS[:2] == ("line", "line")  # the first page's strip kernel, then the plane one: as before
+    assert runs._WARM_GROUPS.count("coupled") == 1 and runs._WARM_GROUPS[-1] == "coupled"
+    r = runs._WARM_RUNS[runs._WARM_GROUPS.index("coupled")]()
+    assert r.coupled and r.beta != 0.0 and r.regime != "error"
+
+
+def test_a_coupled_session_waits_for_the_coupled_solver(monkeypatch):
+    from app import runs
+    from app.explorer import Explorer
+    from app.runs import LimitCurves
+    from app.state import ExplorerState
+
+    # the coupled limit curve the explorer starts for a coupled contact: on a tiny grid (a second's work)
+    monkeypatch.setattr(runs, "LIMIT_CURVES", LimitCurves(grid=dict(w=(0.3,), dx=1 / 10, tol=0.2, periods=10)))
+    s = ExplorerState()
+    e = Explorer(s)
+    assert e._solver_group() == "line"
+    s.param.update(materials="steel/aluminium", mu=0.3)
+    assert e.contact.coupled and e._solver_group() == "coupled"
+    s.materials = "rigid/incompressible"  # beta = 0: the uncoupled line solver
+    assert e._solver_group() == "line"
