@@ -155,3 +155,91 @@ def test_the_compiled_march_is_the_python_alternation(monkeypatch):
     assert_allclose(compiled.displacement, general.displacement, rtol=0, atol=1e-8)
     assert_allclose(compiled.traction, general.traction, rtol=0, atol=1e-8)
     assert_allclose(np.asarray(compiled.pressure), np.asarray(general.pressure), rtol=0, atol=1e-8)
+
+
+def _hertz_problem(n=120, dx=1 / 40):
+    """A tangential step on a Hertz bound: ``K`` (Toeplitz), the bound, previous tractions and a target."""
+    from core.elastic.kernels import influence_matrix
+
+    K = np.ascontiguousarray(influence_matrix(n, dx))
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    g = np.sqrt(np.clip(1 - x ** 2, 0, None))
+    return K, g, dx
+
+
+def test_the_settled_passes_stick_solve_is_solve_step_on_the_same_set():
+    """core.solvers._pdas.fixed_set_stick (the coupled alternation's passes once its sets have settled) gives
+    solve_step's tractions and rigid increment when the set is right, to round-off, and declines a state
+    without the Toeplitz inverses."""
+    import copy
+
+    from core.solvers import _pdas
+
+    K, g, dx = _hertz_problem()
+    n = g.size
+    st = _pdas.with_capacity(_pdas.new_state(n, K[:, 0]), n)
+    target = 0.3 * g.sum()
+    lam0, ok = _pdas.solve_step(K, g, target, dx, 1e-12, 200, st)
+    assert ok and (st.kind == _pdas.UPPER).any() and (st.kind == _pdas.FREE).any()  # partial slip
+    st.q_prev[:] = st.q
+    # the next step: a slightly larger load on a slightly moved bound, from the converged set
+    g1 = np.roll(g, 1) * (1 + 1e-3)
+    checked = copy.deepcopy(st)
+    lam, ok = _pdas.solve_step(K, g1, 1.001 * target, dx, 1e-12, 200, checked)
+    assert ok and checked.counters[_pdas.ITERATIONS] >= 1
+    settled = copy.deepcopy(st)
+    settled.kind[:] = checked.kind  # the set solve_step found
+    lam_s, ok_s = _pdas.fixed_set_stick(g1, 1.001 * target, settled)
+    assert ok_s
+    assert_allclose(lam_s, lam, rtol=0, atol=1e-12)
+    assert_allclose(settled.q, checked.q, rtol=0, atol=1e-12)
+    # no Toeplitz inverses (a K that is not Toeplitz): the full solve's work
+    plain = _pdas.new_state(n)
+    plain.kind[:] = checked.kind
+    plain.q_prev[:] = st.q_prev
+    assert _pdas.fixed_set_stick(g1, 1.001 * target, plain) == (0.0, False)
+
+
+def test_the_interval_inverses_are_k_inverted_and_kept_a_few_widths_at_a_time():
+    from core.solvers import _coupled
+
+    K, _, _ = _hertz_problem(n=60)
+    C, ok = _coupled.cholesky(K)
+    CT = np.ascontiguousarray(C.T)
+    inv = _coupled.new_inverses(K)
+    slots = {}
+    for L in (20, 21, 19, 20, 22):
+        slot = _coupled.inverse(inv, C, CT, L)
+        A = inv.A[slot, :L, :L]
+        assert_allclose(A @ K[:L, :L], np.eye(L), rtol=0, atol=1e-10)
+        assert_allclose(inv.ones[slot, :L], A.sum(axis=1), rtol=1e-13)
+        slots.setdefault(L, slot)
+        assert slot == slots[L]  # a width met again is found, not recomputed elsewhere
+    # a fifth width replaces the least recently used (21): the other widths stay
+    slot = _coupled.inverse(inv, C, CT, 30)
+    assert slot == slots[21] and sorted(inv.length.tolist()) == [19, 20, 22, 30]
+
+
+def test_a_coupled_run_keeps_its_sets_on_most_passes():
+    """The alternation makes the full tangential solve (with its checks) on the first pass and on the last, and
+    keeps the settled sets in between: counted per step, the same regime and residuals within the tolerance."""
+    import core.solvers.coupled as cc
+
+    seen = []
+    march = cc.CoupledSolver.march
+
+    def counting(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out):
+        done = march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out)
+        seen.append((out.alternations[k0:done[0]].copy(), out.full_solves[k0:done[0]].copy()))
+        return done
+
+    cc.CoupledSolver.march = counting
+    try:
+        r = core.simulate_cycles(float(core.ft_limit(0.6)), 0.6, periods=3, beta=0.25, mu=0.3)
+    finally:
+        cc.CoupledSolver.march = march
+    passes = np.concatenate([a for a, _ in seen])
+    full = np.concatenate([f for _, f in seen])
+    assert passes.size and (full >= 1).all() and (full <= passes).all()
+    assert full.sum() < 0.5 * passes.sum()
+    assert max(r.residuals.values()) <= 1e3 * 1e-10

@@ -717,6 +717,62 @@ def _classical_stick(K, st, m, D, lo, hi):
 # one step
 # --------------------------------------------------------------------------
 @jit
+def _prescribed(kind, g, q_prev, dq):
+    """The increments ``dq`` prescribed by the active set (a released element sheds its traction, one at a bound
+    goes to it; a free element's is left 0). Returns ``(sum q_prev, sum of the prescribed increments, lo, hi)``,
+    ``dq`` being zero outside ``[lo, hi)``."""
+    n = g.size
+    sum_prev = 0.0
+    sum_fixed = 0.0
+    lo, hi = n, 0
+    for i in range(n):
+        sum_prev += q_prev[i]
+        if kind[i] == OUT:
+            d = -q_prev[i]
+        elif kind[i] == UPPER:
+            d = g[i] - q_prev[i]
+        elif kind[i] == LOWER:
+            d = -g[i] - q_prev[i]
+        else:
+            d = 0.0
+        dq[i] = d
+        sum_fixed += d
+        if d != 0.0:
+            lo = min(lo, i)
+            hi = max(hi, i + 1)
+    return sum_prev, sum_fixed, lo, hi
+
+
+@jit
+def fixed_set_stick(g, target, st):
+    """The tangential increment with the active set as it stands, no check of it: ``st.q`` and ``st.dq`` from the
+    stick solve of :func:`solve_step`'s Toeplitz path (the last solve's set, bounds ``g``, previous tractions
+    ``st.q_prev``). For the passes of the coupled alternation (:func:`core.solvers._coupled.alternate`) once its
+    sets have settled: the bounds and the previous tractions then change by little and the set not at all, and a
+    full :func:`solve_step` after them checks the set and evaluates the residuals. Returns ``(lam, ok)``, ``ok``
+    False where that path does not apply (no Toeplitz ``K``, too many elements off the free set, an empty free
+    set, a lost definiteness): the caller then solves with :func:`solve_step`."""
+    kind, q_prev, q, dq = st.kind, st.q_prev, st.q, st.dq
+    n = g.size
+    s0, L = contact_span(g)
+    if not (st.kfull.size > 0 and 0 < L <= st.hidx.size):
+        return 0.0, False
+    h = 0
+    for i in range(s0, s0 + L):
+        if kind[i] != FREE:
+            h += 1
+    if h >= L or h > hmax(L):
+        return 0.0, False
+    sum_prev, sum_fixed, lo, hi = _prescribed(kind, g, q_prev, dq)
+    lam, lo, hi, ok = _toeplitz_stick(st, _slot_get(st, L), s0, L, target - sum_prev - sum_fixed, lo, hi)
+    if not ok:
+        return 0.0, False
+    for i in range(n):
+        q[i] = q_prev[i] + dq[i]
+    return lam, True
+
+
+@jit
 def solve_step(K, g, target, dx, tol, maxiter, st):
     """Solve one increment of the tangential contact problem from ``st.q_prev``.
 
@@ -756,24 +812,7 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
     while it < maxiter:
         it += 1
         # ---- prescribed increments of the elements at a bound or released
-        sum_prev = 0.0
-        sum_fixed = 0.0
-        lo, hi = n, 0  # dq is zero outside [lo, hi)
-        for i in range(n):
-            sum_prev += q_prev[i]
-            if kind[i] == OUT:
-                d = -q_prev[i]
-            elif kind[i] == UPPER:
-                d = g[i] - q_prev[i]
-            elif kind[i] == LOWER:
-                d = -g[i] - q_prev[i]
-            else:
-                d = 0.0
-            dq[i] = d
-            sum_fixed += d
-            if d != 0.0:
-                lo = min(lo, i)
-                hi = max(hi, i + 1)
+        sum_prev, sum_fixed, lo, hi = _prescribed(kind, g, q_prev, dq)
         # ---- the free set must not be empty: free the element farthest from its bound
         nfree = 0
         for i in range(n):

@@ -69,6 +69,8 @@ class CoupledTrajectory(Trajectory):
         super().__init__(steps, n)
         self.worst = np.zeros(len(RESIDUALS) + len(COUPLED_RESIDUALS))
         self.alternations = np.zeros(steps, dtype=np.int64)
+        #: of which full tangential solves (the others keep the settled active set: :func:`core.solvers._pdas.fixed_set_stick`)
+        self.full_solves = np.zeros(steps, dtype=np.int64)
 
     def residuals(self) -> dict:
         return dict(zip(RESIDUALS + COUPLED_RESIDUALS, map(float, self.worst)))
@@ -144,9 +146,8 @@ class CoupledSolver:
         if not ok:
             raise ValueError("the operator's matrix is not positive definite: no coupled solve on it")
         self.C, self.CT = C, np.ascontiguousarray(C.T)
-        self._work = np.zeros((10, self.n))
-        self._ones_inv = np.zeros((self.n + 1, self.n))  # K_L^-1 1 of each interval width L met
-        self._known = np.zeros(self.n + 1, dtype=np.bool_)
+        self._work = np.zeros((_coupled.WORK_ROWS, self.n))
+        self._inv = _coupled.new_inverses(self.K)  # K^-1 on the contact's intervals, a few widths at a time
         self._dq_last = np.zeros(self.n)  # the last step's traction increment: the next step's first guess
         self._q_start = np.zeros(self.n)
         self._info = np.zeros(2)
@@ -346,7 +347,7 @@ class CoupledSolver:
         out.iterations[k] = st.counters[_pdas.ITERATIONS]
         out.kkt_residual[k] = worst_step
         np.maximum(out.worst, res, out=out.worst)
-        out.alternations[k] = alternations
+        out.alternations[k] = out.full_solves[k] = alternations
         self._dq_last = q - st.q_prev
         st.q_prev[:] = q
         self.p_prev = p
@@ -374,9 +375,10 @@ class CoupledSolver:
             reached, periodic_from, failed, status = _coupled.march(
                 self.K, self.C, self.CT, gaps, self.xc, loads, targets, period, k0, k, k1, bool(detect_periodic),
                 self.dx, self.normal_factor, self.tangential_factor, self.beta != 0.0, self.tol, self.maxiter,
-                self.max_alternations, st, self.p_prev, self._dq_last, self._work, self._ones_inv, self._known,
+                self.max_alternations, st, self.p_prev, self._dq_last, self._work, self._inv,
                 self._q_start, bounds, out.traction, out.state, out.displacement, out.dissipation, out.iterations,
-                out.kkt_residual, out.worst, out.alternations, self.residual_values, self._info)
+                out.kkt_residual, out.worst, out.alternations, out.full_solves, self.residual_values,
+                self._info)
             if failed >= 0:
                 alternations, change = int(self._info[0]), float(self._info[1])
                 self.failure = self._unsettled(alternations, change)
