@@ -160,6 +160,15 @@ class FormerNames:
     def exec_module(self, module):
         """Nothing to run: the module ran under its new name."""
 
+    def get_code(self, fullname):
+        """For ``python -m core.X``: code that runs the new module as ``__main__`` (:mod:`runpy`), with the warning."""
+        new = self._new_name(fullname)
+        warnings.warn(f"{fullname} is now {new} (core's layer packages, issue 28): run python -m {new}",
+                      DeprecationWarning, stacklevel=2)
+        # run the module under its own name (its relative imports need its package), as ``python -m new`` would
+        return compile(f"import runpy\nrunpy.run_module({new!r}, run_name='__main__', alter_sys=True)\n",
+                       f"<{fullname}: {new}>", "exec")
+
 
 if not any(type(finder).__name__ == "FormerNames" and type(finder).__module__ == __name__
            for finder in sys.meta_path):

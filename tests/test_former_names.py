@@ -74,3 +74,16 @@ def test_the_new_names_do_not_warn_and_unknown_names_still_fail():
     done = _run(code)
     assert done.returncode == 0, done.stderr[-3000:]
     assert done.stdout.strip() == "ok"
+
+
+def test_python_dash_m_with_a_former_name_runs_the_module():
+    """``python -m core.cli`` (the command line's former module) runs ``core.command.cli`` as ``__main__``, with
+    the warning naming the new module (it failed in runpy's get_code before)."""
+    import os
+
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p))
+    done = subprocess.run([sys.executable, "-W", "always::DeprecationWarning", "-m", "core.cli", "--version"],
+                          capture_output=True, text=True, env=env, cwd=ROOT, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("shakedown ")
+    assert "core.cli is now core.command.cli" in done.stderr and "python -m core.command.cli" in done.stderr
