@@ -81,6 +81,44 @@ def pytest_configure(config):
         f"{time.monotonic() - t0:.0f} s")
 
 
+# ---- the order of the run: the longest first, the tests of the shared served app together ----
+#: Test modules run before the others, in this order (the rest keep pytest's order). pytest-xdist's worksteal hands
+#: the first half of the collection to one worker and the second half to the other, and an idle worker takes the
+#: later half of the other's queue: with the longest tests at the front they start at once and the run ends on short
+#: ones (the two workers end together), and every module of the served app of :func:`app_url` (a session fixture:
+#: one server per worker, 30-40 s of warm-up) runs on the worker that has it (test_paper_figures and
+#: test_regimes_browser, in the second half, made the other worker start a second one). Wall times of the last
+#: fresh-clone CI run (main c5094f7, -n 2), to be updated from its --durations list.
+RUN_FIRST = (
+    "test_docs.py",  # the Sphinx build with the executed gallery and notebook: 102 s
+    "test_app_cold_start.py",  # a real cold numba compile of the served app: 87 s
+    "test_loadtest.py",  # a server of its own: 43 s
+    "test_verdict_limits.py",  # the sphere's limit search at a/20: 65 s
+    "test_verdict_rule.py",  # the slow cone's verdicts
+    "test_cli.py",  # a cone run at the default grid: 60 s
+    # the served app of app_url, once per worker: the first of these pays its warm-up
+    "test_app_teacher_numbers_browser.py",  # closing tabs mid-update: 54 s
+    "test_paper_figures.py",  # the Paper-tab in Chromium: 45 s
+    "test_app_layout.py",  # a session after an expired one: 72 s
+    "test_app_bodies_browser.py", "test_app_browser.py", "test_app_coupling.py", "test_app_first_screen.py",
+    "test_app_point_browser.py", "test_app_review_browser.py", "test_app_teacher_layout_browser.py",
+    "test_fretting_layout_browser.py", "test_regimes_browser.py",
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    """Run :data:`RUN_FIRST`'s modules first, in its order; every other test keeps its place after them (a stable
+    sort: a module's tests stay together and in order, so its module fixtures are made once)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    rank = {name: i for i, name in enumerate(RUN_FIRST)}
+
+    def place(item):
+        path = str(item.path)
+        return rank.get(os.path.basename(path), len(rank)) if os.path.dirname(path) == here else len(rank)
+
+    items.sort(key=place)
+
+
 def _check_invariants(result, tol=1e-9):
     """Coulomb's law, load balance, contact and dissipation at every step of a CycleResult."""
     q = result.traction
