@@ -119,6 +119,35 @@ def pytest_collection_modifyitems(config, items):
     items.sort(key=place)
 
 
+# ---- where the suite's time goes: SHAKEDOWN_TEST_TIMES=FILE appends a JSON line per test ----
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With ``SHAKEDOWN_TEST_TIMES=FILE``: each test's wall and CPU seconds (set-up, call and tear-down; CPU is this
+    process's and its waited-for children's, user + sys: a server a fixture stops counts at its tear-down), its
+    xdist worker, its start and end (epoch s) and the 1-minute load, one JSON line a test, appended to FILE (both
+    workers write to it). On a shared machine CPU is the figure to compare; the ends tell whether the workers
+    ended together."""
+    path = os.environ.get("SHAKEDOWN_TEST_TIMES")
+    if not path:
+        yield
+        return
+    import json
+    import resource
+    import time
+
+    def cpu():
+        own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+        return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+    start, t0, c0 = time.time(), time.monotonic(), cpu()
+    yield
+    record = {"test": item.nodeid, "wall": round(time.monotonic() - t0, 2), "cpu": round(cpu() - c0, 2),
+              "worker": os.environ.get("PYTEST_XDIST_WORKER", "main"), "start": round(start, 1),
+              "end": round(time.time(), 1), "load": round(os.getloadavg()[0], 2)}
+    with open(path, "a") as f:  # one short write: the workers' lines do not interleave
+        f.write(json.dumps(record) + "\n")
+
+
 def _check_invariants(result, tol=1e-9):
     """Coulomb's law, load balance, contact and dissipation at every step of a CycleResult."""
     q = result.traction
