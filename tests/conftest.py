@@ -85,10 +85,11 @@ def pytest_configure(config):
 #: Test modules run before the others, in this order (the rest keep pytest's order). pytest-xdist's worksteal hands
 #: the first half of the collection to one worker and the second half to the other, and an idle worker takes the
 #: later half of the other's queue: with the longest tests at the front they start at once and the run ends on short
-#: ones (the two workers end together), and every module of the served app of :func:`app_url` (a session fixture:
-#: one server per worker, 30-40 s of warm-up) runs on the worker that has it (test_paper_figures and
-#: test_regimes_browser, in the second half, made the other worker start a second one). Wall times of the last
-#: fresh-clone CI run (main c5094f7, -n 2), to be updated from its --durations list.
+#: ones, and the modules of the served app of :func:`app_url` (a session fixture: one server per worker that uses it,
+#: 15 s of CPU to warm) run together. They are half the suite's wall time (2243 of 4290 s, -n 2 at load 6.6), so the
+#: other worker takes some of them in the end and warms a server too; the two workers ended 24 s apart
+#: (benchmarks/results/suite_time_s5.txt). Wall times of the last fresh-clone CI run (main c5094f7, -n 2), to be
+#: updated from its --durations list.
 RUN_FIRST = (
     "test_docs.py",  # the Sphinx build with the executed gallery and notebook: 102 s
     "test_app_cold_start.py",  # a real cold numba compile of the served app: 87 s
