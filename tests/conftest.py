@@ -88,19 +88,18 @@ def pytest_configure(config):
 #: ones, and the modules of the served app of :func:`app_url` (a session fixture: one server per worker that uses it,
 #: 15 s of CPU to warm) run together. They are half the suite's wall time (2243 of 4290 s, -n 2 at load 6.6), so the
 #: other worker takes some of them in the end and warms a server too; the two workers ended 24 s apart
-#: (benchmarks/results/suite_time_s5.txt). Wall times of the last fresh-clone CI run (main c5094f7, -n 2), to be
-#: updated from its --durations list.
+#: (benchmarks/results/suite_time_s5.txt). The wall times of each module's longest test: the last fresh-clone CI run
+#: (main c5094f7, -n 2), then the run of suite_time_s5 (-n 2, load 6.6); update them from CI's --durations list.
 RUN_FIRST = (
-    "test_docs.py",  # the Sphinx build with the executed gallery and notebook: 102 s
-    "test_app_cold_start.py",  # a real cold numba compile of the served app: 87 s
-    "test_loadtest.py",  # a server of its own: 43 s
-    "test_verdict_limits.py",  # the sphere's limit search at a/20: 65 s
-    "test_verdict_rule.py",  # the slow cone's verdicts
-    "test_cli.py",  # a cone run at the default grid: 60 s
-    # the served app of app_url, once per worker: the first of these pays its warm-up
-    "test_app_teacher_numbers_browser.py",  # closing tabs mid-update: 54 s
-    "test_paper_figures.py",  # the Paper-tab in Chromium: 45 s
-    "test_app_layout.py",  # a session after an expired one: 72 s
+    "test_docs.py",  # the Sphinx build with the executed gallery and notebook: 102 s; 198 s
+    "test_app_cold_start.py",  # a real cold numba compile of the served app: 87 s; 289 s
+    "test_loadtest.py",  # a server of its own: 43 s; 67 s
+    "test_verdict_limits.py",  # the sphere's limit search at a/20: 56 s
+    "test_verdict_rule.py",  # the slow cone's verdicts: 39 s; 64 s
+    # the served app of app_url: the first of these on a worker pays its warm-up
+    "test_app_teacher_numbers_browser.py",  # closing tabs mid-update: 54 s; 127 s
+    "test_paper_figures.py",  # the Paper-tab in Chromium: 45 s; 46 s
+    "test_app_layout.py",  # a session after an expired one: 85 s
     "test_app_bodies_browser.py", "test_app_browser.py", "test_app_coupling.py", "test_app_first_screen.py",
     "test_app_point_browser.py", "test_app_review_browser.py", "test_app_teacher_layout_browser.py",
     "test_fretting_layout_browser.py", "test_regimes_browser.py",
