@@ -81,6 +81,73 @@ def pytest_configure(config):
         f"{time.monotonic() - t0:.0f} s")
 
 
+# ---- the order of the run: the longest first, the tests of the shared served app together ----
+#: Test modules run before the others, in this order (the rest keep pytest's order). pytest-xdist's worksteal hands
+#: the first half of the collection to one worker and the second half to the other, and an idle worker takes the
+#: later half of the other's queue: with the longest tests at the front they start at once and the run ends on short
+#: ones, and the modules of the served app of :func:`app_url` (a session fixture: one server per worker that uses it,
+#: 15 s of CPU to warm) run together. They are half the suite's wall time (2243 of 4290 s, -n 2 at load 6.6), so the
+#: other worker takes some of them in the end and warms a server too; the two workers ended 24 s apart
+#: (benchmarks/results/suite_time_s5.txt). The wall times of each module's longest test: the last fresh-clone CI run
+#: (main c5094f7, -n 2), then the run of suite_time_s5 (-n 2, load 6.6); update them from CI's --durations list.
+RUN_FIRST = (
+    "test_docs.py",  # the Sphinx build with the executed gallery and notebook: 102 s; 198 s
+    "test_app_cold_start.py",  # a real cold numba compile of the served app: 87 s; 289 s
+    "test_loadtest.py",  # a server of its own: 43 s; 67 s
+    "test_verdict_limits.py",  # the sphere's limit search at a/20: 56 s
+    "test_verdict_rule.py",  # the slow cone's verdicts: 39 s; 64 s
+    # the served app of app_url: the first of these on a worker pays its warm-up
+    "test_app_teacher_numbers_browser.py",  # closing tabs mid-update: 54 s; 127 s
+    "test_paper_figures.py",  # the Paper-tab in Chromium: 45 s; 46 s
+    "test_app_layout.py",  # a session after an expired one: 85 s
+    "test_app_bodies_browser.py", "test_app_browser.py", "test_app_coupling.py", "test_app_first_screen.py",
+    "test_app_point_browser.py", "test_app_review_browser.py", "test_app_teacher_layout_browser.py",
+    "test_fretting_layout_browser.py", "test_regimes_browser.py",
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    """Run :data:`RUN_FIRST`'s modules first, in its order; every other test keeps its place after them (a stable
+    sort: a module's tests stay together and in order, so its module fixtures are made once)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    rank = {name: i for i, name in enumerate(RUN_FIRST)}
+
+    def place(item):
+        path = str(item.path)
+        return rank.get(os.path.basename(path), len(rank)) if os.path.dirname(path) == here else len(rank)
+
+    items.sort(key=place)
+
+
+# ---- where the suite's time goes: SHAKEDOWN_TEST_TIMES=FILE appends a JSON line per test ----
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With ``SHAKEDOWN_TEST_TIMES=FILE``: each test's wall and CPU seconds (set-up, call and tear-down; CPU is this
+    process's and its waited-for children's, user + sys: a server a fixture stops counts at its tear-down), its
+    xdist worker, its start and end (epoch s) and the 1-minute load, one JSON line a test, appended to FILE (both
+    workers write to it). On a shared machine CPU is the figure to compare; the ends tell whether the workers
+    ended together."""
+    path = os.environ.get("SHAKEDOWN_TEST_TIMES")
+    if not path:
+        yield
+        return
+    import json
+    import resource
+    import time
+
+    def cpu():
+        own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+        return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+    start, t0, c0 = time.time(), time.monotonic(), cpu()
+    yield
+    record = {"test": item.nodeid, "wall": round(time.monotonic() - t0, 2), "cpu": round(cpu() - c0, 2),
+              "worker": os.environ.get("PYTEST_XDIST_WORKER", "main"), "start": round(start, 1),
+              "end": round(time.time(), 1), "load": round(os.getloadavg()[0], 2)}
+    with open(path, "a") as f:  # one short write: the workers' lines do not interleave
+        f.write(json.dumps(record) + "\n")
+
+
 def _check_invariants(result, tol=1e-9):
     """Coulomb's law, load balance, contact and dissipation at every step of a CycleResult."""
     q = result.traction
