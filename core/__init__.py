@@ -161,13 +161,22 @@ class FormerNames:
         """Nothing to run: the module ran under its new name."""
 
     def get_code(self, fullname):
-        """For ``python -m core.X``: code that runs the new module as ``__main__`` (:mod:`runpy`), with the warning."""
+        """For ``python -m core.X``: :func:`_run_former_main`'s code, which :mod:`runpy` runs as ``__main__`` and
+        which runs the new module there (the new module's own code would need its package for its relative
+        imports), with the warning."""
         new = self._new_name(fullname)
         warnings.warn(f"{fullname} is now {new} (core's layer packages, issue 28): run python -m {new}",
                       DeprecationWarning, stacklevel=2)
-        # run the module under its own name (its relative imports need its package), as ``python -m new`` would
-        return compile(f"import runpy\nrunpy.run_module({new!r}, run_name='__main__', alter_sys=True)\n",
-                       f"<{fullname}: {new}>", "exec")
+        return _run_former_main.__code__
+
+
+def _run_former_main():
+    """Run as the code of ``python -m core.X`` (a former name): ``python -m core.<layer>.X`` in its place."""
+    import runpy
+
+    import core
+
+    runpy.run_module(core.FormerNames()._new_name(__spec__.name), run_name="__main__", alter_sys=True)
 
 
 if not any(type(finder).__name__ == "FormerNames" and type(finder).__module__ == __name__

@@ -93,6 +93,13 @@ def test_an_upload_is_read_from_memory_and_writes_nothing(tmp_path):
                        "tempfile.mkdtemp"):
             writes.append((event, args))
 
+    # the solver's compiled kernels are loaded from numba's cache on their first use, which checks that the cache
+    # directory is writable (a temporary file): not the upload's doing, and in the suite an earlier test has
+    # usually loaded them; load them here so that the test does not depend on the order
+    # (another file: an upload is read once per content, and the one below must be read while watched)
+    warm = tmp_path / "warm.nc"
+    Topography(-0.3 * (X**2 + Y**2), (n * h, n * h)).to_netcdf(str(warm))
+    bodies.make("heightmap", {"file": bodies.store_upload(warm.read_bytes(), "warm.nc")})
     sys.addaudithook(hook)
     watching[0] = True
     try:
