@@ -139,7 +139,6 @@ class CoupledSolver:
         self.load_factor = float(grid.load_factor)
         self._Z = None  # K^-1 (2 beta/(pi mu)) S, for the general solve only (:attr:`Z`)
         self.p_prev = np.zeros(self.n)
-        self._inverses = {}
         self._interval = None
         # the lower Cholesky factor of K: its leading L x L block factors K on any interval of L elements
         C, ok = _coupled.cholesky(self.K)
@@ -214,13 +213,11 @@ class CoupledSolver:
         return z
 
     def _inverse(self, L):
-        """``(K_L^-1, K_L^-1 1, 1^T K_L^-1 1)`` of the Toeplitz block of ``L`` elements (cached per width)."""
-        entry = self._inverses.get(L)
-        if entry is None:
-            A = np.linalg.inv(self.K[:L, :L])
-            s = A.sum(axis=1)
-            entry = self._inverses[L] = (A, s, float(s.sum()))
-        return entry
+        """``(K_L^-1, K_L^-1 1, 1^T K_L^-1 1)`` of the Toeplitz block of ``L`` elements, from the compiled march's
+        cache of interval inverses (:func:`core.solvers._coupled.inverse`; copies: a slot may be replaced)."""
+        slot = _coupled.inverse(self._inv, self.C, self.CT, L)
+        A, s = self._inv.A[slot, :L, :L].copy(), self._inv.ones[slot, :L].copy()
+        return A, s, float(s.sum())
 
     def _interval_normal(self, h, load, start):
         """The normal problem ``h + K p - delta >= 0``, ``p >= 0``, complementary, ``sum p dx = load``, with the
