@@ -38,19 +38,29 @@ import numpy as np
 from ..base._jit import jit
 from collections import namedtuple
 
-from ._pdas import ITERATIONS, MODE, TOEPLITZ, _toeplitz_inverse, block_repeats, fixed_set_stick, solve_step
+from ._pdas import (FREE, ITERATIONS, LOWER, MODE, OUT, TOEPLITZ, UPPER, _toeplitz_inverse, block_repeats,
+                    fixed_set_stick, solve_step, state_codes)
 
 __all__ = ["alternate", "interval_normal", "cross", "gap_residual", "march", "cholesky", "new_inverses",
-           "Inverses", "STATUS_DONE", "STATUS_TANGENTIAL", "STATUS_GENERAL"]
+           "Inverses", "window_inverse", "direct", "STATUS_DONE", "STATUS_TANGENTIAL", "STATUS_GENERAL",
+           "STATUS_WINDOW"]
 
 #: :func:`alternate`'s status: solved (or the alternation did not settle: see its change), the tangential solve
-#: failed, the normal problem needs the general solve.
-STATUS_DONE, STATUS_TANGENTIAL, STATUS_GENERAL = 0, 1, 2
+#: failed, the normal problem needs the general solve; :func:`march`'s: a step was solved without the direct solve,
+#: whose window (:func:`window_inverse`) is narrower than the contact (the caller widens it and goes on).
+STATUS_DONE, STATUS_TANGENTIAL, STATUS_GENERAL, STATUS_WINDOW = 0, 1, 2, 3
+#: Direct solves of a step (:func:`direct`) at most; then the settled passes.
+DIRECT_TRIES = 4
+#: Rows of the window's system a direct solve replaces at most (the capacitance solve costs ``m^3 / 3``); beyond,
+#: the settled passes.
+DIRECT_ROWS = 48
+#: Elements a new window (:func:`window_inverse`) has beyond the contact that asked for it.
+WINDOW_MARGIN = 6
 #: The alternation's settled passes stop when the next change, predicted from their ratio, is within this part
 #: of the tolerance (:func:`alternate`).
 PREDICTED = 0.3
 #: Rows of the scratch ``work`` the kernels need (``n`` entries each).
-WORK_ROWS = 10
+WORK_ROWS = 13
 
 #: Interval widths whose inverse :class:`Inverses` keeps (a contact breathes by an element or two as it rocks).
 SLOTS = 4
@@ -107,6 +117,344 @@ def inverse(inv, C, CT, L):
     inv.length[dst] = L
     inv.used[dst] = inv.clock[0]
     return dst
+
+
+def window_inverse(K, dx, cn, ct, Lw):
+    """The inverse ``W`` of the coupled system of a window of ``Lw`` elements in full stick (:func:`direct`).
+
+    Unknowns ``x = (p, q, delta, lam)`` (``2 Lw + 2``), rows: the normal ``K p + cn S q - delta = -h``, the
+    tangential ``K q - ct S p - lam = K q_prev - ct S p_prev`` (the stick condition: no slip increment), the load
+    ``sum p`` and the target ``sum q``. ``K`` is symmetric Toeplitz and ``S`` (:func:`cross`) Toeplitz, so the
+    system is the same wherever the window lies on the grid: one inverse serves every step whose contact fits it.
+    """
+    Lw = int(Lw)
+    N = 2 * Lw + 2
+    a = np.arange(Lw)
+    S = dx * np.sign(a[:, None] - a[None, :]).astype(float)
+    KL = np.asarray(K, dtype=float)[:Lw, :Lw]
+    M = np.zeros((N, N))
+    M[:Lw, :Lw], M[:Lw, Lw:2 * Lw], M[:Lw, 2 * Lw] = KL, cn * S, -1.0
+    M[Lw:2 * Lw, :Lw], M[Lw:2 * Lw, Lw:2 * Lw], M[Lw:2 * Lw, 2 * Lw + 1] = -ct * S, KL, -1.0
+    M[2 * Lw, :Lw] = 1.0
+    M[2 * Lw + 1, Lw:2 * Lw] = 1.0
+    if not _invert(M):
+        raise ValueError("the coupled system of a window in full stick is singular: no direct solve on it")
+    return M
+
+
+@jit
+def _invert(A):
+    """Invert ``A`` in place by Gauss-Jordan elimination with partial pivoting, in this thread (LAPACK's threads
+    took 60-90 ms for ``N = 174`` on two shared cores, against about 2 ms here); False if a pivot vanishes."""
+    n = A.shape[0]
+    piv = np.arange(n)
+    for c in range(n):
+        p = c
+        for i in range(c + 1, n):
+            if abs(A[i, c]) > abs(A[p, c]):
+                p = i
+        if A[p, c] == 0.0:
+            return False
+        if p != c:
+            for j in range(n):
+                A[c, j], A[p, j] = A[p, j], A[c, j]
+        piv[c] = p
+        d = 1.0 / A[c, c]
+        A[c, c] = 1.0
+        rc = A[c]
+        for j in range(n):
+            rc[j] *= d
+        for i in range(n):
+            if i != c:
+                f = A[i, c]
+                if f != 0.0:
+                    A[i, c] = 0.0
+                    ri = A[i]
+                    for j in range(n):
+                        ri[j] -= f * rc[j]
+    for c in range(n - 1, -1, -1):
+        p = piv[c]
+        if p != c:
+            for i in range(n):
+                A[i, c], A[i, p] = A[i, p], A[i, c]
+    return True
+
+
+@jit
+def _lu_solve(C, b, m):
+    """Solve ``C[:m, :m] z = b[:m]`` in place (``b`` becomes ``z``) by Gaussian elimination with partial
+    pivoting; False if a pivot vanishes."""
+    scale = 0.0
+    for i in range(m):
+        for j in range(m):
+            scale = max(scale, abs(C[i, j]))
+    if scale == 0.0:
+        return False
+    for c in range(m):
+        piv = c
+        for i in range(c + 1, m):
+            if abs(C[i, c]) > abs(C[piv, c]):
+                piv = i
+        if abs(C[piv, c]) <= 1e-13 * scale:
+            return False
+        if piv != c:
+            for j in range(m):
+                C[c, j], C[piv, j] = C[piv, j], C[c, j]
+            b[c], b[piv] = b[piv], b[c]
+        d = C[c, c]
+        for i in range(c + 1, m):
+            f = C[i, c] / d
+            if f != 0.0:
+                for j in range(c + 1, m):
+                    C[i, j] -= f * C[c, j]
+                b[i] -= f * b[c]
+    for c in range(m - 1, -1, -1):
+        t = b[c]
+        for j in range(c + 1, m):
+            t -= C[c, j] * b[j]
+        b[c] = t / C[c, c]
+    return True
+
+
+@jit
+def direct(W, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out, p_out, scratch):
+    """The coupled step with its sets fixed, solved at once: the fixed point of the alternation's passes.
+
+    The contact is ``[i0, i1)``; on it the tangential set ``kind`` (:mod:`core.solvers._pdas`: FREE sticks, UPPER
+    and LOWER are at the bound ``q = +-p``); ``q_old``, ``p_old`` are the previous step's tractions and pressure.
+    The system is :func:`window_inverse`'s (``W``) with the rows of the elements that do not stick replaced: ``p = 0``
+    and ``q = 0`` off the contact, ``q = +-p`` at a bound. Its solution is ``y - W_U z`` with ``y = W b``, ``W_U``
+    the replaced rows' columns and ``z`` from the small capacitance system ``(R W_U) z = R y`` (``R`` the new rows;
+    Sherman-Morrison-Woodbury): ``O(N^2 + N m + m^3)`` for ``N = 2 Lw + 2`` and ``m`` replaced rows. Writes
+    ``p_out`` and ``q_out``; returns ``(ok, lam, delta)``, ``ok`` False if the contact does not fit the window, more
+    than :data:`DIRECT_ROWS` rows are replaced or the capacitance system is singular. Whether the sets were right
+    is :func:`accept`'s question.
+    """
+    n = gap0.size
+    N = W.shape[0]
+    Lw = (N - 2) // 2
+    L = i1 - i0
+    if Lw < 1 or L > Lw or Lw > n:
+        return False, 0.0, 0.0
+    w0 = min(max(i0 - (Lw - L) // 2, 0), n - Lw)
+    rows = np.empty(2 * Lw, np.int64)
+    other = np.empty(2 * Lw, np.int64)
+    sign = np.empty(2 * Lw)
+    b = np.zeros(N)
+    m = 0
+    for a in range(Lw):
+        g = w0 + a
+        if i0 <= g < i1:
+            b[a] = -gap0[g]
+        else:  # off the contact: p = 0
+            rows[m], other[m], sign[m] = a, -1, 0.0
+            m += 1
+    lo, hi = n, 0
+    for j in range(n):
+        if q_old[j] != 0.0:
+            lo = min(lo, j)
+            hi = j + 1
+    cross(p_old, dx, scratch)
+    for a in range(Lw):
+        g = w0 + a
+        if i0 <= g < i1 and kind[g] == FREE:
+            t = 0.0
+            row = K[g]
+            for j in range(lo, hi):
+                t += row[j] * q_old[j]
+            b[Lw + a] = t - ct * scratch[g]
+        else:  # at a bound (q = +-p) or off the contact (q = 0)
+            rows[m] = Lw + a
+            if i0 <= g < i1 and kind[g] == UPPER:
+                other[m], sign[m] = a, 1.0
+            elif i0 <= g < i1 and kind[g] == LOWER:
+                other[m], sign[m] = a, -1.0
+            else:
+                other[m], sign[m] = -1, 0.0
+            m += 1
+            if m > DIRECT_ROWS:
+                return False, 0.0, 0.0
+    b[2 * Lw] = load / dx
+    b[2 * Lw + 1] = target
+    y = np.empty(N)
+    for i in range(N):
+        t = 0.0
+        row = W[i]
+        for j in range(N):
+            t += row[j] * b[j]
+        y[i] = t
+    C = np.empty((m, m))
+    z = np.empty(m)
+    for i in range(m):
+        r, o, s = rows[i], other[i], sign[i]
+        for j in range(m):
+            v = W[r, rows[j]]
+            if o >= 0:
+                v -= s * W[o, rows[j]]
+            C[i, j] = v
+        z[i] = y[r] - s * y[o] if o >= 0 else y[r]
+    if not _lu_solve(C, z, m):
+        return False, 0.0, 0.0
+    for j in range(n):
+        p_out[j] = 0.0
+        q_out[j] = 0.0
+    for a in range(Lw):
+        g = w0 + a
+        if i0 <= g < i1:
+            tp = y[a]
+            tq = y[Lw + a]
+            for j in range(m):
+                tp -= W[a, rows[j]] * z[j]
+                tq -= W[Lw + a, rows[j]] * z[j]
+            p_out[g] = tp
+            q_out[g] = tq
+    out = np.empty(2)
+    for i, r in enumerate((2 * Lw, 2 * Lw + 1)):
+        t = y[r]
+        for j in range(m):
+            t -= W[r, rows[j]] * z[j]
+        out[i] = t
+    return True, out[1], out[0]
+
+
+#: :func:`check`'s verdicts: the solution, sets moved (solve again), no direct solution (the passes go on).
+ACCEPTED, MOVED, REFUSED = 0, 1, 2
+
+
+@jit
+def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, delta, st, profile, scratch):
+    """Whether :func:`direct`'s ``(p, q, lam, delta)`` on the contact ``[i0, i1)`` with the sets ``st.kind`` solves
+    the step, and if not, the next sets: a primal-dual active set on both problems at once.
+
+    The normal problem: the pressure not negative (a negative end leaves the contact; a negative inside refuses)
+    and the contact's neighbours not penetrating (one that does joins it, sticking); the caller checks the rest of
+    the grid, as after the passes. The tangential: :func:`core.solvers._pdas.solve_step`'s checks with the coupled
+    slip ``lam - K (q - q_old) + ct S (p - p_old)`` (a sticking traction past its bound goes to it, a bound one
+    slipping against it sticks). With nothing to move, the named residuals with the true ``K`` must be within
+    ``tol``; then writes what a full tangential solve writes (``st.q``, ``st.dq``, ``st.slip``, ``st.codes``,
+    ``st.residuals``; its iterations as 1) and the profile ``gap0 + cn S q`` of the normal problem (``profile``).
+    Returns ``(verdict, i0, i1)``: :data:`ACCEPTED`, :data:`MOVED` (``st.kind`` and the contact moved) or
+    :data:`REFUSED`.
+    """
+    n = gap0.size
+    kind, slip, res = st.kind, st.slip, st.residuals
+    moved = False
+    # ---- normal: a negative end leaves, a penetrating neighbour joins
+    j0, j1 = i0, i1
+    for k in range(i0, i1):
+        if p[k] < 0.0:
+            if k == i0:
+                j0 = i0 + 1
+            elif k == i1 - 1:
+                j1 = i1 - 1
+            else:
+                return REFUSED, i0, i1
+    cross(q, dx, scratch)
+    hmax = 1.0
+    for k in range(n):
+        profile[k] = gap0[k] + cn * scratch[k]
+    for k in range(i0, i1):
+        hmax = max(hmax, abs(profile[k]))
+    if j0 == i0 and j1 == i1:
+        for j in (i0 - 1, i1):
+            if 0 <= j < n:
+                g = profile[j] - delta
+                row = K[j]
+                for k in range(i0, i1):
+                    g += row[k] * p[k]
+                if g < -1e-12 * hmax:
+                    if j < i0:
+                        j0 = j
+                    else:
+                        j1 = j + 1
+    # ---- tangential: the coupled slip on the contact, the bounds and the directions
+    for k in range(n):
+        scratch[k] = p[k] - p_old[k]
+    dp = st.dq  # scratch until the end: st.dq is written last
+    cross(scratch, dx, dp)
+    lo, hi = i0, i1
+    for k in range(n):
+        scratch[k] = q[k] - q_old[k]
+        if scratch[k] != 0.0:
+            lo = min(lo, k)
+            hi = max(hi, k + 1)
+    stick_res, bound_res, dir_res, total = 0.0, 0.0, 0.0, 0.0
+    for i in range(n):
+        total += q[i]
+        slip[i] = 0.0
+        if kind[i] == OUT:
+            continue
+        s = lam + ct * dp[i]
+        row = K[i]
+        for k in range(lo, hi):
+            s -= row[k] * scratch[k]
+        if kind[i] == FREE:
+            stick_res = max(stick_res, abs(s))
+            excess = abs(q[i]) - p[i]
+            if excess > tol:
+                kind[i] = UPPER if q[i] > 0.0 else LOWER
+                moved = True
+            bound_res = max(bound_res, excess)
+        else:
+            slip[i] = s
+            wrong = -s if kind[i] == UPPER else s
+            if wrong > tol:
+                kind[i] = FREE
+                moved = True
+            dir_res = max(dir_res, wrong)
+            bound_res = max(bound_res, abs(abs(q[i]) - p[i]))
+    if j0 != i0 or j1 != i1:
+        for k in range(min(i0, j0), max(i1, j1)):
+            if k < j0 or k >= j1:
+                kind[k] = OUT
+            elif kind[k] == OUT:
+                kind[k] = FREE
+        return MOVED, j0, j1
+    if moved:
+        return MOVED, i0, i1
+    res[0] = stick_res
+    res[1] = max(bound_res, 0.0)
+    res[2] = dir_res
+    res[3] = 0.0  # q = 0 off the contact by construction
+    res[4] = abs(total - target) * dx
+    for j in range(5):
+        if res[j] > tol:
+            return REFUSED, i0, i1
+    for k in range(n):
+        st.q[k] = q[k]
+        st.dq[k] = scratch[k]
+    st.counters[ITERATIONS] = 1
+    state_codes(kind, slip, tol, st.codes)
+    return ACCEPTED, i0, i1
+
+
+@jit
+def joint(W, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, i0, i1, st, q_d, p_d, profile, scratch, tries):
+    """The step by :func:`direct` solves and :func:`check`'s moves of the sets, from the sets ``st.kind`` on the
+    contact ``[i0, i1)`` (elements off it are set released, those on it that were released start sticking), at
+    most ``tries`` solves. Returns ``(verdict, solves, lam, delta, i0, i1)``: :data:`ACCEPTED` with the solution in
+    ``p_d``, ``q_d`` and ``st`` (:func:`check`), else the last direct solution, if any (``solves > 0``), in ``q_d``
+    and ``p_d``."""
+    n = gap0.size
+    for k in range(n):
+        if k < i0 or k >= i1:
+            st.kind[k] = OUT
+        elif st.kind[k] == OUT:
+            st.kind[k] = FREE
+    solves = 0
+    lam, delta = 0.0, 0.0
+    verdict = REFUSED
+    for _ in range(tries):
+        ok, lam_d, delta_d = direct(W, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, st.kind, q_d, p_d, scratch)
+        if not ok:
+            return REFUSED, solves, lam, delta, i0, i1
+        solves += 1
+        lam, delta = lam_d, delta_d
+        verdict, i0, i1 = check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p_d, q_d, lam, delta, st,
+                                profile, scratch)
+        if verdict != MOVED:
+            break
+    return verdict, solves, lam, delta, i0, i1
 
 
 @jit
@@ -268,8 +616,21 @@ def _gap_residual_from(gap0, p, q, kp, cn, dx, gap):
 
 
 @jit
+def _shift_kinds(kind, move):
+    """Move the tangential sets with the contact by ``move`` elements (the step's first guess: the slip zones of
+    a rocking contact stay at its edges)."""
+    n = kind.size
+    if move < 0:
+        for j in range(n):
+            kind[j] = kind[j - move] if j - move < n else OUT
+    elif move > 0:
+        for j in range(n - 1, -1, -1):
+            kind[j] = kind[j - move] if j - move >= 0 else OUT
+
+
+@jit
 def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, tol, maxiter, max_alt, st,
-              i0, i1, p, work, inv, q_start):
+              i0, i1, p, work, inv, q_start, W, need, move):
     """One coupled step by the alternation, from ``st.q_prev`` (kept) and the previous pressure ``p_prev``.
 
     ``q_start`` is the first guess of the step's tractions (the normal problem of the first pass sees it).
@@ -292,6 +653,22 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
     n_full = 0
     settled = False  # the contact interval and the tangential set are kept
     before = -1.0  # the change of the last settled pass (none: -1; the kernels are compiled with fastmath: no inf)
+    tries = 0  # joint solves after a full pass
+    n_direct = 0
+    p_d, q_d, scratch = work[10], work[11], work[12]
+    # ---- first the direct solves from the last step's sets on the predicted contact: most steps end here
+    if coupled and has_prev and W.shape[0] > 0:
+        _shift_kinds(st.kind, move)
+        verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true, p_prev,
+                                                        i0, i1, st, q_d, p_d, profile, scratch, DIRECT_TRIES)
+        n_direct += solves
+        if verdict == ACCEPTED:
+            for k in range(n):
+                p[k] = p_d[k]
+            return STATUS_DONE, lam_d, 0, 0, n_direct, 0.0, j0, j1, delta_d
+        if solves > 0:  # not the solution, but nearer it than the guess
+            for k in range(n):
+                q_in[k] = q_d[k]
     while it < max_alt:
         it += 1
         # ---- normal: the pressure with the tractions fixed
@@ -348,6 +725,27 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             change = 0.0
         if change <= tol and full:
             break
+        # after a full pass, the step with the sets it found is solved at once (direct); the next pass, a full
+        # one, checks those sets: the step ends if it leaves the solution where it is
+        if full and coupled and tries < 2:
+            tries += 1
+            verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true,
+                                                            p_prev, i0, i1, st, q_d, p_d, profile, scratch,
+                                                            DIRECT_TRIES)
+            n_direct += solves
+            if verdict == ACCEPTED:
+                for k in range(n):
+                    p[k] = p_d[k]
+                    st.q_prev[k] = q_true[k]
+                return STATUS_DONE, lam_d, it, n_full, n_direct, 0.0, j0, j1, delta_d
+            if solves > 0:  # the next pass, a full one, starts from the last direct solution
+                for k in range(n):
+                    q_in[k] = q_d[k]
+                settled = False
+                before = -1.0
+                continue
+            if i1 - i0 > (W.shape[0] - 2) // 2:
+                need[0] = max(need[0], i1 - i0)
         # the settled passes contract the change by a steady ratio: the full solve's turn once the change, or the
         # next one by that ratio, is within the tolerance (the full pass is then the next one's work)
         ratio = change / before if before > 0.0 else 1.0
@@ -359,7 +757,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             before = change
     for k in range(n):
         st.q_prev[k] = q_true[k]
-    return status, lam, it, n_full, change, i0, i1, delta
+    return status, lam, it, n_full, n_direct, change, i0, i1, delta
 
 
 @jit
@@ -426,7 +824,7 @@ def _start_interval(p_prev, gap0, load, dx, move):
 @jit
 def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodic, dx, cn, ct, coupled, tol,
           maxiter, max_alt, st, p_prev, dq_last, work, inv, q_start, bounds, traction, state, disp, diss,
-          iters, resid, worst, alternations, full_solves, res_out, info):
+          iters, resid, worst, alternations, full_solves, direct_solves, res_out, info, W, need):
     """March through steps ``k0:k1`` by :func:`alternate`, recording each as :meth:`core.solvers.coupled.CoupledSolver.march`
     does (``gaps[k - kb]``: the body's gap of step ``k``, ``kb <= k0`` the first step of the chunk; ``xc``,
     ``loads``, ``targets``: its centre, normal load and tangential target; ``bounds[k - kb]`` receives its
@@ -449,9 +847,9 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
         for i in range(n):
             q_start[i] = q_prev[i] + dq_last[i]
             p[i] = 0.0
-        status, lam, it, n_full, change, i0, i1, delta = alternate(
+        status, lam, it, n_full, n_direct, change, i0, i1, delta = alternate(
             K, C, CT, gap0, loads[k], dx, cn, ct, coupled, p_prev, has_prev, targets[k], tol, maxiter, max_alt, st,
-            i0, i1, p, work, inv, q_start)
+            i0, i1, p, work, inv, q_start, W, need, move)
         if status == STATUS_DONE:
             # ---- the final pressure penetrates nowhere else (the passes checked only the contact's ends)
             _contact_products(K, p, i0, i1, work[4])
@@ -496,8 +894,11 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
             worst[j] = max(worst[j], res_out[j])
         alternations[k] = it
         full_solves[k] = n_full
+        direct_solves[k] = n_direct
         if k + 1 < steps and period[k + 1] != period[k]:
             same = block_repeats(q, st.q_block_end, tol)
             if same and detect_periodic and period[k] >= 0:
                 return k + 1, period[k], -1, STATUS_DONE
+        if need[0] > 0:  # the contact outgrew the direct solve's window: the caller widens it
+            return k + 1, -1, -1, STATUS_WINDOW
     return k1, -1, -1, STATUS_DONE

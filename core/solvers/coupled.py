@@ -46,6 +46,10 @@ References
 
 from __future__ import annotations
 
+import hashlib
+import threading
+from collections import OrderedDict
+
 import numpy as np
 import scipy.linalg as sla
 
@@ -54,12 +58,35 @@ from ..elastic.coupling import coupling_factors, cross_apply, cross_matrix
 from .dense import RESIDUALS, DenseSolver, Trajectory
 from ..pressure.normal import solve_line
 
-__all__ = ["CoupledSolver", "COUPLED_RESIDUALS", "MAX_ALTERNATIONS", "CoupledTrajectory"]
+__all__ = ["CoupledSolver", "COUPLED_RESIDUALS", "MAX_ALTERNATIONS", "CoupledTrajectory", "window_inverse"]
 
 #: The coupled solver's own residuals, after :data:`core.base.states.RESIDUAL_NAMES`.
 COUPLED_RESIDUALS = ("gap", "pressure", "alternation")
 #: Alternations of the normal and tangential solves allowed per step.
 MAX_ALTERNATIONS = 200
+#: Windows' inverses kept (:func:`window_inverse`): the runs of a sweep, a limit search or the explorer's sliders
+#: share the operator, the element size and the coupling, and so the inverse (about 4 ms to make at ``a/40``).
+WINDOW_CACHE = 4
+_windows: "OrderedDict[tuple, np.ndarray]" = OrderedDict()
+_windows_lock = threading.Lock()
+
+
+def window_inverse(K, dx, normal_factor, tangential_factor, Lw):
+    """:func:`core.solvers._coupled.window_inverse`, kept for the next run of the same contact (the last
+    :data:`WINDOW_CACHE`, least recently used replaced). Read it, never write it: it is shared."""
+    key = (K.shape, hashlib.sha1(np.ascontiguousarray(K[:, 0]).tobytes()).hexdigest(), float(dx),
+           float(normal_factor), float(tangential_factor), int(Lw))
+    with _windows_lock:
+        W = _windows.get(key)
+        if W is not None:
+            _windows.move_to_end(key)
+            return W
+    W = _coupled.window_inverse(K, dx, normal_factor, tangential_factor, Lw)
+    with _windows_lock:
+        _windows[key] = W
+        while len(_windows) > WINDOW_CACHE:
+            _windows.popitem(last=False)
+    return W
 
 
 class CoupledTrajectory(Trajectory):
@@ -71,6 +98,8 @@ class CoupledTrajectory(Trajectory):
         self.alternations = np.zeros(steps, dtype=np.int64)
         #: of which full tangential solves (the others keep the settled active set: :func:`core.solvers._pdas.fixed_set_stick`)
         self.full_solves = np.zeros(steps, dtype=np.int64)
+        #: direct solves of the step with its sets fixed (:func:`core.solvers._coupled.direct`), between the passes
+        self.direct_solves = np.zeros(steps, dtype=np.int64)
 
     def residuals(self) -> dict:
         return dict(zip(RESIDUALS + COUPLED_RESIDUALS, map(float, self.worst)))
@@ -150,6 +179,10 @@ class CoupledSolver:
         self._dq_last = np.zeros(self.n)  # the last step's traction increment: the next step's first guess
         self._q_start = np.zeros(self.n)
         self._info = np.zeros(2)
+        # the direct solve's inverse of a window in full stick (core.solvers._coupled.window_inverse), made when a
+        # contact first needs it and widened when one outgrows it
+        self._W = np.zeros((0, 0))
+        self._need = np.zeros(1, dtype=np.int64)
         self.residual_values = np.zeros(len(RESIDUALS) + len(COUPLED_RESIDUALS))
         self.xc = self.P = None
         self.failure = ""
@@ -374,14 +407,20 @@ class CoupledSolver:
                 self.dx, self.normal_factor, self.tangential_factor, self.beta != 0.0, self.tol, self.maxiter,
                 self.max_alternations, st, self.p_prev, self._dq_last, self._work, self._inv,
                 self._q_start, bounds, out.traction, out.state, out.displacement, out.dissipation, out.iterations,
-                out.kkt_residual, out.worst, out.alternations, out.full_solves, self.residual_values,
-                self._info)
+                out.kkt_residual, out.worst, out.alternations, out.full_solves, out.direct_solves,
+                self.residual_values, self._info, self._W, self._need)
             if failed >= 0:
                 alternations, change = int(self._info[0]), float(self._info[1])
                 self.failure = self._unsettled(alternations, change)
                 if status == _coupled.STATUS_DONE and change <= self.tol:
                     self.failure = f"the coupled residuals {self.residuals} exceed the tolerance"
                 return failed, -1, failed
+            if status == _coupled.STATUS_WINDOW:  # a contact wider than the direct solve's window: widen it
+                Lw = min(self.n, int(self._need[0]) + _coupled.WINDOW_MARGIN)
+                self._W = window_inverse(self.K, self.dx, self.normal_factor, self.tangential_factor, Lw)
+                self._need[0] = 0
+                k = reached
+                continue
             if status != _coupled.STATUS_GENERAL:
                 return reached, periodic_from, -1
             # ---- a contact that is not one interval: the general solve of this step
