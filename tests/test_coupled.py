@@ -220,9 +220,8 @@ def test_the_interval_inverses_are_k_inverted_and_kept_a_few_widths_at_a_time():
     assert slot == slots[21] and sorted(inv.length.tolist()) == [19, 20, 22, 30]
 
 
-def test_a_coupled_run_keeps_its_sets_on_most_passes():
-    """The alternation makes the full tangential solve (with its checks) on the first pass and on the last, and
-    keeps the settled sets in between: counted per step, the same regime and residuals within the tolerance."""
+def _counting(monkeypatch):
+    """Record each march's passes, full tangential solves and direct solves per solved step."""
     import core.solvers.coupled as cc
 
     seen = []
@@ -230,16 +229,138 @@ def test_a_coupled_run_keeps_its_sets_on_most_passes():
 
     def counting(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out):
         done = march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out)
-        seen.append((out.alternations[k0:done[0]].copy(), out.full_solves[k0:done[0]].copy()))
+        seen.append(np.stack([out.alternations[k0:done[0]], out.full_solves[k0:done[0]],
+                              out.direct_solves[k0:done[0]]]))
         return done
 
-    cc.CoupledSolver.march = counting
-    try:
-        r = core.simulate_cycles(float(core.ft_limit(0.6)), 0.6, periods=3, beta=0.25, mu=0.3)
-    finally:
-        cc.CoupledSolver.march = march
-    passes = np.concatenate([a for a, _ in seen])
-    full = np.concatenate([f for _, f in seen])
-    assert passes.size and (full >= 1).all() and (full <= passes).all()
+    monkeypatch.setattr(cc.CoupledSolver, "march", counting)
+    return seen
+
+
+def test_the_alternation_alone_keeps_its_sets_on_most_passes(monkeypatch):
+    """Without the direct solve the alternation makes the full tangential solve (with its checks) on the first
+    pass and on the last, and keeps the settled sets in between: counted per step, the same regime and residuals
+    within the tolerance."""
+    import core.solvers.coupled as cc
+
+    monkeypatch.setattr(cc.CoupledSolver, "direct", False)
+    seen = _counting(monkeypatch)
+    r = core.simulate_cycles(float(core.ft_limit(0.6)), 0.6, periods=3, beta=0.25, mu=0.3)
+    passes, full, direct = np.concatenate(seen, axis=1)
+    assert passes.size and (full >= 1).all() and (full <= passes).all() and not direct.any()
     assert full.sum() < 0.5 * passes.sum()
     assert max(r.residuals.values()) <= 1e3 * 1e-10
+
+
+def test_most_coupled_steps_are_one_direct_solve_and_agree_with_the_alternation(monkeypatch):
+    """With the direct solve (the default) most steps are solved at once from the last step's sets, with no
+    pass; the result is the alternation's: the same states, and increments, tractions and pressures within the
+    alternation's tolerance, both at beta 0.25 and 0.1."""
+    import core.solvers.coupled as cc
+
+    for beta, ft in ((0.25, float(core.ft_limit(0.6))), (-0.1, 0.8 * float(core.ft_limit(0.6)))):
+        seen = _counting(monkeypatch)
+        kw = dict(periods=3, beta=beta, mu=0.3)
+        fast = core.simulate_cycles(ft, 0.6, **kw)
+        passes, full, direct = np.concatenate(seen, axis=1)
+        assert (passes == 0).mean() > 0.9 and (direct >= 1).mean() > 0.95
+        assert direct.sum() < 1.5 * passes.size  # most first guesses are right
+        monkeypatch.setattr(cc.CoupledSolver, "direct", False)
+        slow = core.simulate_cycles(ft, 0.6, **kw)
+        monkeypatch.setattr(cc.CoupledSolver, "direct", True)
+        assert fast.regime == slow.regime and np.array_equal(fast.state, slow.state)
+        assert_allclose(fast.displacement, slow.displacement, rtol=0, atol=1e-8)
+        assert_allclose(fast.traction, slow.traction, rtol=0, atol=1e-8)
+        assert_allclose(np.asarray(fast.pressure), np.asarray(slow.pressure), rtol=0, atol=1e-8)
+        assert max(fast.residuals.values()) <= 1e-10
+
+
+def _window_system(K, S, cn, ct, Lw):
+    """The coupled system of a window in full stick, written out (core.solvers._coupled.window_inverse's)."""
+    N = 2 * Lw + 2
+    M = np.zeros((N, N))
+    M[:Lw, :Lw], M[:Lw, Lw:2 * Lw], M[:Lw, 2 * Lw] = K[:Lw, :Lw], cn * S[:Lw, :Lw], -1
+    M[Lw:2 * Lw, :Lw], M[Lw:2 * Lw, Lw:2 * Lw], M[Lw:2 * Lw, 2 * Lw + 1] = -ct * S[:Lw, :Lw], K[:Lw, :Lw], -1
+    M[2 * Lw, :Lw] = M[2 * Lw + 1, Lw:2 * Lw] = 1
+    return M
+
+
+def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
+    """core.solvers._coupled.direct (the window's inverse and a Sherman-Morrison-Woodbury correction for the rows of
+    the elements that do not stick) gives the solution of the coupled step's linear system with the sets fixed,
+    assembled here on the contact alone and solved by LAPACK, to round-off; its window inverse is the inverse of
+    the system in full stick; a contact wider than the window is declined."""
+    from core.elastic.coupling import coupling_factors, cross_matrix
+    from core.solvers import _coupled, _pdas
+
+    K, g, dx = _hertz_problem(n=120)
+    n = g.size
+    S = cross_matrix(n, dx)
+    cn, ct = coupling_factors(0.25, 0.3)
+    Lw = 90
+    W = _coupled.window_inverse(K, dx, cn, ct, Lw)
+    assert_allclose(W @ _window_system(K, S, cn, ct, Lw), np.eye(2 * Lw + 2), rtol=0, atol=1e-10)
+
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    gap0 = (2 / np.pi) * (x - 0.05) ** 2
+    i0, i1 = 21, 101  # 80 elements
+    kind = np.full(n, _pdas.OUT, dtype=np.int8)
+    kind[i0:i1] = _pdas.FREE
+    kind[i0:i0 + 4] = _pdas.LOWER
+    kind[i1 - 6:i1] = _pdas.UPPER
+    rng = np.random.default_rng(3)
+    p_old = np.where((x > -1) & (x < 1), np.sqrt(np.clip(1 - x ** 2, 0, None)), 0.0) * (1 + 0.01 * rng.random(n))
+    q_old = 0.3 * p_old * np.tanh(4 * x)
+    load, target = 0.5 * np.pi, 0.4 * p_old.sum()
+    q, p, scratch = np.zeros(n), np.zeros(n), np.zeros(n)
+    ok, lam, delta = _coupled.direct(W, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q, p, scratch)
+    assert ok
+
+    # the same system on the contact: unknowns (p, q, delta, lam), written row by row
+    L = i1 - i0
+    C = slice(i0, i1)
+    M = np.zeros((2 * L + 2, 2 * L + 2))
+    b = np.zeros(2 * L + 2)
+    M[:L, :L], M[:L, L:2 * L], M[:L, 2 * L] = K[C, C], cn * S[C, C], -1
+    b[:L] = -gap0[C]
+    M[2 * L, :L], b[2 * L] = 1, load / dx
+    M[2 * L + 1, L:2 * L], b[2 * L + 1] = 1, target
+    for r, i in enumerate(range(i0, i1)):
+        if kind[i] == _pdas.FREE:  # no slip: K q - ct S p - lam = K q_old - ct S p_old
+            M[L + r, :L], M[L + r, L:2 * L], M[L + r, 2 * L + 1] = -ct * S[i, C], K[i, C], -1
+            b[L + r] = K[i] @ q_old - ct * S[i] @ p_old
+        else:  # at the bound: q = +-p
+            M[L + r, L + r], M[L + r, r] = 1, -1.0 if kind[i] == _pdas.UPPER else 1.0
+    ref = np.linalg.solve(M, b)
+    assert_allclose(p[C], ref[:L], rtol=0, atol=1e-11)
+    assert_allclose(q[C], ref[L:2 * L], rtol=0, atol=1e-11)
+    assert_allclose([delta, lam], ref[2 * L:], rtol=0, atol=1e-11)
+    assert not p[:i0].any() and not p[i1:].any() and not q[:i0].any() and not q[i1:].any()
+    # a contact wider than the window: declined, nothing written
+    q[:] = p[:] = 7.0
+    ok, _, _ = _coupled.direct(W, K, gap0, load, dx, ct, target, q_old, p_old, 10, 10 + Lw + 1, kind, q, p, scratch)
+    assert not ok and (q == 7.0).all() and (p == 7.0).all()
+
+
+def test_the_windows_inverse_is_made_once_for_the_runs_of_a_contact(monkeypatch):
+    """core.solvers.coupled.window_inverse keeps the last few windows' inverses: a second run of the same contact
+    (another ft) makes none; another beta makes its own."""
+    import core.solvers.coupled as cc
+    from core.solvers import _coupled
+
+    made = []
+    make = _coupled.window_inverse
+
+    def counting(*args):
+        made.append(args[1:])
+        return make(*args)
+
+    monkeypatch.setattr(_coupled, "window_inverse", counting)
+    monkeypatch.setattr(cc, "_windows", type(cc._windows)())
+    kw = dict(periods=1, dx=1 / 20, mu=0.3)
+    core.simulate_cycles(0.2, 0.6, beta=0.25, **kw)
+    assert len(made) == 1
+    core.simulate_cycles(0.3, 0.6, beta=0.25, **kw)
+    assert len(made) == 1
+    core.simulate_cycles(0.3, 0.6, beta=0.1, **kw)
+    assert len(made) == 2 and made[0][1:3] != made[1][1:3]

@@ -657,7 +657,8 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
     n_direct = 0
     p_d, q_d, scratch = work[10], work[11], work[12]
     # ---- first the direct solves from the last step's sets on the predicted contact: most steps end here
-    if coupled and has_prev and W.shape[0] > 0:
+    direct_on = coupled and need[0] >= 0  # need[0] = -1: no direct solves (the alternation alone)
+    if direct_on and has_prev and W.shape[0] > 0:
         _shift_kinds(st.kind, move)
         verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true, p_prev,
                                                         i0, i1, st, q_d, p_d, profile, scratch, DIRECT_TRIES)
@@ -727,7 +728,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             break
         # after a full pass, the step with the sets it found is solved at once (direct); the next pass, a full
         # one, checks those sets: the step ends if it leaves the solution where it is
-        if full and coupled and tries < 2:
+        if full and direct_on and tries < 2:
             tries += 1
             verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true,
                                                             p_prev, i0, i1, st, q_d, p_d, profile, scratch,

@@ -137,6 +137,9 @@ class CoupledSolver:
     """
 
     name = "coupled"
+    #: Whether a step is solved at once with its sets fixed (:func:`core.solvers._coupled.joint`) before the
+    #: alternation's passes, which then only find the sets where that fails (False: the passes alone, as before).
+    direct = True
     kernels = DenseSolver.kernels + ("core.solvers._coupled.alternate",)
     form = "dense"
     grid = "line"
@@ -182,7 +185,7 @@ class CoupledSolver:
         # the direct solve's inverse of a window in full stick (core.solvers._coupled.window_inverse), made when a
         # contact first needs it and widened when one outgrows it
         self._W = np.zeros((0, 0))
-        self._need = np.zeros(1, dtype=np.int64)
+        self._need = np.zeros(1, dtype=np.int64) if self.direct else -np.ones(1, dtype=np.int64)
         self.residual_values = np.zeros(len(RESIDUALS) + len(COUPLED_RESIDUALS))
         self.xc = self.P = None
         self.failure = ""
