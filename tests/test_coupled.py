@@ -298,8 +298,8 @@ def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
     S = cross_matrix(n, dx)
     cn, ct = coupling_factors(0.25, 0.3)
     Lw = 90
-    W = _coupled.window_inverse(K, dx, cn, ct, Lw)
-    assert_allclose(W @ _window_system(K, S, cn, ct, Lw), np.eye(2 * Lw + 2), rtol=0, atol=1e-10)
+    WT = _coupled.window_inverse(K, dx, cn, ct, Lw)  # the inverse's transpose
+    assert_allclose(WT.T @ _window_system(K, S, cn, ct, Lw), np.eye(2 * Lw + 2), rtol=0, atol=1e-10)
 
     x = (np.arange(n) - (n - 1) / 2) * dx
     gap0 = (2 / np.pi) * (x - 0.05) ** 2
@@ -313,7 +313,7 @@ def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
     q_old = 0.3 * p_old * np.tanh(4 * x)
     load, target = 0.5 * np.pi, 0.4 * p_old.sum()
     q, p, scratch = np.zeros(n), np.zeros(n), np.zeros(n)
-    ok, lam, delta = _coupled.direct(W, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q, p, scratch)
+    ok, lam, delta = _coupled.direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q, p, scratch)
     assert ok
 
     # the same system on the contact: unknowns (p, q, delta, lam), written row by row
@@ -338,7 +338,7 @@ def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
     assert not p[:i0].any() and not p[i1:].any() and not q[:i0].any() and not q[i1:].any()
     # a contact wider than the window: declined, nothing written
     q[:] = p[:] = 7.0
-    ok, _, _ = _coupled.direct(W, K, gap0, load, dx, ct, target, q_old, p_old, 10, 10 + Lw + 1, kind, q, p, scratch)
+    ok, _, _ = _coupled.direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, 10, 10 + Lw + 1, kind, q, p, scratch)
     assert not ok and (q == 7.0).all() and (p == 7.0).all()
 
 

@@ -1,8 +1,26 @@
 """Compiled kernels of the coupled per-step solver (:mod:`core.solvers.coupled`): its march over the steps in numba.
 
-The alternation of :class:`core.solvers.coupled.CoupledSolver` (the normal problem with
+A step is first solved at once (:func:`joint`). With the contact interval and the
+tangential sets fixed (which elements stick, which are at the bound ``q = +-p``),
+the coupled step is a linear system in ``(p, q, delta, lam)``: the fixed point the
+alternation's passes only approach (by a factor 0.01-0.06 a pass at ``|beta|``
+0.1-0.25). ``K`` and the cross operator ``S`` are Toeplitz, so the system of a
+window of ``Lw`` elements in full stick is the same wherever the window lies:
+its inverse ``W`` (:func:`window_inverse`) is made once for a contact, and a step
+is ``W b`` corrected for the few rows of the elements that do not stick (off the
+contact, at the bound) by a small capacitance system (Sherman-Morrison-Woodbury,
+:func:`direct`). :func:`check` then tests the solution as the full solves do (the
+pressure not negative, no penetration, the sticking tractions within their
+bound, the bound ones slipping their way, the named residuals with the true
+``K``), and where a set is wrong moves it and solves again: a primal-dual active
+set on both problems at once. The first guess is the last step's sets moved with
+the contact; on the rocking cylinder at ``a/40`` most steps are one solve and one
+check (``benchmarks/coupled.py``).
+
+Where that does not end the step, the alternation of
+:class:`core.solvers.coupled.CoupledSolver` (the normal problem with
 the tractions fixed, then the tangential one with that pressure, until
-neither changes) run without leaving compiled code, for a contact that is one
+neither changes) goes on, for a contact that is one
 interval of elements, which is the rocking cylinder's. The normal problem
 on an interval of ``L`` elements needs the inverse of ``K`` on it; ``K`` is
 symmetric Toeplitz, so that block is the same wherever the interval lies:
@@ -10,25 +28,24 @@ its explicit inverse ``A_L`` (Trench's algorithm, ``O(L^2)``) is kept for a
 few widths at a time (:class:`Inverses`), and each pass applies it twice
 (the normal solve and the pressure's tangential shift), a product of
 contiguous rows. The tangential solve is :func:`core.solvers._pdas.solve_step`,
-the uncoupled solver's own, with its checks and named residuals; once a full
-pass has found the tangential set, the
-passes keep it and make only the stick solve
+the uncoupled solver's own, with its checks and named residuals; after a full
+pass the step is solved directly again with the sets it found; failing that, the
+passes keep the set and make only the stick solve
 (:func:`core.solvers._pdas.fixed_set_stick`, about a fifth of a full solve), until the change,
 or the next one predicted from the ratio of the last two, is within the
 tolerance (the set is kept after a full pass whose normal solve left the
 interval where it was); a full pass then checks it and gives the residuals, and
 ends the step if its own change is within the tolerance too (else the
-alternation goes on). On the rocking cylinder at ``a/40`` this makes 2.0-2.7
-full solves in 6-10 passes a step (``benchmarks/coupled.py``).
+alternation goes on).
 A step the kernels cannot take (the contact not one
 interval, or its ends not settling) is reported to the caller, which then
 solves it with the general Python path (:func:`core.pressure.normal.solve_line`).
-:func:`march` runs the steps of a chunk (the alternation, the named
+:func:`march` runs the steps of a chunk (the direct solves, the alternation, the named
 residuals, the record of each step and the periodic test) without returning
 to Python, as :func:`core.solvers._pdas.march` does for the uncoupled solver: per-step
 Python was half a coupled run's time (``benchmarks/results/coupled_timing_s4.txt``).
-The factor ``C`` is computed here too (:func:`cholesky`), not by LAPACK, whose
-threads cost more than they gain on a small ``K`` when the cores are shared.
+The factor ``C`` and the window's inverse are computed here too (:func:`cholesky`, :func:`_invert`), not by
+LAPACK, whose threads cost more than they gain on these small matrices when the cores are shared.
 """
 
 from __future__ import annotations
@@ -55,7 +72,7 @@ DIRECT_TRIES = 4
 #: the settled passes.
 DIRECT_ROWS = 48
 #: Elements a new window (:func:`window_inverse`) has beyond the contact that asked for it.
-WINDOW_MARGIN = 6
+WINDOW_MARGIN = 4
 #: The alternation's settled passes stop when the next change, predicted from their ratio, is within this part
 #: of the tolerance (:func:`alternate`).
 PREDICTED = 0.3
@@ -120,7 +137,8 @@ def inverse(inv, C, CT, L):
 
 
 def window_inverse(K, dx, cn, ct, Lw):
-    """The inverse ``W`` of the coupled system of a window of ``Lw`` elements in full stick (:func:`direct`).
+    """The inverse ``W`` of the coupled system of a window of ``Lw`` elements in full stick (:func:`direct`), as its
+    transpose ``W^T`` (C-contiguous: :func:`direct` reads the columns of ``W``).
 
     Unknowns ``x = (p, q, delta, lam)`` (``2 Lw + 2``), rows: the normal ``K p + cn S q - delta = -h``, the
     tangential ``K q - ct S p - lam = K q_prev - ct S p_prev`` (the stick condition: no slip increment), the load
@@ -139,7 +157,7 @@ def window_inverse(K, dx, cn, ct, Lw):
     M[2 * Lw + 1, Lw:2 * Lw] = 1.0
     if not _invert(M):
         raise ValueError("the coupled system of a window in full stick is singular: no direct solve on it")
-    return M
+    return np.ascontiguousarray(M.T)
 
 
 @jit
@@ -217,21 +235,22 @@ def _lu_solve(C, b, m):
 
 
 @jit
-def direct(W, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out, p_out, scratch):
+def direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out, p_out, scratch):
     """The coupled step with its sets fixed, solved at once: the fixed point of the alternation's passes.
 
     The contact is ``[i0, i1)``; on it the tangential set ``kind`` (:mod:`core.solvers._pdas`: FREE sticks, UPPER
     and LOWER are at the bound ``q = +-p``); ``q_old``, ``p_old`` are the previous step's tractions and pressure.
-    The system is :func:`window_inverse`'s (``W``) with the rows of the elements that do not stick replaced: ``p = 0``
+    The system is :func:`window_inverse`'s (``WT``: the transpose of its inverse ``W``, from that function) with the
+    rows of the elements that do not stick replaced: ``p = 0``
     and ``q = 0`` off the contact, ``q = +-p`` at a bound. Its solution is ``y - W_U z`` with ``y = W b``, ``W_U``
     the replaced rows' columns and ``z`` from the small capacitance system ``(R W_U) z = R y`` (``R`` the new rows;
     Sherman-Morrison-Woodbury): ``O(N^2 + N m + m^3)`` for ``N = 2 Lw + 2`` and ``m`` replaced rows. Writes
     ``p_out`` and ``q_out``; returns ``(ok, lam, delta)``, ``ok`` False if the contact does not fit the window, more
     than :data:`DIRECT_ROWS` rows are replaced or the capacitance system is singular. Whether the sets were right
-    is :func:`accept`'s question.
+    is :func:`check`'s question.
     """
     n = gap0.size
-    N = W.shape[0]
+    N = WT.shape[0]
     Lw = (N - 2) // 2
     L = i1 - i0
     if Lw < 1 or L > Lw or Lw > n:
@@ -276,45 +295,37 @@ def direct(W, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out, 
                 return False, 0.0, 0.0
     b[2 * Lw] = load / dx
     b[2 * Lw + 1] = target
-    y = np.empty(N)
-    for i in range(N):
-        t = 0.0
-        row = W[i]
-        for j in range(N):
-            t += row[j] * b[j]
-        y[i] = t
+    y = np.zeros(N)  # W b: the columns of W (rows of W^T) of the rows with a right-hand side
+    for j in range(N):
+        bj = b[j]
+        if bj != 0.0:
+            col = WT[j]
+            for i in range(N):
+                y[i] += bj * col[i]
     C = np.empty((m, m))
     z = np.empty(m)
     for i in range(m):
         r, o, s = rows[i], other[i], sign[i]
         for j in range(m):
-            v = W[r, rows[j]]
-            if o >= 0:
-                v -= s * W[o, rows[j]]
-            C[i, j] = v
+            col = WT[rows[j]]
+            C[i, j] = col[r] - s * col[o] if o >= 0 else col[r]
         z[i] = y[r] - s * y[o] if o >= 0 else y[r]
     if not _lu_solve(C, z, m):
         return False, 0.0, 0.0
+    for j in range(m):  # x = y - W_U z
+        col = WT[rows[j]]
+        zj = z[j]
+        for i in range(N):
+            y[i] -= zj * col[i]
     for j in range(n):
         p_out[j] = 0.0
         q_out[j] = 0.0
     for a in range(Lw):
         g = w0 + a
         if i0 <= g < i1:
-            tp = y[a]
-            tq = y[Lw + a]
-            for j in range(m):
-                tp -= W[a, rows[j]] * z[j]
-                tq -= W[Lw + a, rows[j]] * z[j]
-            p_out[g] = tp
-            q_out[g] = tq
-    out = np.empty(2)
-    for i, r in enumerate((2 * Lw, 2 * Lw + 1)):
-        t = y[r]
-        for j in range(m):
-            t -= W[r, rows[j]] * z[j]
-        out[i] = t
-    return True, out[1], out[0]
+            p_out[g] = y[a]
+            q_out[g] = y[Lw + a]
+    return True, y[2 * Lw + 1], y[2 * Lw]
 
 
 #: :func:`check`'s verdicts: the solution, sets moved (solve again), no direct solution (the passes go on).
@@ -322,7 +333,7 @@ ACCEPTED, MOVED, REFUSED = 0, 1, 2
 
 
 @jit
-def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, delta, st, profile, scratch):
+def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, delta, st, profile, scratch, kp):
     """Whether :func:`direct`'s ``(p, q, lam, delta)`` on the contact ``[i0, i1)`` with the sets ``st.kind`` solves
     the step, and if not, the next sets: a primal-dual active set on both problems at once.
 
@@ -332,8 +343,8 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
     slip ``lam - K (q - q_old) + ct S (p - p_old)`` (a sticking traction past its bound goes to it, a bound one
     slipping against it sticks). With nothing to move, the named residuals with the true ``K`` must be within
     ``tol``; then writes what a full tangential solve writes (``st.q``, ``st.dq``, ``st.slip``, ``st.codes``,
-    ``st.residuals``; its iterations as 1) and the profile ``gap0 + cn S q`` of the normal problem (``profile``).
-    Returns ``(verdict, i0, i1)``: :data:`ACCEPTED`, :data:`MOVED` (``st.kind`` and the contact moved) or
+    ``st.residuals``; its iterations as 1), the profile ``gap0 + cn S q`` of the normal problem (``profile``) and
+    ``K p`` on the contact (``kp``, made beside the slips from the same rows of ``K``). Returns ``(verdict, i0, i1)``: :data:`ACCEPTED`, :data:`MOVED` (``st.kind`` and the contact moved) or
     :data:`REFUSED`.
     """
     n = gap0.size
@@ -385,9 +396,12 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
         if kind[i] == OUT:
             continue
         s = lam + ct * dp[i]
+        g = 0.0
         row = K[i]
-        for k in range(lo, hi):
+        for k in range(lo, hi):  # p vanishes off [i0, i1), inside [lo, hi)
             s -= row[k] * scratch[k]
+            g += row[k] * p[k]
+        kp[i] = g
         if kind[i] == FREE:
             stick_res = max(stick_res, abs(s))
             excess = abs(q[i]) - p[i]
@@ -429,7 +443,8 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
 
 
 @jit
-def joint(W, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, i0, i1, st, q_d, p_d, profile, scratch, tries):
+def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, i0, i1, st, q_d, p_d, profile, scratch, kp,
+          tries):
     """The step by :func:`direct` solves and :func:`check`'s moves of the sets, from the sets ``st.kind`` on the
     contact ``[i0, i1)`` (elements off it are set released, those on it that were released start sticking), at
     most ``tries`` solves. Returns ``(verdict, solves, lam, delta, i0, i1)``: :data:`ACCEPTED` with the solution in
@@ -445,13 +460,13 @@ def joint(W, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, i0, i1, st, q
     lam, delta = 0.0, 0.0
     verdict = REFUSED
     for _ in range(tries):
-        ok, lam_d, delta_d = direct(W, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, st.kind, q_d, p_d, scratch)
+        ok, lam_d, delta_d = direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, st.kind, q_d, p_d, scratch)
         if not ok:
             return REFUSED, solves, lam, delta, i0, i1
         solves += 1
         lam, delta = lam_d, delta_d
         verdict, i0, i1 = check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p_d, q_d, lam, delta, st,
-                                profile, scratch)
+                                profile, scratch, kp)
         if verdict != MOVED:
             break
     return verdict, solves, lam, delta, i0, i1
@@ -580,6 +595,18 @@ def _contact_products(K, p, i0, i1, out):
 
 
 @jit
+def _outside_products(K, p, i0, i1, out):
+    """``out = K p`` off ``[i0, i1)`` for a pressure ``p`` that vanishes off it (:func:`check` made the rest)."""
+    for j in range(K.shape[0]):
+        if j < i0 or j >= i1:
+            g = 0.0
+            row = K[j]
+            for k in range(i0, i1):
+                g += row[k] * p[k]
+            out[j] = g
+
+
+@jit
 def penetrates(h, kp, delta, i0, i1):
     """Whether the pressure on ``[i0, i1)`` from :func:`interval_normal` (approach ``delta``, ``kp = K p``)
     penetrates the profile ``h`` away from its ends: :func:`interval_normal`'s test with ``check_all``."""
@@ -631,13 +658,19 @@ def _shift_kinds(kind, move):
 @jit
 def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, target, tol, maxiter, max_alt, st,
               i0, i1, p, work, inv, q_start, W, need, move):
-    """One coupled step by the alternation, from ``st.q_prev`` (kept) and the previous pressure ``p_prev``.
+    """One coupled step, from ``st.q_prev`` (kept) and the previous pressure ``p_prev``: first :func:`joint` from the
+    last step's sets moved by ``move`` elements on the contact ``[i0, i1)``, then the alternation's passes.
 
-    ``q_start`` is the first guess of the step's tractions (the normal problem of the first pass sees it).
-    Writes the pressure ``p`` and, through :func:`core.solvers._pdas.solve_step`, the step's tractions, slips, codes and
-    residuals in ``st``. Returns ``(status, lam, alternations, full, change, i0, i1, delta)`` (:data:`STATUS_DONE`,
-    ...; ``delta`` the approach of the last normal solve, whose profile stays in ``work[5]``). The passes check
-    the gap only at the contact's ends: the caller checks the final pressure everywhere (:func:`march`).
+    ``W`` is the transposed window inverse of :func:`direct` (empty: none yet); ``need[0]`` receives the width of a contact
+    it is too narrow for, and ``need[0] = -1`` turns the direct solves off (the passes alone). ``q_start`` is the
+    first guess of the step's tractions (the normal problem of the first pass sees it, or the last direct
+    solution). Writes the pressure ``p`` and, through :func:`check` or :func:`core.solvers._pdas.solve_step`, the
+    step's tractions, slips, codes and residuals in ``st``. Returns ``(status, lam, alternations, full, direct,
+    change, i0, i1, delta, checked)`` (:data:`STATUS_DONE`, ...; passes, of which full tangential solves, direct
+    solves, the last pass's change (0 for a step a direct solve ended), ``delta`` the approach of the last normal
+    solve, whose profile stays in ``work[5]``, and whether :func:`check` ended the step, leaving ``K p`` on the
+    contact in ``work[4]``). The passes and :func:`check` test the gap only at the contact's ends: the caller
+    checks the final pressure everywhere (:func:`march`).
     """
     n = gap0.size
     q_true = st.q_prev.copy()
@@ -661,12 +694,13 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
     if direct_on and has_prev and W.shape[0] > 0:
         _shift_kinds(st.kind, move)
         verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true, p_prev,
-                                                        i0, i1, st, q_d, p_d, profile, scratch, DIRECT_TRIES)
+                                                        i0, i1, st, q_d, p_d, profile, scratch, work[4],
+                                                        DIRECT_TRIES)
         n_direct += solves
         if verdict == ACCEPTED:
             for k in range(n):
                 p[k] = p_d[k]
-            return STATUS_DONE, lam_d, 0, 0, n_direct, 0.0, j0, j1, delta_d
+            return STATUS_DONE, lam_d, 0, 0, n_direct, 0.0, j0, j1, delta_d, True
         if solves > 0:  # not the solution, but nearer it than the guess
             for k in range(n):
                 q_in[k] = q_d[k]
@@ -732,13 +766,13 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             tries += 1
             verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true,
                                                             p_prev, i0, i1, st, q_d, p_d, profile, scratch,
-                                                            DIRECT_TRIES)
+                                                            work[4], DIRECT_TRIES)
             n_direct += solves
             if verdict == ACCEPTED:
                 for k in range(n):
                     p[k] = p_d[k]
                     st.q_prev[k] = q_true[k]
-                return STATUS_DONE, lam_d, it, n_full, n_direct, 0.0, j0, j1, delta_d
+                return STATUS_DONE, lam_d, it, n_full, n_direct, 0.0, j0, j1, delta_d, True
             if solves > 0:  # the next pass, a full one, starts from the last direct solution
                 for k in range(n):
                     q_in[k] = q_d[k]
@@ -758,7 +792,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             before = change
     for k in range(n):
         st.q_prev[k] = q_true[k]
-    return status, lam, it, n_full, n_direct, change, i0, i1, delta
+    return status, lam, it, n_full, n_direct, change, i0, i1, delta, False
 
 
 @jit
@@ -848,12 +882,15 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
         for i in range(n):
             q_start[i] = q_prev[i] + dq_last[i]
             p[i] = 0.0
-        status, lam, it, n_full, n_direct, change, i0, i1, delta = alternate(
+        status, lam, it, n_full, n_direct, change, i0, i1, delta, checked = alternate(
             K, C, CT, gap0, loads[k], dx, cn, ct, coupled, p_prev, has_prev, targets[k], tol, maxiter, max_alt, st,
             i0, i1, p, work, inv, q_start, W, need, move)
         if status == STATUS_DONE:
             # ---- the final pressure penetrates nowhere else (the passes checked only the contact's ends)
-            _contact_products(K, p, i0, i1, work[4])
+            if checked:  # check made K p on the contact
+                _outside_products(K, p, i0, i1, work[4])
+            else:
+                _contact_products(K, p, i0, i1, work[4])
             if penetrates(work[5], work[4], delta, i0, i1):
                 status = STATUS_GENERAL
         if status == STATUS_GENERAL:

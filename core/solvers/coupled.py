@@ -13,7 +13,13 @@ and the tangential KKT conditions are solved together. Step ``n`` (centre
   ``|q| < p`` [mu p0], ``q = p sign(s)`` where it does not, ``q = 0`` where
   ``p = 0``, ``sum q dx = (pi/2) Q``.
 
-:class:`CoupledSolver` solves them by the Panagiotopoulos alternation, as
+:class:`CoupledSolver` solves a step at once where it can: with the contact and
+the tangential sets fixed the step is a linear system, solved from the inverse of
+a window's system in full stick and a small correction for the elements that do
+not stick, and checked as the full solves check theirs; a wrong set is moved and
+the system solved again (:mod:`core.solvers._coupled`: :func:`~core.solvers._coupled.direct`,
+:func:`~core.solvers._coupled.check`). Where that does not end the step it goes on
+by the Panagiotopoulos alternation, as
 CONTACT does (Vollebregt and Kalker): the normal problem with the tractions
 fixed (:func:`core.pressure.normal.solve_line`, the existing direct active-set solve,
 with the profile shifted by the traction's normal displacement), then the
@@ -26,7 +32,7 @@ named residuals of :data:`core.base.states.RESIDUAL_NAMES` (with the true slip)
 and three of its own, :data:`COUPLED_RESIDUALS`: ``gap`` (the largest
 ``|gap|`` in contact and penetration out of it [P/E*]), ``pressure`` (the
 most negative pressure [p0]) and ``alternation`` (the last change of ``p`` and
-``q`` [p0, mu p0]). At ``beta = 0`` the alternation stops after its second
+``q`` [p0, mu p0]; 0 for a step the direct solve ended, whose equations hold to round-off). At ``beta = 0`` the alternation stops after its second
 pass and the tangential solve is the dense solver's on the numerical
 pressure: the same increments to round-off (``tests/test_coupled.py``).
 
