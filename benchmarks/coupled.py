@@ -5,7 +5,8 @@ Three parts, each printed and written to ``benchmarks/results/coupled_<part>.txt
 * ``timing``: the rocking cylinder at ``a/40`` for 20 periods (``w = 0.6``,
   ``ft`` at eq 35), uncoupled against coupled (``beta = 0.25``, ``mu = 0.3``):
   CPU and wall time, steps solved (a repeated period is copied), active-set
-  iterations and the alternations of the normal and tangential solves per step;
+  iterations, the alternations of the normal and tangential solves per step and
+  the direct solves of a step with its sets fixed;
 * ``runs``: ``beta = 0, +-0.1, +-0.25`` (``mu = 0.3``), ``w = 0.3, 0.6``, ``ft``
   from 0.6 to 1.2 times eq 35: the increment and the energy of the last period
   (the steady ones when a period repeats), the regime, the period from which
@@ -45,8 +46,9 @@ CONTACT_FALL = {(0.25, 0.6): 0.25, (0.25, 0.3): 0.08, (0.1, 0.6): 0.04, (0.1, 0.
 
 
 def _alternations():
-    """Count the coupled solver's alternations and full tangential solves per solved step (a wrapper around its
-    ``march``, which records them in the trajectory's ``alternations`` and ``full_solves``)."""
+    """Count the coupled solver's alternations, full tangential solves and direct solves per solved step (a wrapper
+    around its ``march``, which records them in the trajectory's ``alternations``, ``full_solves`` and
+    ``direct_solves``)."""
     import core.solvers.coupled as cc
 
     counts = []
@@ -56,7 +58,8 @@ def _alternations():
         def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out):
             done = self._bench_march(bounds, Q, period, load_scale, k0, k1, detect_periodic, out)
             cc.CoupledSolver._bench_counts.extend(zip(out.alternations[k0:done[0]].tolist(),
-                                                      out.full_solves[k0:done[0]].tolist()))
+                                                      out.full_solves[k0:done[0]].tolist(),
+                                                      out.direct_solves[k0:done[0]].tolist()))
             return done
         cc.CoupledSolver.march = march
     cc.CoupledSolver._bench_counts = counts
@@ -79,7 +82,7 @@ def timing(quick: bool, repeats: int | None = None) -> None:
     print(f"rocking cylinder, w = 0.6, ft = eq 35 = {ft:.4f}, dx = a/40, 20 periods, mu = {MU}; each run {repeats} "
           f"times, interleaved (every run once, then again): the least CPU time and the median")
     print(f"{'run':<22} {'cpu min [s]':>11} {'median':>7} {'steps solved':>13} {'mean it/step':>13} "
-          f"{'passes/step':>12} {'full/step':>10} {'regime':>11}")
+          f"{'passes/step':>12} {'full/step':>10} {'direct/step':>12} {'regime':>11}")
     cpu = {label: [] for label, _ in TIMED}
     last = {}
     for _ in range(repeats):
@@ -95,9 +98,10 @@ def timing(quick: bool, repeats: int | None = None) -> None:
         solved = len(r.xc) if r.periodic_from is None else int(np.flatnonzero(r.period == r.periodic_from)[-1] + 1)
         passes = f"{np.mean([c[0] for c in counts]):.2f}" if counts else "-"
         full = f"{np.mean([c[1] for c in counts]):.2f}" if counts else "-"
+        direct = f"{np.mean([c[2] for c in counts]):.2f}" if counts else "-"
         best = min(cpu[label])
         print(f"{label:<22} {best:>11.4f} {np.median(cpu[label]):>7.4f} {solved:>13d} "
-              f"{np.mean(r.iterations[:solved]):>13.2f} {passes:>12} {full:>10} {r.regime:>11}")
+              f"{np.mean(r.iterations[:solved]):>13.2f} {passes:>12} {full:>10} {direct:>12} {r.regime:>11}")
         rows[label] = (best, float(np.median(cpu[label])), solved)
     base = rows["uncoupled (dense)"]
     for label, (best, median, solved) in rows.items():

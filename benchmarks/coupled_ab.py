@@ -33,7 +33,7 @@ def worker() -> None:
     import core
     import core.solvers.coupled as cc
 
-    counts = []
+    counts, directs = [], []
     if "solve" in cc.CoupledSolver.__dict__:  # a tree whose march calls the per-step Python solve
         solve0 = cc.CoupledSolver.solve
 
@@ -48,6 +48,8 @@ def worker() -> None:
         def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out):
             done = march0(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out)
             counts.extend(out.alternations[k0:done[0]].tolist())
+            if hasattr(out, "direct_solves"):
+                directs.extend(out.direct_solves[k0:done[0]].tolist())
             return done
         cc.CoupledSolver.march = march
     ft = float(core.ft_limit(0.6))
@@ -58,13 +60,15 @@ def worker() -> None:
         ft, w, beta, periods = line.split()
         ft, w, beta, periods = float(ft), float(w), float(beta), int(periods)
         counts.clear()
+        directs.clear()
         c0, w0 = time.process_time(), time.perf_counter()
         r = core.simulate_cycles(ft, w, periods=periods, **(dict(beta=beta, mu=0.3) if beta else {}))
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
         solved = len(r.xc) if r.periodic_from is None else int(np.flatnonzero(r.period == r.periodic_from)[-1] + 1)
         s = r.summary()
         print(json.dumps(dict(cpu=cpu, wall=wall, solved=solved, it=float(np.mean(r.iterations[:solved])),
-                              alt=float(np.mean(counts)) if counts else 0.0, regime=r.regime,
+                              alt=float(np.mean(counts)) if counts else 0.0,
+                              direct=float(np.mean(directs)) if directs else 0.0, regime=r.regime,
                               inc=float(s["increment_last_period"]), energy=float(s["energy_last_period"]),
                               rep=r.periodic_from, kkt=float(s["max_kkt_residual"]))), flush=True)
 
@@ -82,13 +86,14 @@ def drive(before: str, after: str, out: str, repeats: int, quick: bool = False) 
     sys.path.insert(0, after)
     import core
 
-    head = [(1.0, 0.6, b, repeats) for b in BETAS]
-    grid = [] if quick else [(f, w, b, 1) for w in (0.3, 0.6) for b in BETAS for f in FRACTIONS]
+    # every configuration once, then again (``repeats`` rounds): a coupled run and the uncoupled run of the same w
+    # and ft are neighbours in time, so that a change of the machine's load falls on both
+    grid = [(f, w, b) for w in (0.3, 0.6) for f in ((1.0,) if quick else FRACTIONS) for b in BETAS]
     i = 0
     with open(out, "w") as fh:
-        for f, w, b, reps in head + grid:
-            cfg = f"{f * float(core.ft_limit(w))!r} {w} {b} 20\n"
-            for rep in range(reps):
+        for rep in range(repeats):
+            for f, w, b in grid:
+                cfg = f"{f * float(core.ft_limit(w))!r} {w} {b} 20\n"
                 order = ("before", "after") if i % 2 == 0 else ("after", "before")
                 i += 1
                 for tag in order:
@@ -114,9 +119,11 @@ def table(path: str) -> None:
           f"ends {min(loads):.1f}-{max(loads):.1f} (median {sorted(loads)[len(loads) // 2]:.1f}); CPU: the least of "
           "a configuration's repeats")
     print(f"{'w':>4} {'ft/eq35':>7} {'beta':>6} | {'cpu before':>10} {'x uncpl':>7} {'passes':>6} | {'cpu after':>9} "
-          f"{'x uncpl':>7} {'passes':>6} | {'speed-up':>8} {'steps':>5} {'it/step':>7} {'regime':>12} "
+          f"{'x uncpl':>7} {'passes':>6} {'direct':>6} | {'speed-up':>8} {'steps':>5} {'it/step':>7} {'regime':>12} "
           f"{'d increment':>11} {'d energy':>9}")
     keys = sorted({k[1:] for k in best}, key=lambda k: (k[0], abs(k[2]) > 0, abs(k[2]), -k[2], k[1]))
+    ratios = {"before": [], "after": []}
+    per_step = []
     for w, f, b in keys:
         a, z = best.get(("before", w, f, b)), best.get(("after", w, f, b))
         if a is None or z is None:
@@ -124,9 +131,23 @@ def table(path: str) -> None:
         ua, uz = best.get(("before", w, f, 0.0)), best.get(("after", w, f, 0.0))
         ra = f"{a['cpu'] / ua['cpu']:.1f}" if ua and b else "-"
         rz = f"{z['cpu'] / uz['cpu']:.1f}" if uz and b else "-"
+        if b and ua and uz:
+            ratios["before"].append(a["cpu"] / ua["cpu"])
+            ratios["after"].append(z["cpu"] / uz["cpu"])
+            per_step.append((z["cpu"] / z["solved"]) / (uz["cpu"] / uz["solved"]))
         print(f"{w:>4} {f:>7.2f} {b:>6.2f} | {a['cpu']:>10.3f} {ra:>7} {a['alt']:>6.2f} | {z['cpu']:>9.3f} {rz:>7} "
-              f"{z['alt']:>6.2f} | {a['cpu'] / z['cpu']:>8.2f} {z['solved']:>5d} {z['it']:>7.2f} {z['regime']:>12} "
+              f"{z['alt']:>6.2f} {z.get('direct', 0.0):>6.2f} | {a['cpu'] / z['cpu']:>8.2f} {z['solved']:>5d} "
+              f"{z['it']:>7.2f} {z['regime']:>12} "
               f"{abs(a['inc'] - z['inc']):>11.1e} {abs(a['energy'] - z['energy']):>9.1e}")
+    import statistics
+    for tag, r in ratios.items():
+        if r:
+            print(f"{tag}: a coupled run costs {min(r):.1f}-{max(r):.1f} times the uncoupled run of the same w and ft "
+                  f"(median {statistics.median(r):.1f}; within 3x in {sum(x <= 3 for x in r)} of {len(r)})")
+    if per_step:
+        print(f"after, per solved step: {min(per_step):.1f}-{max(per_step):.1f} times the uncoupled run's "
+              f"(median {statistics.median(per_step):.1f}; within 3x in {sum(x <= 3 for x in per_step)} of "
+              f"{len(per_step)})")
 
 
 def main(argv=None) -> None:
@@ -135,9 +156,9 @@ def main(argv=None) -> None:
     ap.add_argument("--before")
     ap.add_argument("--after")
     ap.add_argument("--out", default="coupled_ab.jsonl")
-    ap.add_argument("--repeats", type=int, default=3, help="repeats of the heaviest case (w 0.6, ft at eq 35)")
+    ap.add_argument("--repeats", type=int, default=3, help="rounds of every configuration (the least CPU is kept)")
     ap.add_argument("--table", help="format a JSON-lines file of runs")
-    ap.add_argument("--quick", action="store_true", help="the heaviest case only")
+    ap.add_argument("--quick", action="store_true", help="ft at eq 35 only")
     args = ap.parse_args(argv)
     if args.worker:
         worker()

@@ -59,8 +59,8 @@ from ._pdas import (FREE, ITERATIONS, LOWER, MODE, OUT, TOEPLITZ, UPPER, _toepli
                     fixed_set_stick, solve_step, state_codes)
 
 __all__ = ["alternate", "interval_normal", "cross", "gap_residual", "march", "cholesky", "new_inverses",
-           "Inverses", "window_inverse", "direct", "STATUS_DONE", "STATUS_TANGENTIAL", "STATUS_GENERAL",
-           "STATUS_WINDOW"]
+           "Inverses", "window_inverse", "direct", "direct_rhs", "direct_sets", "check", "joint", "STATUS_DONE",
+           "STATUS_TANGENTIAL", "STATUS_GENERAL", "STATUS_WINDOW"]
 
 #: :func:`alternate`'s status: solved (or the alternation did not settle: see its change), the tangential solve
 #: failed, the normal problem needs the general solve; :func:`march`'s: a step was solved without the direct solve,
@@ -249,25 +249,31 @@ def direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out,
     than :data:`DIRECT_ROWS` rows are replaced or the capacitance system is singular. Whether the sets were right
     is :func:`check`'s question.
     """
+    N = WT.shape[0]
+    b = np.empty(N)
+    y = np.empty(N)
+    w0 = direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch, b, y)
+    if w0 < 0:
+        return False, 0.0, 0.0
+    return direct_sets(WT, i0, i1, w0, kind, b, y, q_out, p_out)
+
+
+@jit
+def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch, b, ybase):
+    """The part of :func:`direct` that does not depend on the sets: the window's first element ``w0`` (returned;
+    -1 if the contact does not fit the window), the right-hand side ``b`` of every row in stick on the contact
+    (``-h``, ``K q_old - ct S p_old``, the load and the target; 0 off it) and ``ybase = W b`` (``N^2``). The
+    direct solves of one step on one contact share it (:func:`joint`)."""
     n = gap0.size
     N = WT.shape[0]
     Lw = (N - 2) // 2
     L = i1 - i0
     if Lw < 1 or L > Lw or Lw > n:
-        return False, 0.0, 0.0
+        return -1
     w0 = min(max(i0 - (Lw - L) // 2, 0), n - Lw)
-    rows = np.empty(2 * Lw, np.int64)
-    other = np.empty(2 * Lw, np.int64)
-    sign = np.empty(2 * Lw)
-    b = np.zeros(N)
-    m = 0
-    for a in range(Lw):
-        g = w0 + a
-        if i0 <= g < i1:
-            b[a] = -gap0[g]
-        else:  # off the contact: p = 0
-            rows[m], other[m], sign[m] = a, -1, 0.0
-            m += 1
+    for j in range(N):
+        b[j] = 0.0
+        ybase[j] = 0.0
     lo, hi = n, 0
     for j in range(n):
         if q_old[j] != 0.0:
@@ -276,14 +282,47 @@ def direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out,
     cross(p_old, dx, scratch)
     for a in range(Lw):
         g = w0 + a
-        if i0 <= g < i1 and kind[g] == FREE:
+        if i0 <= g < i1:
+            b[a] = -gap0[g]
             t = 0.0
             row = K[g]
             for j in range(lo, hi):
                 t += row[j] * q_old[j]
             b[Lw + a] = t - ct * scratch[g]
-        else:  # at a bound (q = +-p) or off the contact (q = 0)
-            rows[m] = Lw + a
+    b[2 * Lw] = load / dx
+    b[2 * Lw + 1] = target
+    for j in range(N):  # W b: the columns of W (rows of W^T) of the rows with a right-hand side
+        bj = b[j]
+        if bj != 0.0:
+            col = WT[j]
+            for i in range(N):
+                ybase[i] += bj * col[i]
+    return w0
+
+
+@jit
+def direct_sets(WT, i0, i1, w0, kind, b, ybase, q_out, p_out):
+    """The part of :func:`direct` that depends on the sets ``kind``, from :func:`direct_rhs`'s ``b`` and ``ybase``:
+    the rows of the elements that do not stick replaced (their right-hand sides taken out of ``ybase``, a row of
+    ``W^T`` each), the capacitance system, the solution. Returns ``(ok, lam, delta)``."""
+    n = q_out.size
+    N = WT.shape[0]
+    Lw = (N - 2) // 2
+    rows = np.empty(2 * Lw, np.int64)
+    other = np.empty(2 * Lw, np.int64)
+    sign = np.empty(2 * Lw)
+    m = 0
+    for a in range(Lw):
+        g = w0 + a
+        if not i0 <= g < i1:  # off the contact: p = 0
+            rows[m], other[m], sign[m] = a, -1, 0.0
+            m += 1
+    y = ybase.copy()
+    for a in range(Lw):
+        g = w0 + a
+        if not (i0 <= g < i1 and kind[g] == FREE):  # at a bound (q = +-p) or off the contact (q = 0)
+            r = Lw + a
+            rows[m] = r
             if i0 <= g < i1 and kind[g] == UPPER:
                 other[m], sign[m] = a, 1.0
             elif i0 <= g < i1 and kind[g] == LOWER:
@@ -293,15 +332,11 @@ def direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out,
             m += 1
             if m > DIRECT_ROWS:
                 return False, 0.0, 0.0
-    b[2 * Lw] = load / dx
-    b[2 * Lw + 1] = target
-    y = np.zeros(N)  # W b: the columns of W (rows of W^T) of the rows with a right-hand side
-    for j in range(N):
-        bj = b[j]
-        if bj != 0.0:
-            col = WT[j]
-            for i in range(N):
-                y[i] += bj * col[i]
+            br = b[r]
+            if br != 0.0:  # this row's right-hand side is 0, not its stick one
+                col = WT[r]
+                for i in range(N):
+                    y[i] -= br * col[i]
     C = np.empty((m, m))
     z = np.empty(m)
     for i in range(m):
@@ -341,10 +376,12 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
     and the contact's neighbours not penetrating (one that does joins it, sticking); the caller checks the rest of
     the grid, as after the passes. The tangential: :func:`core.solvers._pdas.solve_step`'s checks with the coupled
     slip ``lam - K (q - q_old) + ct S (p - p_old)`` (a sticking traction past its bound goes to it, a bound one
-    slipping against it sticks). With nothing to move, the named residuals with the true ``K`` must be within
-    ``tol``; then writes what a full tangential solve writes (``st.q``, ``st.dq``, ``st.slip``, ``st.codes``,
-    ``st.residuals``; its iterations as 1), the profile ``gap0 + cn S q`` of the normal problem (``profile``) and
-    ``K p`` on the contact (``kp``, made beside the slips from the same rows of ``K``). Returns ``(verdict, i0, i1)``: :data:`ACCEPTED`, :data:`MOVED` (``st.kind`` and the contact moved) or
+    slipping against it sticks; the slips of the bound rows first, so that a set that moves costs little). With
+    nothing to move, the named residuals with the true ``K`` must be within ``tol``; then writes what a full
+    tangential solve writes (``st.q``, ``st.dq``, ``st.slip``, ``st.codes``, ``st.residuals``; its iterations as
+    1), the profile ``gap0 + cn S q`` of the normal problem (``profile``) and ``K p`` on the contact (``kp``, made
+    beside the stick residual from the same rows of ``K``). Returns ``(verdict, i0, i1)``: :data:`ACCEPTED`,
+    :data:`MOVED` (``st.kind`` and the contact moved) or
     :data:`REFUSED`.
     """
     n = gap0.size
@@ -378,7 +415,8 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
                         j0 = j
                     else:
                         j1 = j + 1
-    # ---- tangential: the coupled slip on the contact, the bounds and the directions
+    # ---- tangential: the bounds of the sticking tractions and the slips' directions at the bound (the slips of
+    # the bound rows only: a set that moves costs no more)
     for k in range(n):
         scratch[k] = p[k] - p_old[k]
     dp = st.dq  # scratch until the end: st.dq is written last
@@ -389,27 +427,23 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
         if scratch[k] != 0.0:
             lo = min(lo, k)
             hi = max(hi, k + 1)
-    stick_res, bound_res, dir_res, total = 0.0, 0.0, 0.0, 0.0
+    bound_res, dir_res, total = 0.0, 0.0, 0.0
     for i in range(n):
         total += q[i]
         slip[i] = 0.0
         if kind[i] == OUT:
             continue
-        s = lam + ct * dp[i]
-        g = 0.0
-        row = K[i]
-        for k in range(lo, hi):  # p vanishes off [i0, i1), inside [lo, hi)
-            s -= row[k] * scratch[k]
-            g += row[k] * p[k]
-        kp[i] = g
         if kind[i] == FREE:
-            stick_res = max(stick_res, abs(s))
             excess = abs(q[i]) - p[i]
             if excess > tol:
                 kind[i] = UPPER if q[i] > 0.0 else LOWER
                 moved = True
             bound_res = max(bound_res, excess)
         else:
+            s = lam + ct * dp[i]
+            row = K[i]
+            for k in range(lo, hi):
+                s -= row[k] * scratch[k]
             slip[i] = s
             wrong = -s if kind[i] == UPPER else s
             if wrong > tol:
@@ -426,6 +460,23 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
         return MOVED, j0, j1
     if moved:
         return MOVED, i0, i1
+    # ---- the sets hold: the stick residual (no slip where it sticks) and K p on the contact, from the same rows
+    stick_res = 0.0
+    for i in range(n):
+        if kind[i] == OUT:
+            continue
+        g = 0.0
+        row = K[i]
+        if kind[i] == FREE:
+            s = lam + ct * dp[i]
+            for k in range(lo, hi):  # p vanishes off [i0, i1), inside [lo, hi)
+                s -= row[k] * scratch[k]
+                g += row[k] * p[k]
+            stick_res = max(stick_res, abs(s))
+        else:
+            for k in range(i0, i1):
+                g += row[k] * p[k]
+        kp[i] = g
     res[0] = stick_res
     res[1] = max(bound_res, 0.0)
     res[2] = dir_res
@@ -459,8 +510,18 @@ def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, i0, i1, st, 
     solves = 0
     lam, delta = 0.0, 0.0
     verdict = REFUSED
+    N = WT.shape[0]
+    b = np.empty(N)
+    ybase = np.empty(N)
+    base = (-1, -1)  # the contact of b and ybase
+    w0 = -1
     for _ in range(tries):
-        ok, lam_d, delta_d = direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, st.kind, q_d, p_d, scratch)
+        if base != (i0, i1):
+            w0 = direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch, b, ybase)
+            base = (i0, i1)
+        if w0 < 0:
+            return REFUSED, solves, lam, delta, i0, i1
+        ok, lam_d, delta_d = direct_sets(WT, i0, i1, w0, st.kind, b, ybase, q_d, p_d)
         if not ok:
             return REFUSED, solves, lam, delta, i0, i1
         solves += 1
