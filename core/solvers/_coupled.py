@@ -722,8 +722,8 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
     """One coupled step, from ``st.q_prev`` (kept) and the previous pressure ``p_prev``: first :func:`joint` from the
     last step's sets moved by ``move`` elements on the contact ``[i0, i1)``, then the alternation's passes.
 
-    ``W`` is the transposed window inverse of :func:`direct` (empty: none yet); ``need[0]`` receives the width of a contact
-    it is too narrow for, and ``need[0] = -1`` turns the direct solves off (the passes alone). ``q_start`` is the
+    ``W`` is the transposed window inverse of :func:`direct` (empty: none yet); ``need[0]`` receives the width of a
+    contact it is too narrow for, and ``need[0] = -1`` turns the direct solves off (the passes alone). ``q_start`` is the
     first guess of the step's tractions (the normal problem of the first pass sees it, or the last direct
     solution). Writes the pressure ``p`` and, through :func:`check` or :func:`core.solvers._pdas.solve_step`, the
     step's tractions, slips, codes and residuals in ``st``. Returns ``(status, lam, alternations, full, direct,

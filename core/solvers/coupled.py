@@ -32,9 +32,10 @@ named residuals of :data:`core.base.states.RESIDUAL_NAMES` (with the true slip)
 and three of its own, :data:`COUPLED_RESIDUALS`: ``gap`` (the largest
 ``|gap|`` in contact and penetration out of it [P/E*]), ``pressure`` (the
 most negative pressure [p0]) and ``alternation`` (the last change of ``p`` and
-``q`` [p0, mu p0]; 0 for a step the direct solve ended, whose equations hold to round-off). At ``beta = 0`` the alternation stops after its second
-pass and the tangential solve is the dense solver's on the numerical
-pressure: the same increments to round-off (``tests/test_coupled.py``).
+``q`` [p0, mu p0]; 0 for a step the direct solve ended, whose equations hold to
+round-off). At ``beta = 0`` the alternation stops after its second pass and the
+tangential solve is the dense solver's on the numerical pressure: the same
+increments to round-off (``tests/test_coupled.py``).
 
 The pressure of every step is written into the bounds the engine passes
 (:func:`core.march.engine.run` keeps them as the result's :attr:`~core.CycleResult.pressures`
