@@ -77,7 +77,7 @@ WINDOW_MARGIN = 4
 #: of the tolerance (:func:`alternate`).
 PREDICTED = 0.3
 #: Rows of the scratch ``work`` the kernels need (``n`` entries each).
-WORK_ROWS = 13
+WORK_ROWS = 14
 
 #: Interval widths whose inverse :class:`Inverses` keeps (a contact breathes by an element or two as it rocks).
 SLOTS = 4
@@ -255,7 +255,7 @@ def direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out,
     w0 = direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch, b, y)
     if w0 < 0:
         return False, 0.0, 0.0
-    return direct_sets(WT, i0, i1, w0, kind, b, y, q_out, p_out)
+    return direct_sets(WT, i0, i1, w0, kind, b, y, q_out, p_out, q_old, p_old, False)
 
 
 @jit
@@ -301,42 +301,89 @@ def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch,
 
 
 @jit
-def direct_sets(WT, i0, i1, w0, kind, b, ybase, q_out, p_out):
-    """The part of :func:`direct` that depends on the sets ``kind``, from :func:`direct_rhs`'s ``b`` and ``ybase``:
-    the rows of the elements that do not stick replaced (their right-hand sides taken out of ``ybase``, a row of
-    ``W^T`` each), the capacitance system, the solution. Returns ``(ok, lam, delta)``."""
+def direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1, scratch, b, ybase):
+    """:func:`direct_rhs` for the increment from the last step's solution ``(p_old, q_old)``, ``kp_old = K p_old``
+    on every row: unknowns ``(dp, dq, delta, lam)``. The tangential rows' right-hand side is then 0 (no slip where it
+    sticks: ``K dq - ct S dp - lam = 0``), the normal rows' the last pressure's gap under this step's profile, the
+    load's and the target's what the last solution misses of them: ``W b`` costs ``N L`` instead of ``N^2``, and no
+    ``K q_old``. Returns ``w0``; -1 if the contact, or the last solution, does not fit the window (then
+    :func:`direct_rhs`)."""
+    n = gap0.size
+    N = WT.shape[0]
+    Lw = (N - 2) // 2
+    L = i1 - i0
+    if Lw < 1 or L > Lw or Lw > n:
+        return -1
+    w0 = min(max(i0 - (Lw - L) // 2, 0), n - Lw)
+    sp, sq = 0.0, 0.0
+    for j in range(n):
+        if (p_old[j] != 0.0 or q_old[j] != 0.0) and not w0 <= j < w0 + Lw:
+            return -1
+        sp += p_old[j]
+        sq += q_old[j]
+    for j in range(N):
+        b[j] = 0.0
+        ybase[j] = 0.0
+    cross(q_old, dx, scratch)
+    for a in range(Lw):
+        g = w0 + a
+        if i0 <= g < i1:
+            b[a] = -gap0[g] - kp_old[g] - cn * scratch[g]
+    b[2 * Lw] = load / dx - sp
+    b[2 * Lw + 1] = target - sq
+    for j in range(N):
+        bj = b[j]
+        if bj != 0.0:
+            col = WT[j]
+            for i in range(N):
+                ybase[i] += bj * col[i]
+    return w0
+
+
+@jit
+def direct_sets(WT, i0, i1, w0, kind, b, ybase, q_out, p_out, q_old, p_old, increment):
+    """The part of :func:`direct` that depends on the sets ``kind``, from :func:`direct_rhs`'s (or, with
+    ``increment``, :func:`direct_rhs_step`'s) ``b`` and ``ybase``: the rows of the elements that do not stick replaced
+    (``p = 0``, ``q = 0`` off the contact, ``q = +-p`` at the bound: in the increment form ``dp = -p_old``, ...,
+    ``dq -+ dp = +-p_old - q_old``), their right-hand sides put in ``ybase`` in place of the stick ones (a row of
+    ``W^T`` each), the capacitance system, the solution (the last one added to the increment). Returns
+    ``(ok, lam, delta)``."""
     n = q_out.size
     N = WT.shape[0]
     Lw = (N - 2) // 2
     rows = np.empty(2 * Lw, np.int64)
     other = np.empty(2 * Lw, np.int64)
     sign = np.empty(2 * Lw)
+    c = np.empty(2 * Lw)  # the replaced rows' right-hand sides
     m = 0
     for a in range(Lw):
         g = w0 + a
         if not i0 <= g < i1:  # off the contact: p = 0
             rows[m], other[m], sign[m] = a, -1, 0.0
+            c[m] = -p_old[g] if increment else 0.0
             m += 1
-    y = ybase.copy()
     for a in range(Lw):
         g = w0 + a
         if not (i0 <= g < i1 and kind[g] == FREE):  # at a bound (q = +-p) or off the contact (q = 0)
-            r = Lw + a
-            rows[m] = r
+            rows[m] = Lw + a
             if i0 <= g < i1 and kind[g] == UPPER:
                 other[m], sign[m] = a, 1.0
             elif i0 <= g < i1 and kind[g] == LOWER:
                 other[m], sign[m] = a, -1.0
             else:
                 other[m], sign[m] = -1, 0.0
+            c[m] = sign[m] * p_old[g] - q_old[g] if increment else 0.0
             m += 1
             if m > DIRECT_ROWS:
                 return False, 0.0, 0.0
-            br = b[r]
-            if br != 0.0:  # this row's right-hand side is 0, not its stick one
-                col = WT[r]
-                for i in range(N):
-                    y[i] -= br * col[i]
+    y = ybase.copy()
+    for i in range(m):  # this row's right-hand side is c, not its stick one
+        r = rows[i]
+        d = c[i] - b[r]
+        if d != 0.0:
+            col = WT[r]
+            for j in range(N):
+                y[j] += d * col[j]
     C = np.empty((m, m))
     z = np.empty(m)
     for i in range(m):
@@ -344,7 +391,7 @@ def direct_sets(WT, i0, i1, w0, kind, b, ybase, q_out, p_out):
         for j in range(m):
             col = WT[rows[j]]
             C[i, j] = col[r] - s * col[o] if o >= 0 else col[r]
-        z[i] = y[r] - s * y[o] if o >= 0 else y[r]
+        z[i] = (y[r] - s * y[o] if o >= 0 else y[r]) - c[i]
     if not _lu_solve(C, z, m):
         return False, 0.0, 0.0
     for j in range(m):  # x = y - W_U z
@@ -358,8 +405,8 @@ def direct_sets(WT, i0, i1, w0, kind, b, ybase, q_out, p_out):
     for a in range(Lw):
         g = w0 + a
         if i0 <= g < i1:
-            p_out[g] = y[a]
-            q_out[g] = y[Lw + a]
+            p_out[g] = y[a] + p_old[g] if increment else y[a]
+            q_out[g] = y[Lw + a] + q_old[g] if increment else y[Lw + a]
     return True, y[2 * Lw + 1], y[2 * Lw]
 
 
@@ -494,13 +541,14 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
 
 
 @jit
-def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, i0, i1, st, q_d, p_d, profile, scratch, kp,
-          tries):
+def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, kp_old, i0, i1, st, q_d, p_d, profile, scratch,
+          kp, tries):
     """The step by :func:`direct` solves and :func:`check`'s moves of the sets, from the sets ``st.kind`` on the
     contact ``[i0, i1)`` (elements off it are set released, those on it that were released start sticking), at
-    most ``tries`` solves. Returns ``(verdict, solves, lam, delta, i0, i1)``: :data:`ACCEPTED` with the solution in
-    ``p_d``, ``q_d`` and ``st`` (:func:`check`), else the last direct solution, if any (``solves > 0``), in ``q_d``
-    and ``p_d``."""
+    most ``tries`` solves: for the increment from the last step's solution ``(p_old, q_old)`` when its ``K p_old``
+    is given (``kp_old``, every row; empty: none) and it fits the window (:func:`direct_rhs_step`), else whole.
+    Returns ``(verdict, solves, lam, delta, i0, i1)``: :data:`ACCEPTED` with the solution in ``p_d``, ``q_d`` and
+    ``st`` (:func:`check`), else the last direct solution, if any (``solves > 0``), in ``q_d`` and ``p_d``."""
     n = gap0.size
     for k in range(n):
         if k < i0 or k >= i1:
@@ -515,13 +563,21 @@ def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, i0, i1, st, 
     ybase = np.empty(N)
     base = (-1, -1)  # the contact of b and ybase
     w0 = -1
+    increment = False
     for _ in range(tries):
         if base != (i0, i1):
-            w0 = direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch, b, ybase)
+            increment = kp_old.size > 0
+            w0 = -1
+            if increment:
+                w0 = direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1, scratch, b,
+                                     ybase)
+            if w0 < 0:
+                increment = False
+                w0 = direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch, b, ybase)
             base = (i0, i1)
         if w0 < 0:
             return REFUSED, solves, lam, delta, i0, i1
-        ok, lam_d, delta_d = direct_sets(WT, i0, i1, w0, st.kind, b, ybase, q_d, p_d)
+        ok, lam_d, delta_d = direct_sets(WT, i0, i1, w0, st.kind, b, ybase, q_d, p_d, q_old, p_old, increment)
         if not ok:
             return REFUSED, solves, lam, delta, i0, i1
         solves += 1
@@ -749,13 +805,15 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
     before = -1.0  # the change of the last settled pass (none: -1; the kernels are compiled with fastmath: no inf)
     tries = 0  # joint solves after a full pass
     n_direct = 0
-    p_d, q_d, scratch = work[10], work[11], work[12]
+    p_d, q_d, scratch, kp_old = work[10], work[11], work[12], work[13]
+    for k in range(n):  # K p_prev, every row: the last step's (march leaves it in work[4], which check rewrites)
+        kp_old[k] = work[4][k]
     # ---- first the direct solves from the last step's sets on the predicted contact: most steps end here
     direct_on = coupled and need[0] >= 0  # need[0] = -1: no direct solves (the alternation alone)
     if direct_on and has_prev and W.shape[0] > 0:
         _shift_kinds(st.kind, move)
         verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true, p_prev,
-                                                        i0, i1, st, q_d, p_d, profile, scratch, work[4],
+                                                        kp_old, i0, i1, st, q_d, p_d, profile, scratch, work[4],
                                                         DIRECT_TRIES)
         n_direct += solves
         if verdict == ACCEPTED:
@@ -826,7 +884,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
         if full and direct_on and tries < 2:
             tries += 1
             verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true,
-                                                            p_prev, i0, i1, st, q_d, p_d, profile, scratch,
+                                                            p_prev, kp_old, i0, i1, st, q_d, p_d, profile, scratch,
                                                             work[4], DIRECT_TRIES)
             n_direct += solves
             if verdict == ACCEPTED:

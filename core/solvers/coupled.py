@@ -391,6 +391,7 @@ class CoupledSolver:
         self._dq_last = q - st.q_prev
         st.q_prev[:] = q
         self.p_prev = p
+        self._work[4] = self.K @ p  # K p of the last step, as the compiled march leaves it (its direct solves use it)
         return True
 
     def _unsettled(self, alternations, change):
