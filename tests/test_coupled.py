@@ -288,8 +288,9 @@ def _window_system(K, S, cn, ct, Lw):
 def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
     """core.solvers._coupled.direct (the window's inverse and a Sherman-Morrison-Woodbury correction for the rows of
     the elements that do not stick) gives the solution of the coupled step's linear system with the sets fixed,
-    assembled here on the contact alone and solved by LAPACK, to round-off; its window inverse is the inverse of
-    the system in full stick; a contact wider than the window is declined."""
+    assembled here on the contact alone and solved by LAPACK, to round-off, and so does its increment form from the
+    last solution (the march's); its window inverse is the inverse of the system in full stick; a contact wider
+    than the window is declined."""
     from core.elastic.coupling import coupling_factors, cross_matrix
     from core.solvers import _coupled, _pdas
 
@@ -336,6 +337,16 @@ def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
     assert_allclose(q[C], ref[L:2 * L], rtol=0, atol=1e-11)
     assert_allclose([delta, lam], ref[2 * L:], rtol=0, atol=1e-11)
     assert not p[:i0].any() and not p[i1:].any() and not q[:i0].any() and not q[i1:].any()
+    # the same solve for the increment from (p_old, q_old), as a step of the march makes it: the same solution
+    N = 2 * Lw + 2
+    b, y, q2, p2 = np.empty(N), np.empty(N), np.zeros(n), np.zeros(n)
+    w0 = _coupled.direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, K @ p_old, i0, i1, scratch, b, y)
+    assert w0 >= 0
+    ok, lam2, delta2 = _coupled.direct_sets(WT, i0, i1, w0, kind, b, y, q2, p2, q_old, p_old, True)
+    assert ok
+    assert_allclose(p2, p, rtol=0, atol=1e-11)
+    assert_allclose(q2, q, rtol=0, atol=1e-11)
+    assert_allclose([delta2, lam2], [delta, lam], rtol=0, atol=1e-11)
     # a contact wider than the window: declined, nothing written
     q[:] = p[:] = 7.0
     ok, _, _ = _coupled.direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, 10, 10 + Lw + 1, kind, q, p, scratch)
