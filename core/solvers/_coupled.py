@@ -267,13 +267,11 @@ def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch,
     n = gap0.size
     N = WT.shape[0]
     Lw = (N - 2) // 2
-    L = i1 - i0
-    if Lw < 1 or L > Lw or Lw > n:
+    w0 = _window_start(n, Lw, i0, i1)
+    if w0 < 0:
         return -1
-    w0 = min(max(i0 - (Lw - L) // 2, 0), n - Lw)
     for j in range(N):
         b[j] = 0.0
-        ybase[j] = 0.0
     lo, hi = n, 0
     for j in range(n):
         if q_old[j] != 0.0:
@@ -291,13 +289,32 @@ def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch,
             b[Lw + a] = t - ct * scratch[g]
     b[2 * Lw] = load / dx
     b[2 * Lw + 1] = target
-    for j in range(N):  # W b: the columns of W (rows of W^T) of the rows with a right-hand side
+    _times(WT, b, ybase)
+    return w0
+
+
+@jit
+def _window_start(n, Lw, i0, i1):
+    """The first element of the window of ``Lw`` elements (on a grid of ``n``) centred on the contact ``[i0, i1)``;
+    -1 if there is no window or the contact does not fit it."""
+    L = i1 - i0
+    if Lw < 1 or L > Lw or Lw > n:
+        return -1
+    return min(max(i0 - (Lw - L) // 2, 0), n - Lw)
+
+
+@jit
+def _times(WT, b, y):
+    """``y = W b`` from ``W^T``: the columns of ``W`` (rows of ``W^T``, contiguous) of the nonzero entries of ``b``."""
+    N = b.size
+    for i in range(N):
+        y[i] = 0.0
+    for j in range(N):
         bj = b[j]
         if bj != 0.0:
             col = WT[j]
             for i in range(N):
-                ybase[i] += bj * col[i]
-    return w0
+                y[i] += bj * col[i]
 
 
 @jit
@@ -311,10 +328,9 @@ def direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1
     n = gap0.size
     N = WT.shape[0]
     Lw = (N - 2) // 2
-    L = i1 - i0
-    if Lw < 1 or L > Lw or Lw > n:
+    w0 = _window_start(n, Lw, i0, i1)
+    if w0 < 0:
         return -1
-    w0 = min(max(i0 - (Lw - L) // 2, 0), n - Lw)
     sp, sq = 0.0, 0.0
     for j in range(n):
         if (p_old[j] != 0.0 or q_old[j] != 0.0) and not w0 <= j < w0 + Lw:
@@ -323,7 +339,6 @@ def direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1
         sq += q_old[j]
     for j in range(N):
         b[j] = 0.0
-        ybase[j] = 0.0
     cross(q_old, dx, scratch)
     for a in range(Lw):
         g = w0 + a
@@ -331,12 +346,7 @@ def direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1
             b[a] = -gap0[g] - kp_old[g] - cn * scratch[g]
     b[2 * Lw] = load / dx - sp
     b[2 * Lw + 1] = target - sq
-    for j in range(N):
-        bj = b[j]
-        if bj != 0.0:
-            col = WT[j]
-            for i in range(N):
-                ybase[i] += bj * col[i]
+    _times(WT, b, ybase)
     return w0
 
 
