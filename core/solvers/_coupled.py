@@ -265,9 +265,7 @@ def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch,
     (``-h``, ``K q_old - ct S p_old``, the load and the target; 0 off it) and ``ybase = W b`` (``N^2``). The
     direct solves of one step on one contact share it (:func:`joint`)."""
     n = gap0.size
-    N = WT.shape[0]
-    Lw = (N - 2) // 2
-    w0 = _window_start(n, Lw, i0, i1)
+    N, Lw, w0 = _window(WT, n, i0, i1)
     if w0 < 0:
         return -1
     for j in range(N):
@@ -294,13 +292,15 @@ def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch,
 
 
 @jit
-def _window_start(n, Lw, i0, i1):
-    """The first element of the window of ``Lw`` elements (on a grid of ``n``) centred on the contact ``[i0, i1)``;
-    -1 if there is no window or the contact does not fit it."""
+def _window(WT, n, i0, i1):
+    """``(N, Lw, w0)``: the size of the window's system ``W^T``, its elements, and its first element on a grid of
+    ``n`` when centred on the contact ``[i0, i1)`` (-1 if there is no window or the contact does not fit it)."""
+    N = WT.shape[0]
+    Lw = (N - 2) // 2
     L = i1 - i0
     if Lw < 1 or L > Lw or Lw > n:
-        return -1
-    return min(max(i0 - (Lw - L) // 2, 0), n - Lw)
+        return N, Lw, -1
+    return N, Lw, min(max(i0 - (Lw - L) // 2, 0), n - Lw)
 
 
 @jit
@@ -326,9 +326,7 @@ def direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1
     ``K q_old``. Returns ``w0``; -1 if the contact, or the last solution, does not fit the window (then
     :func:`direct_rhs`)."""
     n = gap0.size
-    N = WT.shape[0]
-    Lw = (N - 2) // 2
-    w0 = _window_start(n, Lw, i0, i1)
+    N, Lw, w0 = _window(WT, n, i0, i1)
     if w0 < 0:
         return -1
     sp, sq = 0.0, 0.0
