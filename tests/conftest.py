@@ -9,7 +9,7 @@ import pytest
 # a production server skips it (app/health.py)
 os.environ.setdefault("BOKEH_VALIDATE_DOC", "true")
 
-# ---- numba's cache, filled once before the workers start ----
+# ---- numba's cache, filled once before the first test (the workers start and collect meanwhile) ----
 #: Small runs through the public API that compile (or load) the solver's numba kernels, in two groups run side by
 #: side: the line solvers (dense and FFT, both kernels, the punch, the coupled march, a sampled profile's normal solve
 #: and tables) and the patch solver (the sphere, as the served app warms it, the ellipsoid, the cone's twist, a
@@ -92,6 +92,14 @@ def pytest_runtestloop(session):
         say(f"conftest: numba's cache was cold; the solver compiled once, before the first test, in "
             f"{time.monotonic() - t0:.0f} s (the workers started and collected meanwhile)")
     yield
+
+
+def pytest_unconfigure(config):
+    """A run that ends before its first test (a collection error, Ctrl-C) stops the compile it started."""
+    for proc in getattr(config, "_shakedown_precompile", (None, {}))[1].values():
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
 
 
 # ---- the order of the run: the longest first, the tests of the shared served app together ----
