@@ -9,7 +9,7 @@ import pytest
 # a production server skips it (app/health.py)
 os.environ.setdefault("BOKEH_VALIDATE_DOC", "true")
 
-# ---- numba's cache, filled once before the workers start ----
+# ---- numba's cache, filled once before the first test (the workers start and collect meanwhile) ----
 #: Small runs through the public API that compile (or load) the solver's numba kernels, in two groups run side by
 #: side: the line solvers (dense and FFT, both kernels, the punch, the coupled march, a sampled profile's normal solve
 #: and tables) and the patch solver (the sphere, as the served app warms it, the ellipsoid, the cone's twist, a
@@ -56,29 +56,50 @@ def _numba_cache_is_cold() -> bool:
 
 @pytest.hookimpl(trylast=True)  # after the terminal's and xdist's own set-up, before xdist starts its workers
 def pytest_configure(config):
-    """Under pytest-xdist, before the workers start: on a cold numba cache (CI's fresh clone), compile the solver
-    once, here, in two processes side by side, instead of in every worker and every served app at once (each
-    compiled the same kernels: 300-430 s for a worker's first solve, 2 cores shared by four compiling
+    """Under pytest-xdist, before the workers start: on a cold numba cache (CI's fresh clone), start compiling the
+    solver once, here, in two processes side by side, instead of in every worker and every served app at once
+    (each compiled the same kernels: 300-430 s for a worker's first solve, 2 cores shared by four compiling
     processes). The tests that are about compiling use a cache directory of their own (test_jit,
-    test_app_cold_start)."""
+    test_app_cold_start). The run waits for them in :func:`pytest_runtestloop`: the workers start and collect
+    meanwhile (collecting compiles nothing: 20 s of CPU a worker, on the core the shorter group leaves idle)."""
     import subprocess
     import sys
     import time
 
     if hasattr(config, "workerinput") or not config.getoption("numprocesses", None) or not _numba_cache_is_cold():
         return
-    t0 = time.monotonic()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [root, os.environ.get("PYTHONPATH")]))}
-    procs = {group: subprocess.Popen([sys.executable, "-c", code], cwd=root, env=env, stdout=subprocess.PIPE,
-                                     stderr=subprocess.STDOUT, text=True) for group, code in _PRECOMPILE.items()}
-    say = config.get_terminal_writer().line
-    for group, proc in procs.items():
-        out, _ = proc.communicate()
-        if proc.returncode:  # the tests compile what is missing, and the failing run fails its own tests
-            say(f"conftest: compiling the {group} solver failed ({proc.returncode}):\n{out[-2000:]}")
-    say(f"conftest: numba's cache was cold; the solver compiled once, before the workers, in "
-        f"{time.monotonic() - t0:.0f} s")
+    config._shakedown_precompile = (time.monotonic(), {
+        group: subprocess.Popen([sys.executable, "-c", code], cwd=root, env=env, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True) for group, code in _PRECOMPILE.items()})
+
+
+@pytest.hookimpl(hookwrapper=True, tryfirst=True)
+def pytest_runtestloop(session):
+    """Before xdist hands out the first test (its workers have started and collected meanwhile): wait for the
+    compile that :func:`pytest_configure` started, if it did."""
+    precompile = getattr(session.config, "_shakedown_precompile", None)
+    if precompile is not None:
+        import time
+
+        t0, procs = precompile
+        say = session.config.get_terminal_writer().line
+        for group, proc in procs.items():
+            out, _ = proc.communicate()
+            if proc.returncode:  # the tests compile what is missing, and the failing run fails its own tests
+                say(f"conftest: compiling the {group} solver failed ({proc.returncode}):\n{out[-2000:]}")
+        say(f"conftest: numba's cache was cold; the solver compiled once, before the first test, in "
+            f"{time.monotonic() - t0:.0f} s (the workers started and collected meanwhile)")
+    yield
+
+
+def pytest_unconfigure(config):
+    """A run that ends before its first test (a collection error, Ctrl-C) stops the compile it started."""
+    for proc in getattr(config, "_shakedown_precompile", (None, {}))[1].values():
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
 
 
 # ---- the order of the run: the longest first, the tests of the shared served app together ----

@@ -166,7 +166,11 @@ def _fits_at_every_size(page, tab):
 def test_nothing_overlaps_or_is_cut_off(browser, app_url):
     """At 1024x768, 1280x720 and 1920x1080 (one session, resized), in the Explorer tab and in the About tab; at
     1280x720 every control of the Explorer tab has an accessible name (see
-    :func:`_every_control_has_an_accessible_name`)."""
+    :func:`_every_control_has_an_accessible_name`), the wheel scrolls the page and the sketch follows the player
+    (:func:`_the_wheel_scrolls_the_page_zoom_is_one_click_away_and_the_sketch_follows_the_player`); then the
+    Paper's figures tab (:func:`_the_paper_figures_fit_and_save_as_png_and_svg`). The default run's page, opened
+    once for all of these (each was a test of its own that opened and scrolled through the same page: a page
+    costs the server a document and Chromium the drawing of every figure)."""
     page = _open(browser, app_url, SIZES[0])
     for tab in ("Explorer", "About the model"):
         if tab != "Explorer":
@@ -179,6 +183,10 @@ def test_nothing_overlaps_or_is_cut_off(browser, app_url):
             page.set_viewport_size({"width": 1280, "height": 720})
             _settle(page)
             _every_control_has_an_accessible_name(page)
+            _the_wheel_scrolls_the_page_zoom_is_one_click_away_and_the_sketch_follows_the_player(page)
+    assert page.problems == [], page.problems
+    page.set_viewport_size({"width": SIZES[0][0], "height": SIZES[0][1]})
+    _the_paper_figures_fit_and_save_as_png_and_svg(page)
     assert page.problems == [], page.problems
     page.close()
 
@@ -193,10 +201,9 @@ def test_a_phone_gets_one_column(browser, app_url):
     page.close()
 
 
-def test_the_wheel_scrolls_the_page_zoom_is_one_click_away_and_the_sketch_follows_the_player(browser, app_url):
+def _the_wheel_scrolls_the_page_zoom_is_one_click_away_and_the_sketch_follows_the_player(page):
     """At 1280x720, the default run: the wheel over a figure scrolls the page, every figure's wheel zoom is in its
     toolbar and off; then the sketch follows the player (see :func:`_the_sketch_follows_the_player`)."""
-    page = _open(browser, app_url, (1280, 720))
     tools = page.evaluate("""() => [...Bokeh.documents[0].all_models].filter((m) => m.type === 'Toolbar' ||
         (m.constructor && m.constructor.__name__ === 'Toolbar')).map((m) => [m.active_scroll == null,
         m.tools.some((t) => t.constructor.__name__ === 'WheelZoomTool')])""")
@@ -210,8 +217,6 @@ def test_the_wheel_scrolls_the_page_zoom_is_one_click_away_and_the_sketch_follow
     page.mouse.wheel(0, 300)
     page.wait_for_function(f"(b) => ({main})() > b", arg=before, timeout=10_000)
     _the_sketch_follows_the_player(page)
-    assert page.problems == [], page.problems
-    page.close()
 
 
 def test_preset_resets_the_player_and_the_cards_agree(browser, app_url):
@@ -375,10 +380,9 @@ def _the_sketch_follows_the_player(page):
     assert len(after[0]) == 1 and after[1], after
 
 
-def test_the_paper_figures_fit_and_save_as_png_and_svg(browser, app_url):
+def _the_paper_figures_fit_and_save_as_png_and_svg(page):
     """The Paper's figures tab at 1024x768, 1280x720 and 1920x1080: nothing overlaps or is cut off, legends
     included; every figure has the toolbar's save tool (PNG); a chosen figure downloads as SVG named after it."""
-    page = _open(browser, app_url, SIZES[0])
     page.get_by_text("Paper's figures", exact=True).first.click()
     paper_views = "figure_views().filter((v) => v.model.title && v.model.title.text.startsWith('Fig '))"
     page.wait_for_function(f"() => {{ {FIGURE_VIEWS_JS} return {paper_views}.length === {len(TITLES)}; }}",
@@ -398,5 +402,3 @@ def test_the_paper_figures_fit_and_save_as_png_and_svg(browser, app_url):
         svg = f.read()
     assert svg.startswith("<svg") and svg.rstrip().endswith("</svg>") and svg.count("<path") > 5, svg[:300]
     assert "Fig 14: shakedown limit" in svg and "eq 35" in svg  # the title and the legend, as SVG text
-    assert page.problems == [], page.problems
-    page.close()

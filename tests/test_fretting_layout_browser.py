@@ -1,6 +1,7 @@
 """Real-browser tests of issue 30, items 3 and 5: under an oscillating load the fretting loop is on the first screen,
 beside the displacement, for every body, at 1280x720 and 1024x768 (whole, not overlapping); under rocking it is
-below. The regime map draws each history's own lines.
+below. The loop draws the run; the regime map draws each history's own lines. One page per body and loading, each
+check that needs the same page made on it (a page costs the server a document and Chromium a render).
 
 Served ``app/main.py`` (the session fixture ``app_url`` of ``tests/conftest.py``) and Debian Chromium (``browser``);
 the pages are opened by :func:`app.serving.open_page`, which records console and page errors.
@@ -77,19 +78,37 @@ def _first_screen(page, titles, width, height, what):
     return boxes
 
 
+#: The bodies whose run is awaited on the tangential loading's page: the loop then holds the run (a line and a point
+#: contact, at the default point resolution and 4 periods: a run that answers within a minute or two).
+RUN_BODIES = ("cylinder", "sphere")
+#: The body whose pages also show the regime map's lines of each loading (the map is drawn once the run ends).
+MAP_BODY = "cylinder"
+
+
+def _url(app_url: str, body: str, loading: str) -> str:
+    """The page of ``body`` under ``loading``: a small run, the one that is awaited at 4 periods."""
+    if loading == "tangential" and body in RUN_BODIES:
+        return f"{app_url}?body={body}&{QUERIES[loading]}&periods=4"
+    return f"{app_url}?body={body}&{QUERIES[loading]}&{_SMALL}"
+
+
 @pytest.mark.parametrize("body", BODIES)
 def test_the_fretting_loop_is_beside_the_displacement_under_an_oscillating_load(browser, app_url, body):
     """Tangential and normal loadings, both sizes: the three first-screen figures are whole in the first viewport,
     the loop right of the displacement on the same row; under rocking the loop is not on the first screen (its
     place waits below). The layout does not wait for the run (the figures are drawn with the page, the badge says
-    SOLVING meanwhile): the cone's run under the tangential loading alone takes minutes (issue 31)."""
+    SOLVING meanwhile): the cone's run under the tangential loading alone takes minutes (issue 31).
+
+    On the same pages (one page per loading, not one per check: each costs the server a document and Chromium a
+    render): for :data:`RUN_BODIES` under the tangential loading, the run's verdict is cyclic slip and the loop
+    holds its first and last period, the figures still whole at 1280x720 (:func:`_check_the_run`); for
+    :data:`MAP_BODY`, the regime map draws each loading's own lines (:func:`_check_the_map_lines`)."""
     page = None
     try:
         for loading in ("tangential", "normal"):
             if page is not None:
                 page.close()
-            page = open_page(browser, f"{app_url}?body={body}&{QUERIES[loading]}&{_SMALL}", SIZES[0],
-                             ready="[data-regime]")
+            page = open_page(browser, _url(app_url, body, loading), SIZES[0], ready="[data-regime]")
             titles = _titles(body, loading)
             displacement = next(t for n, t in zip(key_figures(body, loading), titles) if "displacement" in n)
             assert LOOP in titles
@@ -100,35 +119,35 @@ def test_the_fretting_loop_is_beside_the_displacement_under_an_oscillating_load(
                 assert abs(loop["y"] - disp["y"]) <= 2, (what, loop, disp)  # one row
                 assert loop["x"] >= disp["x"] + disp["width"] - 0.5, (what, loop, disp)  # right of it
             assert page.get_by_text("Traceback").count() == 0
+            if loading == "tangential" and body in RUN_BODIES:
+                _check_the_run(page, body)
+            if body == MAP_BODY:
+                _check_the_map_lines(page, loading)
             assert page.problems == [], page.problems
         # rocking: the paper's first screen, the loop below it
         page.close()
-        page = open_page(browser, f"{app_url}?body={body}&{QUERIES['rocking']}&{_SMALL}", SIZES[0],
-                         ready="[data-regime]")
+        page = open_page(browser, _url(app_url, body, "rocking"), SIZES[0], ready="[data-regime]")
         titles = _titles(body, "rocking")
         assert LOOP not in titles
         _first_screen(page, titles, *SIZES[0], f"{body}, rocking")
         assert page.locator(".place-loop").count() == 1
         assert page.evaluate(FIGURE_BOX_JS, LOOP) is None  # not drawn until scrolled to
+        if body == MAP_BODY:  # (it scrolls to the map: after the loop's place was seen undrawn)
+            _check_the_map_lines(page, "rocking")
         assert page.problems == [], page.problems
     finally:
         if page is not None:
             page.close()
 
 
-@pytest.mark.parametrize("body", ["cylinder", "sphere"])
-def test_the_loop_beside_the_displacement_draws_the_run(browser, app_url, body):
-    """A line and a point contact under the tangential loading: the verdict is cyclic slip and the loop on the
-    first screen holds the first and the last period of the run, the badge and the loop whole at 1280x720."""
-    page = open_page(browser, f"{app_url}?body={body}&{QUERIES['tangential']}&periods=4", SIZES[0],
-                     ready="[data-regime='cyclic slip']")
-    try:
-        points = wait_until(lambda: page.evaluate(CURVE_POINTS_JS, LOOP) or None, 60, message="the loop's data")
-        assert points >= 2 * 10, points  # the first and the last period, 10 steps each at least
-        _first_screen(page, _titles(body, "tangential"), *SIZES[0], f"{body}, tangential, run")
-        assert page.problems == [], page.problems
-    finally:
-        page.close()
+def _check_the_run(page, body):
+    """A line and a point contact under the tangential loading (issue 30, item 5; it was a test of its own, which
+    opened the same page again): the verdict is cyclic slip and the loop on the first screen holds the first and
+    the last period of the run, the badge and the loop whole at 1280x720."""
+    page.locator("[data-regime='cyclic slip']").first.wait_for(timeout=180_000)
+    points = wait_until(lambda: page.evaluate(CURVE_POINTS_JS, LOOP) or None, 60, message="the loop's data")
+    assert points >= 2 * 10, points  # the first and the last period, 10 steps each at least
+    _first_screen(page, _titles(body, "tangential"), *SIZES[0], f"{body}, tangential, run")
 
 
 def _map_lines(page, width, height):
@@ -138,27 +157,22 @@ def _map_lines(page, width, height):
     return wait_until(lambda: page.evaluate(_LEGEND, MAP), 120, message="the regime map drawn")
 
 
-@pytest.mark.parametrize("loading", ["rocking", "normal", "tangential"])
-def test_the_regime_map_draws_the_lines_of_the_history(browser, app_url, loading):
+def _check_the_map_lines(page, loading):
     """The map's legend shows the lines of the run's loading and no other's, at both sizes: the rocking's eq 35,
     sphere's limit and regression only under rocking; Melan's limit at the normal force's amplitude and phase and
     gross sliding under the normal loading; gross sliding (|ft| + A = 1) alone under the tangential; the regions
-    named for the loading."""
+    named for the loading. (It was a test of its own per loading, which opened the same page again.)"""
     rocking_lines = {"eq 35 (exact)", "sphere, ellipsoid (exact)", "eq 36 regression"}
     normal_line, gross = "Melan's limit, oscillating Fn (this body)", "gross sliding: |Q| reaches μ Fn"
     expected = {"rocking": rocking_lines, "normal": {normal_line, gross}, "tangential": {gross}}[loading]
     names = {"rocking": {"shakedown", "ratcheting"}, "normal": {"shakedown", "ratcheting"},
              "tangential": {"cyclic slip", "gross sliding"}}[loading]
-    page = open_page(browser, f"{app_url}?{QUERIES[loading]}&periods=3", SIZES[0], ready=VERDICT_SELECTOR)
-    try:
-        for width, height in SIZES:
-            legend = _map_lines(page, width, height)
-            shown = {label for label, visible in legend["items"].items() if visible}
-            lines = shown & (rocking_lines | {normal_line, gross})
-            assert lines == expected, (loading, width, legend)
-            assert names <= set(legend["texts"]), (loading, legend["texts"])
-            box = page.evaluate(FIGURE_BOX_JS, MAP)
-            assert box is not None and box["width"] >= 250 and box["x"] + box["width"] <= width + 0.5, box
-        assert page.problems == [], page.problems
-    finally:
-        page.close()
+    page.locator(VERDICT_SELECTOR).first.wait_for(timeout=180_000)
+    for width, height in SIZES:
+        legend = _map_lines(page, width, height)
+        shown = {label for label, visible in legend["items"].items() if visible}
+        lines = shown & (rocking_lines | {normal_line, gross})
+        assert lines == expected, (loading, width, legend)
+        assert names <= set(legend["texts"]), (loading, legend["texts"])
+        box = page.evaluate(FIGURE_BOX_JS, MAP)
+        assert box is not None and box["width"] >= 250 and box["x"] + box["width"] <= width + 0.5, box
