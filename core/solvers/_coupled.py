@@ -66,8 +66,10 @@ __all__ = ["alternate", "interval_normal", "cross", "gap_residual", "march", "ch
 #: failed, the normal problem needs the general solve; :func:`march`'s: a step was solved without the direct solve,
 #: whose window (:func:`window_inverse`) is narrower than the contact (the caller widens it and goes on).
 STATUS_DONE, STATUS_TANGENTIAL, STATUS_GENERAL, STATUS_WINDOW = 0, 1, 2, 3
-#: Direct solves of a step (:func:`direct`) at most; then the settled passes.
+#: Direct solves of a :func:`joint` call (:func:`direct`) at most; then the passes.
 DIRECT_TRIES = 4
+#: :func:`joint` calls after a full pass of the alternation (with the sets it found) at most in a step.
+JOINT_AFTER_PASS = 2
 #: Rows of the window's system a direct solve replaces at most (the capacitance solve costs ``m^3 / 3``); beyond,
 #: the settled passes.
 DIRECT_ROWS = 48
@@ -811,7 +813,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
     n_full = 0
     settled = False  # the contact interval and the tangential set are kept
     before = -1.0  # the change of the last settled pass (none: -1; the kernels are compiled with fastmath: no inf)
-    tries = 0  # joint solves after a full pass
+    tries = 0  # joint calls after a full pass
     n_direct = 0
     p_d, q_d, scratch, kp_old = work[10], work[11], work[12], work[13]
     for k in range(n):  # K p_prev, every row: the last step's (march leaves it in work[4], which check rewrites)
@@ -889,7 +891,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             break
         # after a full pass, the step with the sets it found is solved at once (direct); the next pass, a full
         # one, checks those sets: the step ends if it leaves the solution where it is
-        if full and direct_on and tries < 2:
+        if full and direct_on and tries < JOINT_AFTER_PASS:
             tries += 1
             verdict, solves, lam_d, delta_d, j0, j1 = joint(W, K, gap0, load, dx, cn, ct, target, tol, q_true,
                                                             p_prev, kp_old, i0, i1, st, q_d, p_d, profile, scratch,
