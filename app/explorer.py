@@ -97,7 +97,9 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self.state.param.watch(self._update_units, "units")
         self.mu_slider.param.watch(self._update_units, "value")
         self.param.watch(self._update_units, "geometry")
-        self.param.watch(self._show_spinner, "solving")
+        # the status line follows the spinner and goes when the run (or an error) arrives: a solve over before the
+        # spinner's delay never sets solving, and the compiling line stayed up to its next tick (a second)
+        self.param.watch(self._show_spinner, ["solving", "result", "error"])
         self._live = {}  # name -> app.live.LiveFigure, built with the layout (figures())
         self._panes: dict[str, pn.pane.Bokeh] = {}
         self.sentinels = {}  # name -> app.live.WhenShown, the served page's: a figure is drawn when shown

@@ -216,7 +216,7 @@ class SolveMixin:
 
     def _show_spinner(self, *_):
         """The status line under the badge: while the server's warm-up compiles the solver, what it does and for
-        how long; else empty (watches ``solving``). The running solve's spinner is the pending badge's
+        how long; else empty (watches ``solving``, ``result`` and ``error``). The running solve's spinner is the pending badge's
         (:data:`app.cards.SOLVING_BADGE`, shown by the browser after :data:`SPINNER_DELAY_MS`): only this pane's
         text changes, never a model's visibility, which made the browser lay out the whole page again."""
         compiling = self._compiling_line()
