@@ -53,6 +53,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base._jit import jit
+from ..elastic.coupling import cross_matrix
 from collections import namedtuple
 
 from ._pdas import (FREE, ITERATIONS, LOWER, MODE, OUT, TOEPLITZ, UPPER, _toeplitz_inverse, block_repeats,
@@ -149,8 +150,7 @@ def window_inverse(K, dx, cn, ct, Lw):
     """
     Lw = int(Lw)
     N = 2 * Lw + 2
-    a = np.arange(Lw)
-    S = dx * np.sign(a[:, None] - a[None, :]).astype(float)
+    S = cross_matrix(Lw, dx)
     KL = np.asarray(K, dtype=float)[:Lw, :Lw]
     M = np.zeros((N, N))
     M[:Lw, :Lw], M[:Lw, Lw:2 * Lw], M[:Lw, 2 * Lw] = KL, cn * S, -1.0
@@ -711,26 +711,17 @@ def interval_normal(C, CT, K, h, load, dx, i0, i1, p, work, inv, check_all):
 
 
 @jit
-def _contact_products(K, p, i0, i1, out):
-    """``out = K p`` for a pressure ``p`` that vanishes outside ``[i0, i1)``."""
+def _contact_products(K, p, i0, i1, out, off_only=False):
+    """``out = K p`` for a pressure ``p`` that vanishes outside ``[i0, i1)``; with ``off_only`` the rows off
+    ``[i0, i1)`` only (:func:`check` made the others)."""
     for j in range(K.shape[0]):
+        if off_only and i0 <= j < i1:
+            continue
         g = 0.0
         row = K[j]
         for k in range(i0, i1):
             g += row[k] * p[k]
         out[j] = g
-
-
-@jit
-def _outside_products(K, p, i0, i1, out):
-    """``out = K p`` off ``[i0, i1)`` for a pressure ``p`` that vanishes off it (:func:`check` made the rest)."""
-    for j in range(K.shape[0]):
-        if j < i0 or j >= i1:
-            g = 0.0
-            row = K[j]
-            for k in range(i0, i1):
-                g += row[k] * p[k]
-            out[j] = g
 
 
 @jit
@@ -1017,7 +1008,7 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
         if status == STATUS_DONE:
             # ---- the final pressure penetrates nowhere else (the passes checked only the contact's ends)
             if checked:  # check made K p on the contact
-                _outside_products(K, p, i0, i1, work[4])
+                _contact_products(K, p, i0, i1, work[4], True)
             else:
                 _contact_products(K, p, i0, i1, work[4])
             if penetrates(work[5], work[4], delta, i0, i1):
