@@ -299,8 +299,14 @@ def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
     S = cross_matrix(n, dx)
     cn, ct = coupling_factors(0.25, 0.3)
     Lw = 90
-    WT = _coupled.window_inverse(K, dx, cn, ct, Lw)  # the inverse's transpose
-    assert_allclose(WT.T @ _window_system(K, S, cn, ct, Lw), np.eye(2 * Lw + 2), rtol=0, atol=1e-10)
+    WT = _coupled.window_inverse(K, dx, cn, ct, Lw)  # the inverse's transpose, then its prefix sums
+    N = 2 * Lw + 2
+    assert WT.shape == (N + 2 * (Lw + 1), N)
+    assert_allclose(WT[:N].T @ _window_system(K, S, cn, ct, Lw), np.eye(N), rtol=0, atol=1e-10)
+    ones, ramp = _coupled._prefix_sums(WT)
+    for a in (0, 1, 37, Lw):  # the sums of W's first a normal columns, plain and weighted by their index
+        assert_allclose(ones[a], WT[:a].sum(axis=0), rtol=0, atol=1e-12)
+        assert_allclose(ramp[a], (np.arange(a)[:, None] * WT[:a]).sum(axis=0), rtol=0, atol=1e-10)
 
     x = (np.arange(n) - (n - 1) / 2) * dx
     gap0 = (2 / np.pi) * (x - 0.05) ** 2
@@ -338,9 +344,9 @@ def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
     assert_allclose([delta, lam], ref[2 * L:], rtol=0, atol=1e-11)
     assert not p[:i0].any() and not p[i1:].any() and not q[:i0].any() and not q[i1:].any()
     # the same solve for the increment from (p_old, q_old), as a step of the march makes it: the same solution
-    N = 2 * Lw + 2
     b, y, q2, p2 = np.empty(N), np.empty(N), np.zeros(n), np.zeros(n)
-    w0 = _coupled.direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, K @ p_old, i0, i1, scratch, b, y)
+    kp_old = np.where(p_old != 0, K @ p_old, -1e30)  # the march keeps K p_old on the last contact only
+    w0 = _coupled.direct_rhs_step(WT, K, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1, scratch, b, y)
     assert w0 >= 0
     ok, lam2, delta2 = _coupled.direct_sets(WT, i0, i1, w0, kind, b, y, q2, p2, q_old, p_old, True)
     assert ok
@@ -351,6 +357,111 @@ def test_the_direct_solve_is_the_coupled_system_with_its_sets_fixed():
     q[:] = p[:] = 7.0
     ok, _, _ = _coupled.direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, 10, 10 + Lw + 1, kind, q, p, scratch)
     assert not ok and (q == 7.0).all() and (p == 7.0).all()
+
+
+def test_a_step_after_a_solved_one_needs_no_column_of_the_windows_inverse_for_a_parabolic_body():
+    """core.solvers._coupled.direct_rhs_step: from the last step's solution, the next step's right-hand side on the
+    contact of a parabolic body that moved is affine in the element (the profile's change less the last approach),
+    and W b is made from the prefix sums of W's columns alone: with every normal column of W spoiled it is the same
+    product. A body that is not parabolic, or an element that joins the contact, takes the columns it needs, and
+    gives W b as well."""
+    from core.elastic.coupling import coupling_factors
+    from core.solvers import _coupled, _pdas
+
+    K, g, dx = _hertz_problem(n=120)
+    n = g.size
+    cn, ct = coupling_factors(0.25, 0.3)
+    Lw = 90
+    WT = _coupled.window_inverse(K, dx, cn, ct, Lw)
+    N = 2 * Lw + 2
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    i0, i1 = 21, 101
+    kind = np.full(n, _pdas.OUT, dtype=np.int8)
+    kind[i0:i1] = _pdas.FREE
+    kind[i0:i0 + 4] = _pdas.LOWER
+    kind[i1 - 6:i1] = _pdas.UPPER
+    load = 0.5 * np.pi
+    scratch = np.zeros(n)
+
+    def solved(gap0, q_old, p_old, target):  # a step's solution with these sets: a march's last step
+        q, p = np.zeros(n), np.zeros(n)
+        ok, lam, delta = _coupled.direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q, p,
+                                         scratch)
+        assert ok
+        return q, p
+
+    def step_rhs(WT_used, gap0, q_old, p_old, target):
+        b, y = np.empty(N), np.empty(N)
+        kp_old = np.where(p_old != 0, K @ p_old, -1e30)
+        w0 = _coupled.direct_rhs_step(WT_used, K, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1,
+                                      scratch, b, y)
+        assert w0 >= 0
+        return b, y, w0
+
+    parabola = (2 / np.pi) * (x - 0.05) ** 2
+    q0, p0 = np.zeros(n), np.where((x > -1) & (x < 1), np.sqrt(np.clip(1 - x ** 2, 0, None)), 0.0)
+    q_old, p_old = solved(parabola, q0, p0, 0.2 * load / dx)
+    moved = (2 / np.pi) * (x - 0.075) ** 2  # the body moved by half an element
+    b, y, w0 = step_rhs(WT, moved, q_old, p_old, 0.25 * load / dx)
+    assert_allclose(y, WT[:N].T @ b, rtol=0, atol=1e-10 * np.abs(WT[:N].T @ b).max())
+    spoiled = WT.copy()
+    spoiled[:Lw] = 1e6  # every normal column of W: a product that reads one is off by millions
+    b2, y2, _ = step_rhs(spoiled, moved, q_old, p_old, 0.25 * load / dx)
+    assert_allclose(y2, y, rtol=0, atol=1e-10 * np.abs(y).max())
+    # a profile that is not parabolic, and a contact that gained an element: the columns, the same W b
+    bumpy = moved + 0.01 * np.cos(7 * x)
+    b, y, w0 = step_rhs(WT, bumpy, q_old, p_old, 0.25 * load / dx)
+    assert_allclose(y, WT[:N].T @ b, rtol=0, atol=1e-10 * np.abs(y).max())
+    b2, y2, _ = step_rhs(spoiled, bumpy, q_old, p_old, 0.25 * load / dx)
+    assert np.abs(y2 - y).max() > 1.0
+    p_short = p_old.copy()
+    p_short[i1 - 1] = 0.0  # the last contact one element shorter: that row's K p_old is made, not read
+    b, y, w0 = step_rhs(WT, moved, q_old, p_short, 0.25 * load / dx)
+    shift = np.zeros(n)
+    _coupled.cross(q_old, dx, shift)
+    assert_allclose(b[i1 - 1 - w0], -moved[i1 - 1] - K[i1 - 1] @ p_short - cn * shift[i1 - 1], rtol=0, atol=1e-12)
+    assert_allclose(y, WT[:N].T @ b, rtol=0, atol=1e-10 * np.abs(y).max())
+
+
+def test_the_gap_off_the_contact_is_bounded_where_it_is_open_and_made_where_it_may_close():
+    """core.solvers._coupled.off_contact: on the rows off the contact, K p is made exactly near the contact's ends
+    and replaced by Jensen's lower bound (the pressure's sum times the kernel at its centroid) where that bound
+    already leaves the gap open; the kernel of the plane is convex at every distance. The bound never exceeds K p,
+    the rows it keeps are open, and the march's penetration test and gap residual read the same from it as from
+    K p made everywhere, also for a pressure and profile that penetrate."""
+    from core.solvers import _coupled
+
+    K, g, dx = _hertz_problem(n=160)
+    n = g.size
+    assert _coupled.convex_reach(K) == n - 1
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    rng = np.random.default_rng(11)
+    for case in range(40):
+        L = int(rng.integers(20, 90))
+        i0 = int(rng.integers(1, n - L - 1))
+        i1 = i0 + L
+        p = np.zeros(n)
+        p[i0:i1] = rng.random(L) ** (1 + case % 3) + (0.0 if case % 4 else 0.5)
+        exact = K @ p
+        profile = (2 / np.pi) * (x - x[(i0 + i1) // 2]) ** 2 / (L * dx) ** 2  # a body's gap, opening outwards
+        profile -= (0.0 if case % 5 else 0.3) * np.exp(-((x - x[(i1 + n) // 2]) / 0.3) ** 2)  # some: a dip
+        delta = float(np.mean(exact[i0:i1] + profile[i0:i1]))
+        profile[i0:i1] = delta - exact[i0:i1]  # closed on the contact
+        kp = np.where((np.arange(n) >= i0) & (np.arange(n) < i1), exact, np.nan)
+        made = _coupled.off_contact(K, p, i0, i1, profile, delta, kp, _coupled.convex_reach(K))
+        off = np.ones(n, bool)
+        off[i0:i1] = False
+        assert not np.isnan(kp).any()
+        assert (kp[off] <= exact[off] + 1e-12).all()
+        bounded = off & ~np.isclose(kp, exact, rtol=1e-12, atol=1e-14)  # (a bound as tight as round-off counts as made)
+        assert (profile[bounded] + kp[bounded] - delta > 0).all()
+        assert made <= off.sum() - bounded.sum()
+        assert bounded.sum() > 0 or _coupled.penetrates(profile, exact, delta, i0, i1)
+        assert _coupled.penetrates(profile, kp, delta, i0, i1) == _coupled.penetrates(profile, exact, delta, i0, i1)
+        q = np.zeros(n)
+        work = np.zeros(n)
+        assert _coupled._gap_residual_from(profile, p, q, kp, 0.0, dx, work) == pytest.approx(
+            _coupled._gap_residual_from(profile, p, q, exact, 0.0, dx, work), rel=0, abs=1e-13)
 
 
 def test_the_windows_inverse_is_made_once_for_the_runs_of_a_contact(monkeypatch):

@@ -9,13 +9,18 @@ window of ``Lw`` elements in full stick is the same wherever the window lies:
 its inverse ``W`` (:func:`window_inverse`) is made once for a contact, and a step
 is ``W b`` corrected for the few rows of the elements that do not stick (off the
 contact, at the bound) by a small capacitance system (Sherman-Morrison-Woodbury,
-:func:`direct`). :func:`check` then tests the solution as the full solves do (the
+:func:`direct`). From the last step's solution, ``b`` is the last pressure's gap
+under this step's profile: affine on the last contact for a parabolic body that
+moved, so that ``W b`` is two prefix sums of ``W``'s columns (:func:`direct_rhs_step`).
+:func:`check` then tests the solution as the full solves do (the
 pressure not negative, no penetration, the sticking tractions within their
 bound, the bound ones slipping their way, the named residuals with the true
 ``K``), and where a set is wrong moves it and solves again: a primal-dual active
 set on both problems at once. The first guess is the last step's sets moved with
 the contact; on the rocking cylinder at ``a/40`` most steps are one solve and one
-check (``benchmarks/coupled.py``).
+check (``benchmarks/coupled.py``). Off the contact the gap is made exactly only
+where Jensen's lower bound of ``K p`` does not already leave it open
+(:func:`off_contact`).
 
 Where that does not end the step, the alternation of
 :class:`core.solvers.coupled.CoupledSolver` (the normal problem with
@@ -81,6 +86,10 @@ WINDOW_MARGIN = 4
 PREDICTED = 0.3
 #: Rows of the scratch ``work`` the kernels need (``n`` entries each).
 WORK_ROWS = 14
+#: A normal row's right-hand side that differs from the affine part of the others by no more than this times its
+#: terms' size (at least 1) counts as on it (:func:`direct_rhs_step`): the part left out is a gap residual of that
+#: size on the contact, a hundredth of the tolerance (1e-10); the last solution's own gap residuals are 1e-14 to 1e-13.
+AFFINE_SLACK = 1e-12
 
 #: Interval widths whose inverse :class:`Inverses` keeps (a contact breathes by an element or two as it rocks).
 SLOTS = 4
@@ -141,7 +150,9 @@ def inverse(inv, C, CT, L):
 
 def window_inverse(K, dx, cn, ct, Lw):
     """The inverse ``W`` of the coupled system of a window of ``Lw`` elements in full stick (:func:`direct`), as its
-    transpose ``W^T`` (C-contiguous: :func:`direct` reads the columns of ``W``).
+    transpose ``W^T`` (C-contiguous: :func:`direct` reads the columns of ``W``), followed by the prefix sums of
+    ``W``'s normal columns, plain and weighted by their index (:func:`_prefix_sums`): an array ``(N + 2 (Lw + 1), N)``,
+    ``N = 2 Lw + 2``, whose first ``N`` rows are ``W^T``.
 
     Unknowns ``x = (p, q, delta, lam)`` (``2 Lw + 2``), rows: the normal ``K p + cn S q - delta = -h``, the
     tangential ``K q - ct S p - lam = K q_prev - ct S p_prev`` (the stick condition: no slip increment), the load
@@ -159,7 +170,21 @@ def window_inverse(K, dx, cn, ct, Lw):
     M[2 * Lw + 1, Lw:2 * Lw] = 1.0
     if not _invert(M):
         raise ValueError("the coupled system of a window in full stick is singular: no direct solve on it")
-    return np.ascontiguousarray(M.T)
+    out = np.zeros((N + 2 * (Lw + 1), N))
+    out[:N] = M.T
+    out[N + 1:N + Lw + 1] = np.cumsum(out[:Lw], axis=0)  # _prefix_sums: ones
+    out[N + Lw + 2:] = np.cumsum(np.arange(Lw, dtype=float)[:, None] * out[:Lw], axis=0)  # ramp
+    return out
+
+
+@jit
+def _prefix_sums(WT):
+    """The prefix sums of the normal columns of ``W`` kept after ``W^T`` (:func:`window_inverse`): ``ones[a]`` is the
+    sum of the columns ``0 .. a-1`` and ``ramp[a]`` that of ``c W[:, c]``, so that ``W`` times a right-hand side
+    ``alpha + slope (c - c0)`` on the normal rows ``c0 <= c < c1`` costs ``O(N)`` (:func:`direct_rhs_step`)."""
+    N = WT.shape[1]
+    Lw = (N - 2) // 2
+    return WT[N:N + Lw + 1], WT[N + Lw + 1:N + 2 * Lw + 2]
 
 
 @jit
@@ -251,7 +276,7 @@ def direct(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, kind, q_out,
     than :data:`DIRECT_ROWS` rows are replaced or the capacitance system is singular. Whether the sets were right
     is :func:`check`'s question.
     """
-    N = WT.shape[0]
+    N = WT.shape[1]
     b = np.empty(N)
     y = np.empty(N)
     w0 = direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch, b, y)
@@ -297,7 +322,7 @@ def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch,
 def _window(WT, n, i0, i1):
     """``(N, Lw, w0)``: the size of the window's system ``W^T``, its elements, and its first element on a grid of
     ``n`` when centred on the contact ``[i0, i1)`` (-1 if there is no window or the contact does not fit it)."""
-    N = WT.shape[0]
+    N = WT.shape[1]
     Lw = (N - 2) // 2
     L = i1 - i0
     if Lw < 1 or L > Lw or Lw > n:
@@ -320,33 +345,72 @@ def _times(WT, b, y):
 
 
 @jit
-def direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1, scratch, b, ybase):
+def direct_rhs_step(WT, K, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1, scratch, b, ybase):
     """:func:`direct_rhs` for the increment from the last step's solution ``(p_old, q_old)``, ``kp_old = K p_old``
-    on every row: unknowns ``(dp, dq, delta, lam)``. The tangential rows' right-hand side is then 0 (no slip where it
-    sticks: ``K dq - ct S dp - lam = 0``), the normal rows' the last pressure's gap under this step's profile, the
-    load's and the target's what the last solution misses of them: ``W b`` costs ``N L`` instead of ``N^2``, and no
-    ``K q_old``. Returns ``w0``; -1 if the contact, or the last solution, does not fit the window (then
-    :func:`direct_rhs`)."""
+    on the rows where ``p_old > 0`` (those of the last contact; the others are made here): unknowns
+    ``(dp, dq, delta, lam)``. The tangential rows' right-hand side is then 0 (no slip where it sticks:
+    ``K dq - ct S dp - lam = 0``), the normal rows' the last pressure's gap under this step's profile, the load's and
+    the target's what the last solution misses of them. On the rows of the last contact that gap is the profile's
+    change less the last approach: for a body that moves rigidly with a parabolic profile (the cylinder) it is
+    affine in the element's index, and ``W b`` is two differences of :func:`_prefix_sums` (``O(N)``) and a column
+    of ``W`` for each row that differs from the affine part by more than round-off (the elements that join the
+    contact, a profile that is not parabolic). Returns ``w0``; -1 if the contact, or the last solution, does not
+    fit the window (then :func:`direct_rhs`)."""
     n = gap0.size
     N, Lw, w0 = _window(WT, n, i0, i1)
     if w0 < 0:
         return -1
     sp, sq = 0.0, 0.0
+    lo, hi = n, 0  # where p_old > 0
     for j in range(n):
         if (p_old[j] != 0.0 or q_old[j] != 0.0) and not w0 <= j < w0 + Lw:
             return -1
+        if p_old[j] != 0.0:
+            lo = min(lo, j)
+            hi = j + 1
         sp += p_old[j]
         sq += q_old[j]
     for j in range(N):
         b[j] = 0.0
+        ybase[j] = 0.0
     cross(q_old, dx, scratch)
-    for a in range(Lw):
-        g = w0 + a
-        if i0 <= g < i1:
-            b[a] = -gap0[g] - kp_old[g] - cn * scratch[g]
+    c0, c1 = i0 - w0, i1 - w0  # the contact's normal rows
+    size = 0.0
+    for c in range(c0, c1):
+        g = w0 + c
+        kp = kp_old[g]
+        if p_old[g] == 0.0:  # off the last contact
+            kp = 0.0
+            row = K[g]
+            for j in range(lo, hi):
+                kp += row[j] * p_old[j]
+        b[c] = -gap0[g] - kp - cn * scratch[g]
+        size = max(size, abs(gap0[g]) + abs(kp) + abs(cn * scratch[g]))
     b[2 * Lw] = load / dx - sp
     b[2 * Lw + 1] = target - sq
-    _times(WT, b, ybase)
+    # ---- W b: the affine part through the end rows of the last contact by the prefix sums, the rest by columns
+    e0, e1 = max(lo - w0, c0), min(hi - w0, c1) - 1  # the first and last rows of both contacts
+    alpha, slope = 0.0, 0.0
+    if e1 > e0:
+        slope = (b[e1] - b[e0]) / (e1 - e0)
+        alpha = b[e0] - slope * (e0 - c0)
+        ones, ramp = _prefix_sums(WT)
+        for i in range(N):
+            s1 = ones[c1, i] - ones[c0, i]
+            ybase[i] = alpha * s1 + slope * (ramp[c1, i] - ramp[c0, i] - c0 * s1)
+    slack = AFFINE_SLACK * max(size, 1.0)
+    for c in range(c0, c1):
+        d = b[c] - (alpha + slope * (c - c0))
+        if abs(d) > slack:
+            col = WT[c]
+            for i in range(N):
+                ybase[i] += d * col[i]
+    for c in (2 * Lw, 2 * Lw + 1):
+        d = b[c]
+        if d != 0.0:
+            col = WT[c]
+            for i in range(N):
+                ybase[i] += d * col[i]
     return w0
 
 
@@ -359,7 +423,7 @@ def direct_sets(WT, i0, i1, w0, kind, b, ybase, q_out, p_out, q_old, p_old, incr
     ``W^T`` each), the capacitance system, the solution (the last one added to the increment). Returns
     ``(ok, lam, delta)``."""
     n = q_out.size
-    N = WT.shape[0]
+    N = WT.shape[1]
     Lw = (N - 2) // 2
     rows = np.empty(2 * Lw, np.int64)
     other = np.empty(2 * Lw, np.int64)
@@ -556,7 +620,8 @@ def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, kp_old, i0, 
     """The step by :func:`direct` solves and :func:`check`'s moves of the sets, from the sets ``st.kind`` on the
     contact ``[i0, i1)`` (elements off it are set released, those on it that were released start sticking), at
     most ``tries`` solves: for the increment from the last step's solution ``(p_old, q_old)`` when its ``K p_old``
-    is given (``kp_old``, every row; empty: none) and it fits the window (:func:`direct_rhs_step`), else whole.
+    is given (``kp_old``, on the rows where ``p_old > 0``; empty: none) and it fits the window
+    (:func:`direct_rhs_step`), else whole.
     Returns ``(verdict, solves, lam, delta, i0, i1)``: :data:`ACCEPTED` with the solution in ``p_d``, ``q_d`` and
     ``st`` (:func:`check`), else the last direct solution, if any (``solves > 0``), in ``q_d`` and ``p_d``."""
     n = gap0.size
@@ -568,7 +633,7 @@ def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, kp_old, i0, 
     solves = 0
     lam, delta = 0.0, 0.0
     verdict = REFUSED
-    N = WT.shape[0]
+    N = WT.shape[1]
     b = np.empty(N)
     ybase = np.empty(N)
     base = (-1, -1)  # the contact of b and ybase
@@ -579,7 +644,7 @@ def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, kp_old, i0, 
             increment = kp_old.size > 0
             w0 = -1
             if increment:
-                w0 = direct_rhs_step(WT, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1, scratch, b,
+                w0 = direct_rhs_step(WT, K, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0, i1, scratch, b,
                                      ybase)
             if w0 < 0:
                 increment = False
@@ -711,17 +776,75 @@ def interval_normal(C, CT, K, h, load, dx, i0, i1, p, work, inv, check_all):
 
 
 @jit
-def _contact_products(K, p, i0, i1, out, off_only=False):
-    """``out = K p`` for a pressure ``p`` that vanishes outside ``[i0, i1)``; with ``off_only`` the rows off
-    ``[i0, i1)`` only (:func:`check` made the others)."""
+def _contact_products(K, p, i0, i1, out):
+    """``out = K p`` for a pressure ``p`` that vanishes outside ``[i0, i1)``."""
     for j in range(K.shape[0]):
-        if off_only and i0 <= j < i1:
-            continue
         g = 0.0
         row = K[j]
         for k in range(i0, i1):
             g += row[k] * p[k]
         out[j] = g
+
+
+@jit
+def convex_reach(K):
+    """How far the influence of an element stays convex in the distance: the largest ``D`` with
+    ``k(d - 1) - 2 k(d) + k(d + 1) >= 0`` for ``2 <= d < D`` (``k(d) = K[0, d]``, ``K`` symmetric Toeplitz): ``k``
+    is convex on the distances ``1 .. D`` (:func:`off_contact`)."""
+    k = K[0]
+    D = 2
+    while D + 1 < k.size and k[D - 1] - 2.0 * k[D] + k[D + 1] >= 0.0:
+        D += 1
+    return D
+
+
+@jit
+def off_contact(K, p, i0, i1, profile, delta, kp, reach):
+    """``K p`` on the rows off the contact ``[i0, i1)`` where the pressure ``p >= 0`` could close the gap, and a
+    lower bound of it on the others: what :func:`penetrates` and :func:`_gap_residual_from` need of those rows.
+
+    For a row at a distance the kernel is convex over (:func:`convex_reach`), ``K p`` is at least ``P k(|j - c|)``
+    (Jensen's inequality; ``P`` the pressure's sum, ``c`` its centroid, ``k`` interpolated linearly between
+    elements). A row whose gap under that bound, ``profile - delta + P k``, is open by more than the round-off
+    margin of :func:`penetrates` keeps the bound (it neither penetrates nor changes the gap residual); the others,
+    the rows near the contact's ends, are made exactly (``L`` products each). Returns the rows made exactly."""
+    n = p.size
+    total, moment = 0.0, 0.0
+    bounded = i1 > i0
+    for k in range(i0, i1):
+        if p[k] < 0.0:
+            bounded = False
+        total += p[k]
+        moment += k * p[k]
+    if total <= 0.0:
+        bounded = False
+    hmax = 1.0
+    for k in range(i0, i1):
+        hmax = max(hmax, abs(profile[k]))
+    margin = 1e-12 * hmax
+    ic, t = i0, 0.0
+    if bounded:
+        c = moment / total
+        ic = min(max(int(c), i0), i1 - 1)
+        t = c - ic
+        if ic + 1 >= n:
+            t = 0.0
+    exact = 0
+    for j in range(n):
+        if i0 <= j < i1:
+            continue
+        row = K[j]
+        if bounded and (j - i0 if j >= i1 else i1 - 1 - j) <= reach:
+            lower = total * (row[ic] + t * (row[ic + 1] - row[ic]) if t > 0.0 else row[ic])
+            if profile[j] + lower - delta >= margin:
+                kp[j] = lower
+                continue
+        g = 0.0
+        for k in range(i0, i1):
+            g += row[k] * p[k]
+        kp[j] = g
+        exact += 1
+    return exact
 
 
 @jit
@@ -807,7 +930,8 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
     tries = 0  # joint calls after a full pass
     n_direct = 0
     p_d, q_d, scratch, kp_old = work[10], work[11], work[12], work[13]
-    for k in range(n):  # K p_prev, every row: the last step's (march leaves it in work[4], which check rewrites)
+    for k in range(n):  # K p_prev, exact on its contact: the last step's (march leaves it in work[4], which check
+        # rewrites; off the contact it may hold off_contact's lower bound)
         kp_old[k] = work[4][k]
     # ---- first the direct solves from the last step's sets on the predicted contact: most steps end here
     direct_on = coupled and need[0] >= 0  # need[0] = -1: no direct solves (the alternation alone)
@@ -899,7 +1023,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
                 settled = False
                 before = -1.0
                 continue
-            if i1 - i0 > (W.shape[0] - 2) // 2:
+            if i1 - i0 > (W.shape[1] - 2) // 2:
                 need[0] = max(need[0], i1 - i0)
         # the settled passes contract the change by a steady ratio: the full solve's turn once the change, or the
         # next one by that ratio, is within the tolerance (the full pass is then the next one's work)
@@ -993,6 +1117,7 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
     n = gaps.shape[1]
     steps = targets.size
     nres = st.residuals.size
+    reach = convex_reach(K)
     q_prev, q = st.q_prev, st.q
     p = np.zeros(n)
     for k in range(k0, k1):
@@ -1006,9 +1131,10 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
             K, C, CT, gap0, loads[k], dx, cn, ct, coupled, p_prev, has_prev, targets[k], tol, maxiter, max_alt, st,
             i0, i1, p, work, inv, q_start, W, need, move)
         if status == STATUS_DONE:
-            # ---- the final pressure penetrates nowhere else (the passes checked only the contact's ends)
+            # ---- the final pressure penetrates nowhere else (the passes checked only the contact's ends); after a
+            # direct solve the rows whose gap is open by Jensen's bound need no product (off_contact)
             if checked:  # check made K p on the contact
-                _contact_products(K, p, i0, i1, work[4], True)
+                off_contact(K, p, i0, i1, work[5], delta, work[4], reach)
             else:
                 _contact_products(K, p, i0, i1, work[4])
             if penetrates(work[5], work[4], delta, i0, i1):
