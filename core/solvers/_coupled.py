@@ -84,6 +84,9 @@ WINDOW_MARGIN = 4
 #: The alternation's settled passes stop when the next change, predicted from their ratio, is within this part
 #: of the tolerance (:func:`alternate`).
 PREDICTED = 0.3
+#: The alternation's change before a pass has measured one (finite: the kernels are compiled with fastmath, which
+#: assumes no infinities).
+UNMEASURED = 1e300
 #: Rows of the scratch ``work`` the kernels need (``n`` entries each).
 WORK_ROWS = 14
 #: A normal row's right-hand side that differs from the affine part of the others by no more than this times its
@@ -921,7 +924,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
         p_cur[k] = p_prev[k]
     lam = 0.0
     delta = 0.0
-    change = np.inf
+    change = UNMEASURED
     it = 0
     status = STATUS_DONE
     n_full = 0
@@ -997,7 +1000,7 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             for k in range(n):
                 change = max(change, abs(p[k] - p_cur[k]))
         else:
-            change = np.inf
+            change = UNMEASURED
         for k in range(n):
             p_cur[k] = p[k]
         if not coupled:
@@ -1152,7 +1155,7 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
         for i in range(n):
             pmin = min(pmin, p[i])
         res_out[nres + 1] = -pmin
-        res_out[nres + 2] = change if np.isfinite(change) else 0.0
+        res_out[nres + 2] = change  # within the tolerance here
         worst_step = 0.0
         for j in range(res_out.size):
             worst_step = max(worst_step, res_out[j])

@@ -397,7 +397,7 @@ class CoupledSolver:
     def _unsettled(self, alternations, change):
         """The failure message of a step whose alternation did not settle."""
         return (f"the alternation of the normal and tangential solves did not settle in {alternations} passes "
-                f"(change {change:.2g})" if np.isfinite(change) else "")
+                f"(change {change:.2g})" if np.isfinite(change) and change < _coupled.UNMEASURED else "")
 
     def march(self, bounds, Q, period, load_scale, k0, k1, detect_periodic, out):
         """Solve steps ``k0:k1`` in order, writing each step's pressure into ``bounds[k - k0]`` (see
