@@ -77,29 +77,53 @@ def test_a_shared_result_cannot_be_written():
         result.pressure[0][0] = 1
 
 
-def test_a_session_may_queue_only_so_many_solves():
+def test_a_session_may_queue_only_so_many_solves(monkeypatch):
+    """A session's solves beyond SHAKEDOWN_MAX_QUEUED_PER_SESSION waiting or running are refused; another session's
+    are not; a session's superseded solves make room for its newest. Session a's first solves are held in the solver
+    until released (they would otherwise finish in milliseconds, and under load one did before the next was sent:
+    the refusal then depended on the machine's speed), so they are provably pending when superseded."""
     contact, options = _default()
-    options = dict(options, periods=60)  # long enough to be still pending when the next requests come
     limit = runs.MAX_QUEUED_PER_SESSION
-    release = threading.Event()
+    release, superseded = threading.Event(), threading.Event()
+    held_w = [round(0.31 + 0.01 * k, 6) for k in range(limit)]
+    compute = runs._compute
+
+    def held(contact, options, cancel=None, time_budget=None):
+        if round(contact.w, 6) in held_w:  # session a's first solves: running or waiting until superseded
+            while not release.wait(0.01):
+                pass
+            if cancel is not None and cancel():
+                raise core.SolveCancelled("solve cancelled: a newer request replaced it")
+        return compute(contact, options, cancel, time_budget)
+
+    monkeypatch.setattr(runs, "_compute", held)
     current = [0]
     futures = []
     try:
-        for k in range(limit):
-            futures.append(runs.submit(contact.replace(w=0.31 + 0.01 * k), options, owner="session-a",
-                                       cancel=lambda: release.is_set()))
+        for w in held_w:
+            futures.append(runs.submit(contact.replace(w=w), options, owner="session-a",
+                                       cancel=lambda: superseded.is_set()))
+        assert runs._SESSIONS.pending("session-a") == limit
         refused = runs.submit(contact.replace(w=0.45), options, owner="session-a")
         with pytest.raises(runs.SolveQueueFull, match="SHAKEDOWN_MAX_QUEUED_PER_SESSION"):
             refused.result(timeout=5)
-        # another session is not affected by session a's queue
+        # another session is not affected by session a's queue (its solve runs once a solver thread is free)
         other = runs.submit(contact.replace(w=0.46), dict(options, periods=2), owner="session-b")
-        assert other.result(timeout=120).regime in ("shakedown", "ratcheting", "undetermined")  # 2 periods may not tell
-        # session a's own superseded requests make room for its newest one
-        release.set()
+        assert not (other.done() and isinstance(other.exception(), runs.SolveQueueFull))
+        # session a's own superseded requests make room for its newest one while they are still pending (held)
+        superseded.set()
+        assert runs._SESSIONS.pending("session-a") == limit and not any(f.done() for f in futures)
         newest = runs.submit(contact.replace(w=0.47), dict(options, periods=2), owner="session-a",
                              cancel=lambda: current[0] != 0)
+        assert runs._SESSIONS.pending("session-a") == 1
+        release.set()
         assert newest.result(timeout=120).regime in ("shakedown", "ratcheting", "undetermined")
+        assert other.result(timeout=120).regime in ("shakedown", "ratcheting", "undetermined")  # 2 periods may not tell
+        for f in futures:  # each superseded one stopped
+            with pytest.raises(core.SolveCancelled):
+                f.result(timeout=120)
     finally:
+        superseded.set()
         release.set()
         for f in futures:
             try:
