@@ -166,12 +166,14 @@ KEY_SHIFT = 45
 def key_opts() -> dict:
     """Options of a first-screen figure: lower, its legend outside the frame, under the x axis, in two columns of
     small type (inside the frame it covered the curves: the traction's 6 to 9 entries half the plot), few ticks
-    and the title over the y axis too (:func:`title_over_axis`)."""
+    and the title over the y axis too (:func:`title_over_axis`). Every label is given 74 px (``label_width``): Bokeh
+    sized a column by its shorter labels, and a longer one ("xc = +W", "zero traction") ran into the next column's
+    swatch."""
     return dict(height=KEY_HEIGHT, legend_position="bottom", legend_cols=2, legend_offset=(-KEY_SHIFT, 0),
                 fontsize={**FONT, "title": 12, "labels": 15, "legend": 11},  # pt: a title fits 240 px
                 backend_opts={**_BASE["backend_opts"], "plot.toolbar.autohide": True},  # no toolbar over the title
                 legend_opts={"label_text_font_size": "11px", "spacing": 0, "padding": 2, "margin": 0,
-                             "label_height": 12, "glyph_height": 12, "glyph_width": 14, "label_standoff": 3,
+                             "label_height": 12, "glyph_height": 12, "glyph_width": 14, "label_standoff": 3, "label_width": 74,
                              "border_line_alpha": 0},
                 hooks=[title_over_axis])
 _C = OKABE_ITO
