@@ -110,6 +110,22 @@ def test_a_coupled_run_keeps_melan_as_the_uncoupled_reference():
     np.testing.assert_array_equal(np.asarray(r.pressure)[last].min(axis=0), r.lowest_pressure)
 
 
+def test_a_coupled_contact_below_its_limit_that_repeats_dissipating_is_cyclic_slip():
+    """At beta = +-0.1, w = 0.3 and 0.6 times eq 35 the coupled cylinder stops walking and its state repeats from
+    period 9-10 with a steady dissipation of 2.8e-5 mu^2 P^2/E* a period (7e-4 of the first period's): that is
+    cyclic slip (the verdict once called it shakedown, the energy being below 1e-3 of the largest); the uncoupled
+    contact dissipates nothing once it repeats, and shakes down."""
+    ft = 0.6 * float(core.ft_limit(0.3))
+    for beta in (0.1, -0.1):
+        r = core.simulate_cycles(ft, 0.3, periods=20, beta=beta, mu=0.3)
+        assert r.periodic_from is not None and r.dissipation_per_period[-1] > 1e-5
+        assert r.regime == "cyclic slip", r.regime_reason
+        assert "repeats" in r.regime_reason
+    r = core.simulate_cycles(ft, 0.3, periods=20)
+    assert r.periodic_from is not None and r.dissipation_per_period[-1] == 0.0
+    assert r.regime == "shakedown", r.regime_reason
+
+
 def test_a_contact_of_two_intervals_takes_the_general_normal_solve():
     """Two bumps: the contact is two intervals, which the compiled alternation hands to the Python one (the general
     normal solve, core.pressure.normal.solve_line): solved to the tolerance with every named residual."""

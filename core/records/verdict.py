@@ -436,13 +436,17 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
     run in cyclic slip or ratcheting tends to a positive constant, the energy
     of the steady loop. With ``tol = max(rtol * largest, floor)``:
 
-    * ``"zero"``: from some period on every energy is at most ``tol``, or the
-      fit's ``E_inf`` is below ``tol`` by more than :data:`VERDICT_SIGMAS`
-      standard errors and the energies decay (``r < 1``);
-    * ``"steady"``: the state repeats (``periodic_from``) with an energy above
-      ``tol``, or ``E_inf`` is above ``tol`` by more than :data:`VERDICT_SIGMAS`
-      errors and the energies have settled (the changing part at most
-      :data:`SETTLED_FRACTION` of ``E_inf``) or the trend is steady;
+    * ``"steady"``: the state repeats (``periodic_from``) and its period dissipates
+      more than ``floor``: it does so for ever, however small a part of the
+      largest that is (a coupled contact's micro-slip below its limit: 7e-4 of
+      the first period's energy at ``beta = 0.1``);
+    * ``"zero"``: the state repeats dissipating at most ``floor``; or from some
+      period on every energy is at most ``tol``, or the fit's ``E_inf`` is below
+      ``tol`` by more than :data:`VERDICT_SIGMAS` standard errors and the
+      energies decay (``r < 1``);
+    * ``"steady"`` also when ``E_inf`` is above ``tol`` by more than
+      :data:`VERDICT_SIGMAS` errors and the energies have settled (the changing
+      part at most :data:`SETTLED_FRACTION` of ``E_inf``) or the trend is steady;
     * ``"undetermined"`` otherwise.
 
     Melan's limit does not enter: it tells shakedown from the other two regimes,
@@ -470,6 +474,8 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
     >>> from core.records.result import classify_energy
     >>> classify_energy([0.07] + [0.036] * 9, 1e-3, periodic_from=1).kind
     'steady'
+    >>> classify_energy([0.039, 0.0016, 0.00014] + [2.8e-5] * 7, 1e-3, periodic_from=4, floor=1e-9).kind
+    'steady'
     >>> classify_energy([0.1 * 0.3 ** n for n in range(10)], 1e-3, floor=1e-12).kind
     'zero'
     """
@@ -479,11 +485,14 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
     scale = float(np.abs(e).max())
     tolerance = max(rtol * scale, float(floor))
     trend = fit_trend(e, floor)
+    last = float(e[-1])
+    if periodic_from is not None and abs(last) > floor:  # the state repeats: so does this dissipation, for ever
+        return EnergyVerdict("steady", f"the state repeats from period {periodic_from}, dissipating {last:.4g} "
+                                       f"{unit} per period", trend)
     k = _zero_from(e, tolerance)
     if k is not None:
         return EnergyVerdict("zero", f"the energy dissipated per period fell to <= {rtol:g} of its largest from "
                                      f"period {k}", trend)
-    last = float(e[-1])
     if periodic_from is not None:
         return EnergyVerdict("steady", f"the state repeats from period {periodic_from}, dissipating {last:.4g} "
                                        f"{unit} per period", trend)
