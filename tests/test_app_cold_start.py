@@ -1,7 +1,8 @@
 """Issue 29, item 4: on a fresh install (numba's cache empty) the first page is the explorer at once.
 
 The server is started as the README says (``panel serve app/main.py --plugins app.health``) with
-``NUMBA_CACHE_DIR`` a new directory that lacks the line solver's main kernels (:data:`COLD`), so the warm-up
+``NUMBA_CACHE_DIR`` a new directory that lacks the line solver's main kernels (``DenseSolver.kernels``, the ones a
+first run announces as compiling: the march and the per-step solve the first page's run needs), so the warm-up
 compiles the solver the first page runs. While it compiles (``/liveness`` 503) the page already has the ft and w
 sliders, the exact limit's prediction and the line "compiling the solver (first start only), N s"; the verdict comes
 into the same page when the run is done.
@@ -29,9 +30,6 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow, pytest.mark.timeout(1800)] 
 
 VERDICT = "[data-regime='shakedown'], [data-regime='ratcheting'], [data-regime='undetermined']"
 INVALID = "[data-regime='invalid']"
-#: The kernels the server's cache lacks: the line solver's main ones (:attr:`core.solvers.dense.DenseSolver.kernels`,
-#: which a first run announces as compiling), the march and the per-step solve the first page's run needs.
-COLD = ("core.solvers._pdas.march", "core.solvers._pdas.solve_step")
 
 
 def _seed_all_but(cache, cold):
@@ -41,9 +39,7 @@ def _seed_all_but(cache, cold):
 
     import core
     from core.base import _jit
-    from core.solvers.dense import DenseSolver
 
-    assert set(DenseSolver.kernels) <= set(cold) | set(_jit.KERNELS), DenseSolver.kernels
     for info in pkgutil.walk_packages(core.__path__, "core."):  # every module's kernels into _jit.KERNELS
         if not info.ispkg and not info.name.endswith(("__main__", ".cli")):
             importlib.import_module(info.name)
@@ -77,7 +73,9 @@ def test_first_page_has_sliders_and_the_exact_limit_while_the_solver_compiles(tm
 def _cold_start(tmp_path):
     cache = tmp_path / "numba-cache"
     cache.mkdir()
-    _seed_all_but(str(cache), COLD)
+    from core.solvers.dense import DenseSolver
+
+    _seed_all_but(str(cache), DenseSolver.kernels)
     info = {}
     with served_app(env={"NUMBA_CACHE_DIR": str(cache)}, wait_ready=False, info=info) as url, chromium() as browser:
         page = browser.new_page()
