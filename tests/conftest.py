@@ -11,9 +11,12 @@ os.environ.setdefault("BOKEH_VALIDATE_DOC", "true")
 
 # ---- numba's cache, filled once before the first test (the workers start and collect meanwhile) ----
 #: Small runs through the public API that compile (or load) the solver's numba kernels, in two groups run side by
-#: side: the line solvers (dense and FFT, both kernels, the punch, the coupled march, a sampled profile's normal solve
-#: and tables) and the patch solver (the sphere, as the served app warms it, the ellipsoid, the cone's twist, a
-#: height map).
+#: side: the line solvers (dense and FFT, both kernels, the punch, the coupled march, a sampled profile's run) and the
+#: patch solver (the sphere, as the served app warms it, the ellipsoid, the cone's twist, a height map). The point
+#: group starts with the sampled profile's normal solve (its exact limit: core.pressure.normal's three kernels, 10 s
+#: of CPU cold, which no other line run uses): the line group, the longer, reaches that profile's run last, some
+#: 90 s later, and loads them from the cache instead of compiling them (line 108 s and point 85 s of CPU in CI's
+#: precompile before: about even after).
 _PRECOMPILE = {
     "line": """
 import core
@@ -30,7 +33,9 @@ core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body=HeightProfile((2 / np.pi
     "point": """
 import numpy as np
 import core
-from core.geometry.heightmap import HeightMap
+from core.geometry.heightmap import HeightMap, HeightProfile
+x = np.linspace(-2, 2, 401)
+core.ft_limit(0.2, body=HeightProfile((2 / np.pi) * x**2, x[1] - x[0]))  # the line group's profile's normal kernels
 core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body="sphere")
 core.simulate_cycles(0.1, 0.2, periods=1, body="ellipsoid", ratio=2.0)
 core.simulate_cycles(0.1, 0.2, periods=1, body="cone")
@@ -113,7 +118,8 @@ def pytest_unconfigure(config):
 #: (main c5094f7, -n 2), then the run of suite_time_s5 (-n 2, load 6.6); update them from CI's --durations list.
 RUN_FIRST = (
     "test_docs.py",  # the Sphinx build with the executed gallery and notebook: 102 s; 198 s
-    "test_app_cold_start.py",  # a real cold numba compile of the served app: 87 s; 289 s
+    "test_app_cold_start.py",  # the served app compiling the line solver's main kernels: 92 s in CI when it compiled
+    # all of them (343 s at load 6 here, 107 s with the two main ones only, suite_time_s7)
     "test_loadtest.py",  # a server of its own: 43 s; 67 s
     "test_verdict_limits.py",  # the sphere's limit search at a/20: 56 s
     "test_verdict_rule.py",  # the slow cone's verdicts: 39 s; 64 s

@@ -253,7 +253,8 @@ def test_pcg_stops_on_zero_rz():
 
     spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, kdq = _vanishing_residual_inputs()
     kdq0 = kdq.copy()
-    its, rmax = _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, kdq, 1e-300, 50, False)
+    # tv=None as the solver passes it: the kernel's compiled signature, not one more for an omitted argument
+    its, rmax = _pcg_kernel(spec, pxx, pyy, pxy, minv, stick, curv, slip_diag, x, kdq, 1e-300, 50, False, None)
     assert its == 0 and 1e-176 < rmax < 1e-173  # the residual is there, but CG cannot reduce it
     assert (x == 0).all() and (kdq == kdq0).all()
     # the same kernel in plain Python, without the guard, divides by zero on these inputs

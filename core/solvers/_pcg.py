@@ -214,8 +214,8 @@ def solve_step(spec, pre, N, g, q_prev, target, dx, kind, tol, maxiter, maxcg, g
             s[i] = 0.0 if (kw[i] == FREE or kw[i] == OUT) else lam - u[i]
         # ---- violators: bounds on the stick set, slip direction on the fixed set
         n_bad = 0
-        worst_free, i_free = -np.inf, -1
-        worst_fix, i_fix = -np.inf, -1
+        worst_free, i_free = -np.inf, np.int64(-1)  # not literals: see Literals in core/solvers/_pdas.py
+        worst_fix, i_fix = -np.inf, np.int64(-1)
         for i in range(m):
             if kw[i] == FREE:
                 excess = abs(qw[i]) - gw[i]

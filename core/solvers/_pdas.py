@@ -49,6 +49,10 @@ REBUILD_LAPACK = 300
 FFT_WORK = 8.0
 # free-set differences above which the stick-set inverse is rebuilt rather than updated
 SYNC_MAX = 16
+# Literals. An integer a kernel passes on to another starts as np.int64(0), not 0: numba types a variable first
+# assigned a constant as that literal (Literal[int](0)) while it infers a loop's types, and compiles the kernel called
+# with it once more for the literal, a signature no run needs (8 s of the 160 s of CPU of the cold cache's precompile
+# of the line solvers, tests/conftest.py). An int64 from the start compiles each callee once, to the same code.
 
 #: The solver's state between steps, updated in place by the kernels.
 PdasState = namedtuple("PdasState", [
@@ -227,7 +231,7 @@ def _inverse_rebuild(K, st):
                 sub[r, c] = K[fidx[r], fidx[c]]
         B[:m, :m] = np.linalg.inv(sub)
     else:
-        m = 0
+        m = np.int64(0)  # not a literal 0: see Literals at the top
         for i in range(kind.size):
             if kind[i] == FREE:
                 grown = _inverse_add(K, B, fidx, pos, m, i, st.work)
@@ -499,7 +503,7 @@ def _slot_get(st, L):
     """The slot holding ``A_L``, made from a neighbouring length or from scratch if none holds it."""
     info = st.slot_info
     st.counters[CLOCK] += 1
-    dst = 0
+    dst = np.int64(0)  # not literals: see Literals at the top
     for k in range(NSLOT):
         if info[k, 0] == L:
             info[k, 1] = st.counters[CLOCK]
@@ -508,7 +512,7 @@ def _slot_get(st, L):
             dst = k
     info[dst, 1] = st.counters[CLOCK]
     # the nearest length held, if a few updates away
-    src = -1
+    src = np.int64(-1)
     for k in range(NSLOT):
         if k != dst and info[k, 0] > 0 and abs(info[k, 0] - L) <= CHAIN_STEP and info[k, 2] < CHAIN_MAX:
             if src < 0 or abs(info[k, 0] - L) < abs(info[src, 0] - L):
@@ -561,7 +565,7 @@ def _toeplitz_stick(st, slot, s0, L, D, lo, hi):
     p = st.tw[0]
     z1 = st.tw[1]
     r = st.tw[2]
-    h = 0
+    h = np.int64(0)  # not a literal 0: see Literals at the top
     for j in range(L):
         if kind[s0 + j] != FREE:
             H[h] = j
@@ -856,10 +860,10 @@ def solve_step(K, g, target, dx, tol, maxiter, st):
             lam, lo, hi = _classical_stick(K, st, m, D, lo, hi)
         # ---- check: bounds on the free set, slip direction on the fixed set
         n_viol = 0
-        worst_free, i_free = 0.0, -1
-        worst_fix, i_fix = 0.0, -1
+        worst_free, i_free = 0.0, np.int64(-1)  # not literals: see Literals at the top
+        worst_fix, i_fix = 0.0, np.int64(-1)
         # K dq where needed: row by row, or by one FFT product over the window when that is cheaper
-        nfix = 0
+        nfix = np.int64(0)
         for i in range(n):
             if kind[i] == UPPER or kind[i] == LOWER:
                 nfix += 1

@@ -223,7 +223,9 @@ class DenseSolver:
         target : float
             Required ``sum q_i`` [mu p0] (the load over the element size).
         """
-        bound = np.ascontiguousarray(bound, dtype=float)
+        # a writable copy: a read-only bound (core.solve_static's) compiled solve_step and six of its kernels once
+        # more, for the read-only array type (15 s of CPU, cold); march passes writable rows
+        bound = np.array(bound, dtype=float, order="C")
         self._reserve(bound[None, :], 1)
         st = self.state
         lam, ok = _pdas.solve_step(self.K, bound, float(target),

@@ -247,7 +247,8 @@ class FFTSolver:
     def step(self, bound, target) -> StepReport:
         """Solve one increment from the current tractions and advance to it (see :meth:`core.solvers.dense.DenseSolver.step`)."""
         q, dq, slip, codes = self._scratch
-        lam, ok = _pcg.solve_step(self._spec, self._pre, self._N, np.ascontiguousarray(bound, dtype=float),
+        # a writable copy, as DenseSolver.step: one compiled signature of the kernel, not one more for read-only bounds
+        lam, ok = _pcg.solve_step(self._spec, self._pre, self._N, np.array(bound, dtype=float, order="C"),
                                   self.q_prev, float(target), self.element_size, self.kind, self.tol, self.maxiter,
                                   self.maxcg, self.dq_prev, q, dq, slip, codes, self._residuals, self._counters)
         iterations = int(self._counters[_pcg.ITERATIONS])
