@@ -59,7 +59,17 @@ class MapMixin:
         self._coupled_key, self._coupled_listener = None, None
         self.param.watch(lambda e: self._follow_coupled(), "contact")
         self.state.param.watch(lambda e: self._follow_coupled(), ["loading", "body"])
+        doc = getattr(self, "_doc", None)
+        if doc is not None and doc.session_context is not None:  # a served session: when it ends, it waits no more
+            pn.state.on_session_destroyed(lambda ctx: self._stop_waiting_for_coupled())
         self._follow_coupled()
+
+    def _stop_waiting_for_coupled(self) -> None:
+        """This session waits for no coupled limit curve any more (it ended): a curve nobody else waits for stops at
+        its next run, and none is sent into the ended session."""
+        if self._coupled_key is not None:
+            runs.LIMIT_CURVES.cancel(self._coupled_key, self._coupled_listener)
+        self._coupled_key = None
 
     def _coupled_request(self) -> tuple | None:
         """``(beta, mu)`` of the coupled limit curve the map draws for the inputs: a coupled contact of the cylinder

@@ -686,6 +686,10 @@ class LimitCurves:
             error = "stopped: no session waits for it"
         except (ValueError, RuntimeError, core.SolverError) as e:
             error = f"not computed: {e}"
+        except Exception as e:  # noqa: BLE001 - anything else would end this thread silently, every session's
+            # curve after it waiting for ever: said in the log and to the sessions
+            log.exception("the coupled limit curve (beta %s, mu %s) failed", beta, mu)
+            error = f"not computed: {type(e).__name__}: {e}"
         with self._lock:
             self._running.pop(key, None)
             if curve is not None:

@@ -136,8 +136,11 @@ def test_a_coupled_contact_shows_its_coupled_limit_beside_eq_35_on_the_map(brows
         assert legend[regime_map.EQ35_REFERENCE] and legend["current point"], legend
         assert not legend.get("eq 35 (exact)", False), legend  # eq 35 is there, as the reference
         status = page.locator(".coupled-status-text").first
-        wait_until(lambda: "coupled limit: 5 amplitudes" in status.inner_text() or None, 300, interval=0.5,
-                   message="the whole coupled limit curve")
+        try:
+            wait_until(lambda: "coupled limit: 5 amplitudes" in status.inner_text() or None, 300, interval=0.5,
+                       message="the whole coupled limit curve")
+        except TimeoutError as e:  # say what the status said (computing, stopped, not computed: why)
+            raise AssertionError(f"{e}; the status says {status.inner_text()!r}") from e
         map_box = page.locator(".place-map").first.bounding_box()
         assert map_box is not None and map_box["width"] >= 250
         assert page.problems == [], page.problems

@@ -432,7 +432,7 @@ def direct_sets(WT, i0, i1, w0, kind, b, ybase, q_out, p_out, q_old, p_old, incr
     other = np.empty(2 * Lw, np.int64)
     sign = np.empty(2 * Lw)
     c = np.empty(2 * Lw)  # the replaced rows' right-hand sides
-    m = 0
+    m = np.int64(0)  # not a literal 0 (core/solvers/_pdas.py, Literals): _lu_solve compiled once more for it
     for a in range(Lw):
         g = w0 + a
         if not i0 <= g < i1:  # off the contact: p = 0
