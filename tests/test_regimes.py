@@ -291,3 +291,15 @@ def test_the_explorer_shows_no_rocking_things_under_the_tangential_loading():
     inputs = ex._inputs()
     assert np.size(plots.layers("pressure", inputs)[1][0]) > 0 and len(plots.layers("displacement", inputs)[1]) == 1
     assert "predicts" in ex._badge(ex.state.ft, ex.state.w, ex.result, "")
+
+
+def test_a_result_is_complete_when_the_run_returns():
+    """A result computes nothing after the run: its per-period figures, its verdict and its final zones are made
+    when the run builds the record (they are in it before anything reads them), for a line and a patch."""
+    from core.records import result as records
+
+    for r in (core.simulate_cycles(0.3, 0.5, periods=3), core.simulate_cycles(0.3, 0.5, periods=2, body="sphere")):
+        made = vars(r)
+        for name in records._MADE_WITH_THE_RECORD:
+            assert name in made, name
+        assert made["_classified"].regime == r.regime

@@ -255,6 +255,12 @@ class PeriodVerdict:
         return math.nan if self.energy_trend is None else self.energy_trend.D_inf_error
 
 
+#: The derived attributes of :class:`CycleResult` made with the record (cached properties, in an order in which each
+#: finds what it reads made).
+_MADE_WITH_THE_RECORD = ("x", "increment_per_period", "twist_per_period", "dissipation_per_period", "_classified",
+                         "final_zones", "stick_halfwidth")
+
+
 @dataclass(frozen=True, eq=False)
 class CycleResult(PeriodVerdict):
     """The transient of a rocking contact, on a line or a patch of elements: per step, per period, its verdict.
@@ -439,6 +445,10 @@ class CycleResult(PeriodVerdict):
             last = self.period == self.period[-1]
             object.__setattr__(self, "lowest_pressure",
                                read_only(self.pressures[self.pressure_index[last]].min(axis=0)))
+        # a record computes nothing after the run: what it derives (the per-period figures, the verdict and its
+        # trends, the final zones) is made here, once, when the run builds it, not when it is first read
+        for name in _MADE_WITH_THE_RECORD:
+            getattr(self, name)
 
     # ---- grid ------------------------------------------------------------
     @property
