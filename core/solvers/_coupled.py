@@ -61,7 +61,7 @@ from ..base._jit import jit
 from ..elastic.coupling import cross_matrix
 from collections import namedtuple
 
-from ._pdas import (FREE, ITERATIONS, LOWER, MODE, OUT, TOEPLITZ, UPPER, _toeplitz_inverse, block_repeats,
+from ._pdas import (_axpy, FREE, ITERATIONS, LOWER, MODE, OUT, TOEPLITZ, UPPER, _toeplitz_inverse, block_repeats,
                     fixed_set_stick, solve_step, state_codes)
 
 __all__ = ["alternate", "interval_normal", "cross", "gap_residual", "march", "cholesky", "new_inverses",
@@ -405,15 +405,10 @@ def direct_rhs_step(WT, K, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0,
     for c in range(c0, c1):
         d = b[c] - (alpha + slope * (c - c0))
         if abs(d) > slack:
-            col = WT[c]
-            for i in range(N):
-                ybase[i] += d * col[i]
+            _axpy(d, WT[c], ybase)
     for c in (2 * Lw, 2 * Lw + 1):
-        d = b[c]
-        if d != 0.0:
-            col = WT[c]
-            for i in range(N):
-                ybase[i] += d * col[i]
+        if b[c] != 0.0:
+            _axpy(b[c], WT[c], ybase)
     return w0
 
 
@@ -821,10 +816,7 @@ def off_contact(K, p, i0, i1, profile, delta, kp, reach):
         moment += k * p[k]
     if total <= 0.0:
         bounded = False
-    hmax = 1.0
-    for k in range(i0, i1):
-        hmax = max(hmax, abs(profile[k]))
-    margin = 1e-12 * hmax
+    margin = _penetration_margin(profile, i0, i1)
     ic, t = i0, 0.0
     if bounded:
         c = moment / total
@@ -851,13 +843,21 @@ def off_contact(K, p, i0, i1, profile, delta, kp, reach):
 
 
 @jit
-def penetrates(h, kp, delta, i0, i1):
-    """Whether the pressure on ``[i0, i1)`` from :func:`interval_normal` (approach ``delta``, ``kp = K p``)
-    penetrates the profile ``h`` away from its ends: :func:`interval_normal`'s test with ``check_all``."""
+def _penetration_margin(h, i0, i1):
+    """The round-off a gap may close by and still count as open: ``1e-12`` of the profile ``h`` on the contact
+    ``[i0, i1)`` (at least of 1). :func:`penetrates` and :func:`off_contact` share it: a row the bound keeps must be
+    one the test passes."""
     hmax = 1.0
     for k in range(i0, i1):
         hmax = max(hmax, abs(h[k]))
-    tol = 1e-12 * hmax
+    return 1e-12 * hmax
+
+
+@jit
+def penetrates(h, kp, delta, i0, i1):
+    """Whether the pressure on ``[i0, i1)`` from :func:`interval_normal` (approach ``delta``, ``kp = K p``)
+    penetrates the profile ``h`` away from its ends: :func:`interval_normal`'s test with ``check_all``."""
+    tol = _penetration_margin(h, i0, i1)
     for j in range(h.size):
         if (j < i0 - 1 or j > i1) and h[j] + kp[j] - delta < -tol:
             return True
