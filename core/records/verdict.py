@@ -107,13 +107,20 @@ def _fit_window(y: np.ndarray, floor: float):
         res = yc - C[:, None] * bc
         return np.einsum("ij,ij->i", res, res), C, y.mean() - C * b.mean(axis=1)
 
+    def squares(r):  # linear(r)'s first value for one r, in the same operations without its (1, k) arrays
+        bc = np.power(r, j)
+        bc -= np.add.reduce(bc) / k  # ndarray.mean's sum and division, without its Python wrapper
+        bb = np.einsum("i,i->", bc, bc)
+        C = bc @ yc / bb if bb > 0 else 0.0
+        res = yc - C * bc
+        return float(np.einsum("i,i->", res, res))
+
     lo, hi = RATIO_RANGE
     grid = np.linspace(lo, hi, 482)[1:]
     ssr = linear(grid)[0]
     i = int(np.argmin(ssr))
     a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
-    opt = minimize_scalar(lambda r: float(linear(r)[0][0]), bounds=(a, b), method="bounded",
-                          options={"xatol": 1e-12})
+    opt = minimize_scalar(squares, bounds=(a, b), method="bounded", options={"xatol": 1e-12})
     r = float(opt.x) if opt.fun <= ssr[i] else float(grid[i])
     s, C, D = (float(v[0]) for v in linear(r))
     J = np.column_stack([np.ones(k), r ** j, C * j * r ** np.maximum(j - 1.0, 0.0)])
