@@ -447,6 +447,11 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
       more than ``floor``: it does so for ever, however small a part of the
       largest that is (a coupled contact's micro-slip below its limit: 7e-4 of
       the first period's energy at ``beta = 0.1``);
+    * ``"steady"`` also when the fit has settled (the changing part at most
+      :data:`SETTLED_FRACTION` of ``E_inf``) on an ``E_inf`` above ``floor`` by
+      more than :data:`VERDICT_SIGMAS` errors and the trend is steady, however
+      small a part of the largest: the same dissipation as a repeating state
+      before the state repeats to the solver's tolerance;
     * ``"zero"``: the state repeats dissipating at most ``floor``; or from some
       period on every energy is at most ``tol``, or the fit's ``E_inf`` is below
       ``tol`` by more than :data:`VERDICT_SIGMAS` standard errors and the
@@ -496,6 +501,14 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
     if periodic_from is not None and abs(last) > floor:  # the state repeats: so does this dissipation, for ever
         return EnergyVerdict("steady", f"the state repeats from period {periodic_from}, dissipating {last:.4g} "
                                        f"{unit} per period", trend)
+    if trend is not None and trend.steady and trend.D_inf - VERDICT_SIGMAS * trend.D_inf_error > floor \
+            and abs(trend.transient) <= SETTLED_FRACTION * trend.D_inf:
+        # the same dissipation as a repeating state, without the state repeating to the solver's tolerance yet:
+        # the fit has settled on a constant above the floor, and tails twice and half as long give it within
+        # their errors (a decay, however slow, drifts by more than its errors from tail to tail). Small beside
+        # the first period's energy is not zero (micro-slip of a coupled contact: 7e-4 of it at beta = 0.1)
+        return EnergyVerdict("steady", f"the energy dissipated per period tends to a constant, E_inf = "
+                                       f"{trend.D_inf:.4g} +- {trend.D_inf_error:.2g} {unit}", trend)
     k = _zero_from(e, tolerance)
     if k is not None:
         return EnergyVerdict("zero", f"the energy dissipated per period fell to <= {rtol:g} of its largest from "
