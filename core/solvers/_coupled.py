@@ -310,11 +310,7 @@ def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch,
         g = w0 + a
         if i0 <= g < i1:
             b[a] = -gap0[g]
-            t = 0.0
-            row = K[g]
-            for j in range(lo, hi):
-                t += row[j] * q_old[j]
-            b[Lw + a] = t - ct * scratch[g]
+            b[Lw + a] = _dot(K[g], q_old, lo, hi) - ct * scratch[g]
     b[2 * Lw] = load / dx
     b[2 * Lw + 1] = target
     _times(WT, b, ybase)
@@ -383,10 +379,7 @@ def direct_rhs_step(WT, K, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0,
         g = w0 + c
         kp = kp_old[g]
         if p_old[g] == 0.0:  # off the last contact
-            kp = 0.0
-            row = K[g]
-            for j in range(lo, hi):
-                kp += row[j] * p_old[j]
+            kp = _dot(K[g], p_old, lo, hi)
         b[c] = -gap0[g] - kp - cn * scratch[g]
         size = max(size, abs(gap0[g]) + abs(kp) + abs(cn * scratch[g]))
     b[2 * Lw] = load / dx - sp
@@ -525,10 +518,7 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
     if j0 == i0 and j1 == i1:
         for j in (i0 - 1, i1):
             if 0 <= j < n:
-                g = profile[j] - delta
-                row = K[j]
-                for k in range(i0, i1):
-                    g += row[k] * p[k]
+                g = profile[j] - delta + _dot(K[j], p, i0, i1)
                 if g < -1e-12 * hmax:
                     if j < i0:
                         j0 = j
@@ -559,10 +549,7 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
                 moved = True
             bound_res = max(bound_res, excess)
         else:
-            s = lam + ct * dp[i]
-            row = K[i]
-            for k in range(lo, hi):
-                s -= row[k] * scratch[k]
+            s = lam + ct * dp[i] - _dot(K[i], scratch, lo, hi)
             slip[i] = s
             wrong = -s if kind[i] == UPPER else s
             if wrong > tol:
@@ -584,17 +571,11 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
     for i in range(n):
         if kind[i] == OUT:
             continue
-        g = 0.0
-        row = K[i]
         if kind[i] == FREE:
-            s = lam + ct * dp[i]
-            for k in range(lo, hi):  # p vanishes off [i0, i1), inside [lo, hi)
-                s -= row[k] * scratch[k]
-                g += row[k] * p[k]
-            stick_res = max(stick_res, abs(s))
+            moved_by, g = _dot2(K[i], scratch, p, lo, hi)  # p vanishes off [i0, i1), inside [lo, hi)
+            stick_res = max(stick_res, abs(lam + ct * dp[i] - moved_by))
         else:
-            for k in range(i0, i1):
-                g += row[k] * p[k]
+            g = _dot(K[i], p, i0, i1)
         kp[i] = g
     res[0] = stick_res
     res[1] = max(bound_res, 0.0)
@@ -774,14 +755,35 @@ def interval_normal(C, CT, K, h, load, dx, i0, i1, p, work, inv, check_all):
 
 
 @jit
+def _dot(row, v, lo, hi):
+    """``sum(row[k] v[k])`` over ``[lo, hi)``. On slices, so that the loop's index starts at 0: an index that
+    could be negative is wrapped by numba, which kept LLVM from vectorising these products (5 times slower)."""
+    a = row[lo:hi]
+    b = v[lo:hi]
+    s = 0.0
+    for k in range(hi - lo):
+        s += a[k] * b[k]
+    return s
+
+
+@jit
+def _dot2(row, u, v, lo, hi):
+    """``(sum(row[k] u[k]), sum(row[k] v[k]))`` over ``[lo, hi)``: :func:`_dot` of two vectors, ``row`` read once."""
+    a = row[lo:hi]
+    b = u[lo:hi]
+    c = v[lo:hi]
+    s, t = 0.0, 0.0
+    for k in range(hi - lo):
+        s += a[k] * b[k]
+        t += a[k] * c[k]
+    return s, t
+
+
+@jit
 def _contact_products(K, p, i0, i1, out):
     """``out = K p`` for a pressure ``p`` that vanishes outside ``[i0, i1)``."""
     for j in range(K.shape[0]):
-        g = 0.0
-        row = K[j]
-        for k in range(i0, i1):
-            g += row[k] * p[k]
-        out[j] = g
+        out[j] = _dot(K[j], p, i0, i1)
 
 
 @jit
@@ -834,10 +836,7 @@ def off_contact(K, p, i0, i1, profile, delta, kp, reach):
             if profile[j] + lower - delta >= margin:
                 kp[j] = lower
                 continue
-        g = 0.0
-        for k in range(i0, i1):
-            g += row[k] * p[k]
-        kp[j] = g
+        kp[j] = _dot(row, p, i0, i1)
         exact += 1
     return exact
 
