@@ -133,7 +133,7 @@ def table(path: str) -> None:
           f"ends {min(loads):.1f}-{max(loads):.1f} (median {sorted(loads)[len(loads) // 2]:.1f}); CPU: the least of "
           "a configuration's repeats")
     print(f"{'w':>4} {'ft/eq35':>7} {'beta':>6} | {'cpu before':>10} {'x uncpl':>7} {'passes':>6} | {'cpu after':>9} "
-          f"{'x uncpl':>7} {'passes':>6} {'direct':>6} | {'speed-up':>8} {'steps':>5} {'it/step':>7} {'regime':>12} "
+          f"{'x uncpl':>7} {'passes':>6} {'direct':>6} {'solve x':>7} | {'speed-up':>8} {'steps':>5} {'it/step':>7} {'regime':>12} "
           f"{'d increment':>11} {'d energy':>9}")
     keys = sorted({k[1:] for k in best}, key=lambda k: (k[0], abs(k[2]) > 0, abs(k[2]), -k[2], k[1]))
     ratios = {"before": [], "after": []}
@@ -158,8 +158,10 @@ def table(path: str) -> None:
             for tag in ("before", "after"):
                 if (tag, w, f, b) in least and (tag, w, f, 0.0) in least:
                     solves[tag].append(least[(tag, w, f, b)] / least[(tag, w, f, 0.0)])
+        sz = (f"{least[('after', w, f, b)] / least[('after', w, f, 0.0)]:.1f}"
+              if b and ("after", w, f, b) in least and ("after", w, f, 0.0) in least else "-")
         print(f"{w:>4} {f:>7.2f} {b:>6.2f} | {a['cpu']:>10.3f} {ra:>7} {a['alt']:>6.2f} | {z['cpu']:>9.3f} {rz:>7} "
-              f"{z['alt']:>6.2f} {z.get('direct', 0.0):>6.2f} | {a['cpu'] / z['cpu']:>8.2f} {z['solved']:>5d} "
+              f"{z['alt']:>6.2f} {z.get('direct', 0.0):>6.2f} {sz:>7} | {a['cpu'] / z['cpu']:>8.2f} {z['solved']:>5d} "
               f"{z['it']:>7.2f} {z['regime']:>12} "
               f"{abs(a['inc'] - z['inc']):>11.1e} {abs(a['energy'] - z['energy']):>9.1e}")
     import statistics
