@@ -17,7 +17,8 @@ from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+
+from ._fit import fit_window
 
 __all__ = ["classify_increments", "fit_trend", "Trend", "Verdict", "EnergyVerdict", "classify_energy",
            "combine_verdicts", "REGIMES", "VERDICT_SIGMAS", "MIN_FIT_PERIODS", "SETTLED_FRACTION", "STEADY_FRACTION",
@@ -94,40 +95,12 @@ class Verdict(NamedTuple):
 
 
 def _fit_window(y: np.ndarray, floor: float):
-    """Least squares of ``y_j = D + C r^j`` (j = 0 ... k-1): a search over r, linear in D and C for each."""
+    """Least squares of ``y_j = D + C r^j`` (j = 0 ... k-1): a search over r, linear in D and C for each
+    (:func:`core.records._fit.fit_window`), and the standard error of D."""
     k = y.size
-    j = np.arange(k, dtype=float)
-    yc = y - y.mean()
-
-    def linear(r):
-        b = np.power.outer(np.atleast_1d(r), j)  # (m, k)
-        bc = b - b.mean(axis=1, keepdims=True)
-        bb = np.einsum("ij,ij->i", bc, bc)
-        C = np.where(bb > 0, bc @ yc / np.where(bb > 0, bb, 1.0), 0.0)
-        res = yc - C[:, None] * bc
-        return np.einsum("ij,ij->i", res, res), C, y.mean() - C * b.mean(axis=1)
-
-    def squares(r):  # linear(r)'s first value for one r, in the same operations without its (1, k) arrays
-        bc = np.power(r, j)
-        bc -= np.add.reduce(bc) / k  # ndarray.mean's sum and division, without its Python wrapper
-        bb = np.einsum("i,i->", bc, bc)
-        C = bc @ yc / bb if bb > 0 else 0.0
-        res = yc - C * bc
-        return float(np.einsum("i,i->", res, res))
-
-    lo, hi = RATIO_RANGE
-    grid = np.linspace(lo, hi, 482)[1:]
-    ssr = linear(grid)[0]
-    i = int(np.argmin(ssr))
-    a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
-    opt = minimize_scalar(squares, bounds=(a, b), method="bounded", options={"xatol": 1e-12})
-    r = float(opt.x) if opt.fun <= ssr[i] else float(grid[i])
-    s, C, D = (float(v[0]) for v in linear(r))
-    J = np.column_stack([np.ones(k), r ** j, C * j * r ** np.maximum(j - 1.0, 0.0)])
+    D, C, r, s, unit_err = fit_window(np.ascontiguousarray(y, dtype=float), *RATIO_RANGE)
     sigma = max(math.sqrt(s / (k - 3)) if k > 3 else 0.0, float(floor))
-    pinv = np.linalg.pinv(J, rcond=1e-13)
-    err = sigma * math.sqrt(float(pinv[0] @ pinv[0]))
-    return D, err, r, C * r ** (k - 1), sigma
+    return D, sigma * unit_err, r, C * r ** (k - 1), sigma
 
 
 def _aitken(y: np.ndarray, stride: int = 1) -> float:
