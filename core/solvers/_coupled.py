@@ -585,9 +585,10 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
     for j in range(5):
         if res[j] > tol:
             return REFUSED, i0, i1
+    sq, sdq = st.q, st.dq  # a member of st read in the loop cost 7 of this check's 10 us
     for k in range(n):
-        st.q[k] = q[k]
-        st.dq[k] = scratch[k]
+        sq[k] = q[k]
+        sdq[k] = scratch[k]
     st.counters[ITERATIONS] = 1
     state_codes(kind, slip, tol, st.codes)
     return ACCEPTED, i0, i1
@@ -604,11 +605,12 @@ def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, kp_old, i0, 
     Returns ``(verdict, solves, lam, delta, i0, i1)``: :data:`ACCEPTED` with the solution in ``p_d``, ``q_d`` and
     ``st`` (:func:`check`), else the last direct solution, if any (``solves > 0``), in ``q_d`` and ``p_d``."""
     n = gap0.size
+    kind = st.kind
     for k in range(n):
         if k < i0 or k >= i1:
-            st.kind[k] = OUT
-        elif st.kind[k] == OUT:
-            st.kind[k] = FREE
+            kind[k] = OUT
+        elif kind[k] == OUT:
+            kind[k] = FREE
     solves = 0
     lam, delta = 0.0, 0.0
     verdict = REFUSED
@@ -964,8 +966,9 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
         if i0 != j0 or i1 != j1:
             settled = False
         # ---- tangential: the pressure's slip carried by a change of the previous tractions on the contact
+        q_prev = st.q_prev  # (st's members read outside the loops: one read a pass, not one an element)
         for k in range(n):
-            st.q_prev[k] = q_true[k]
+            q_prev[k] = q_true[k]
         if ct != 0.0:
             for k in range(n):
                 dp[k] = p[k] - p_prev[k]
@@ -973,8 +976,9 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             for k in range(i1 - i0):
                 shift[k] = ct * shift[i0 + k]
             _apply(inv.A[inverse(inv, C, CT, i1 - i0)], i1 - i0, shift, work[9])
+            moved = work[9]
             for k in range(i1 - i0):
-                st.q_prev[i0 + k] += work[9][k]
+                q_prev[i0 + k] += moved[k]
         # once settled, the sets are kept and only the stick solve is made (fixed_set_stick); a full solve with
         # its checks and residuals follows the pass that meets the tolerance, and ends the step if it meets it too
         full = True
@@ -992,9 +996,10 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             settled = st.counters[MODE] == TOEPLITZ and i0 == j0 and i1 == j1
         # ---- the change of both fields in this pass
         change = 0.0
+        q_out = st.q
         for k in range(n):
-            change = max(change, abs(st.q[k] - q_in[k]))
-            q_in[k] = st.q[k]
+            change = max(change, abs(q_out[k] - q_in[k]))
+            q_in[k] = q_out[k]
         if has_prev or it > 1:
             for k in range(n):
                 change = max(change, abs(p[k] - p_cur[k]))
@@ -1015,9 +1020,10 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
                                                             work[4], DIRECT_TRIES)
             n_direct += solves
             if verdict == ACCEPTED:
+                q_prev = st.q_prev
                 for k in range(n):
                     p[k] = p_d[k]
-                    st.q_prev[k] = q_true[k]
+                    q_prev[k] = q_true[k]
                 return STATUS_DONE, lam_d, it, n_full, n_direct, 0.0, j0, j1, delta_d, True
             if solves > 0:  # the next pass, a full one, starts from the last direct solution
                 for k in range(n):
@@ -1036,8 +1042,9 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             settled = False
         else:
             before = change
+    q_prev = st.q_prev
     for k in range(n):
-        st.q_prev[k] = q_true[k]
+        q_prev[k] = q_true[k]
     return status, lam, it, n_full, n_direct, change, i0, i1, delta, False
 
 
@@ -1164,11 +1171,12 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
         # ---- record the step and advance
         st.total[0] += lam
         d = 0.0
+        codes, slip = st.codes, st.slip
         for i in range(n):
             bounds[k - kb, i] = p[i]
             traction[k, i] = q[i]
-            state[k, i] = st.codes[i]
-            d += q[i] * st.slip[i]
+            state[k, i] = codes[i]
+            d += q[i] * slip[i]
             dq_last[i] = q[i] - q_prev[i]
             q_prev[i] = q[i]
             p_prev[i] = p[i]
