@@ -3,7 +3,9 @@
 Two worker processes, one per tree (``--before DIR``, ``--after DIR``: each a directory holding a ``core``
 package, e.g. ``git archive <commit> core | tar -x -C DIR``), compile and warm their kernels, then run the same
 rocking-cylinder runs (``a/40``, 20 periods, ``mu = 0.3``) in turn, the order swapped on every pair (AB, BA, ...)
-so that a change of the machine's load falls on both. Each run reports its CPU time (``time.process_time``), wall
+so that a change of the machine's load falls on both. Each run reports its CPU time (``time.process_time``), the
+CPU of building its record (``record``: ``CycleResult.__post_init__``, the verdict's fits and the per-period figures
+made after the solve; the table gives the ratio of the solves alone too), wall
 time, steps solved (a repeated period is copied), mean active-set iterations and alternations (normal/tangential
 passes) per solved step, regime, last period's increment and energy, the worst residual and the load average
 when it ended; one JSON line a run in ``--out``. ``--table`` formats such a file (the CPU of each run, the ratio
@@ -17,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import subprocess
 import sys
@@ -52,9 +55,18 @@ def worker() -> None:
                 directs.extend(out.direct_solves[k0:done[0]].tolist())
             return done
         cc.CoupledSolver.march = march
+    made = []  # the CPU of building each record (its __post_init__: the verdict's fits, the per-period figures)
+    post = getattr(core.CycleResult, "__post_init__", None)
+    if post is not None:
+        def timed(self):
+            c = time.process_time()
+            post(self)
+            made.append(time.process_time() - c)
+        core.CycleResult.__post_init__ = timed
     ft = float(core.ft_limit(0.6))
     core.simulate_cycles(ft, 0.6, periods=2, beta=0.25, mu=0.3)
     core.simulate_cycles(ft, 0.6, periods=2)
+    made.clear()
     print(json.dumps({"ready": True}), flush=True)
     for line in sys.stdin:
         ft, w, beta, periods = line.split()
@@ -64,9 +76,11 @@ def worker() -> None:
         c0, w0 = time.process_time(), time.perf_counter()
         r = core.simulate_cycles(ft, w, periods=periods, **(dict(beta=beta, mu=0.3) if beta else {}))
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+        record = sum(made)
+        made.clear()
         solved = len(r.xc) if r.periodic_from is None else int(np.flatnonzero(r.period == r.periodic_from)[-1] + 1)
         s = r.summary()
-        print(json.dumps(dict(cpu=cpu, wall=wall, solved=solved, it=float(np.mean(r.iterations[:solved])),
+        print(json.dumps(dict(cpu=cpu, record=record, wall=wall, solved=solved, it=float(np.mean(r.iterations[:solved])),
                               alt=float(np.mean(counts)) if counts else 0.0,
                               direct=float(np.mean(directs)) if directs else 0.0, regime=r.regime,
                               inc=float(s["increment_last_period"]), energy=float(s["energy_last_period"]),
@@ -119,10 +133,16 @@ def table(path: str) -> None:
           f"ends {min(loads):.1f}-{max(loads):.1f} (median {sorted(loads)[len(loads) // 2]:.1f}); CPU: the least of "
           "a configuration's repeats")
     print(f"{'w':>4} {'ft/eq35':>7} {'beta':>6} | {'cpu before':>10} {'x uncpl':>7} {'passes':>6} | {'cpu after':>9} "
-          f"{'x uncpl':>7} {'passes':>6} {'direct':>6} | {'speed-up':>8} {'steps':>5} {'it/step':>7} {'regime':>12} "
+          f"{'x uncpl':>7} {'passes':>6} {'direct':>6} {'solve x':>7} | {'speed-up':>8} {'steps':>5} {'it/step':>7} {'regime':>12} "
           f"{'d increment':>11} {'d energy':>9}")
     keys = sorted({k[1:] for k in best}, key=lambda k: (k[0], abs(k[2]) > 0, abs(k[2]), -k[2], k[1]))
     ratios = {"before": [], "after": []}
+    solves = {"before": [], "after": []}  # the run less its record (the verdict's fits, the per-period figures)
+    least = {}  # the least solve of each configuration
+    for r in rows:
+        key = (r["tag"], r["w"], r["f"], r["beta"])
+        if "record" in r:
+            least[key] = min(least.get(key, math.inf), r["cpu"] - r["record"])
     per_step = []
     for w, f, b in keys:
         a, z = best.get(("before", w, f, b)), best.get(("after", w, f, b))
@@ -135,8 +155,13 @@ def table(path: str) -> None:
             ratios["before"].append(a["cpu"] / ua["cpu"])
             ratios["after"].append(z["cpu"] / uz["cpu"])
             per_step.append((z["cpu"] / z["solved"]) / (uz["cpu"] / uz["solved"]))
+            for tag in ("before", "after"):
+                if (tag, w, f, b) in least and (tag, w, f, 0.0) in least:
+                    solves[tag].append(least[(tag, w, f, b)] / least[(tag, w, f, 0.0)])
+        sz = (f"{least[('after', w, f, b)] / least[('after', w, f, 0.0)]:.1f}"
+              if b and ("after", w, f, b) in least and ("after", w, f, 0.0) in least else "-")
         print(f"{w:>4} {f:>7.2f} {b:>6.2f} | {a['cpu']:>10.3f} {ra:>7} {a['alt']:>6.2f} | {z['cpu']:>9.3f} {rz:>7} "
-              f"{z['alt']:>6.2f} {z.get('direct', 0.0):>6.2f} | {a['cpu'] / z['cpu']:>8.2f} {z['solved']:>5d} "
+              f"{z['alt']:>6.2f} {z.get('direct', 0.0):>6.2f} {sz:>7} | {a['cpu'] / z['cpu']:>8.2f} {z['solved']:>5d} "
               f"{z['it']:>7.2f} {z['regime']:>12} "
               f"{abs(a['inc'] - z['inc']):>11.1e} {abs(a['energy'] - z['energy']):>9.1e}")
     import statistics
@@ -144,6 +169,11 @@ def table(path: str) -> None:
         if r:
             print(f"{tag}: a coupled run costs {min(r):.1f}-{max(r):.1f} times the uncoupled run of the same w and ft "
                   f"(median {statistics.median(r):.1f}; within 3x in {sum(x <= 3 for x in r)} of {len(r)})")
+    for tag, r in solves.items():
+        if r:
+            print(f"{tag}, the solve alone (a run less the building of its record): {min(r):.1f}-"
+                  f"{max(r):.1f} times (median {statistics.median(r):.1f}; within 3x in {sum(x <= 3 for x in r)} "
+                  f"of {len(r)})")
     if per_step:
         print(f"after, per solved step: {min(per_step):.1f}-{max(per_step):.1f} times the uncoupled run's "
               f"(median {statistics.median(per_step):.1f}; within 3x in {sum(x <= 3 for x in per_step)} of "

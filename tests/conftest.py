@@ -14,7 +14,8 @@ os.environ.setdefault("BOKEH_VALIDATE_DOC", "true")
 #: side: the line solvers (dense and FFT, both kernels, the punch, the coupled march, a sampled profile's run) and the
 #: patch solver (the sphere, as the served app warms it, the ellipsoid, the cone's twist, a height map). The point
 #: group starts with the sampled profile's normal solve (its exact limit: core.pressure.normal's three kernels, 10 s
-#: of CPU cold, which no other line run uses): the line group, the longer, reaches that profile's run last, some
+#: of CPU cold, which no other line run uses) and the verdict's fit (core.records._fit, which no run of one period
+#: needs): the line group, the longer, reaches that profile's run last, some
 #: 90 s later, and loads them from the cache instead of compiling them (line 108 s and point 85 s of CPU in CI's
 #: precompile before: about even after).
 _PRECOMPILE = {
@@ -36,6 +37,8 @@ import core
 from core.geometry.heightmap import HeightMap, HeightProfile
 x = np.linspace(-2, 2, 401)
 core.ft_limit(0.2, body=HeightProfile((2 / np.pi) * x**2, x[1] - x[0]))  # the line group's profile's normal kernels
+from core.records.verdict import fit_trend
+fit_trend([1.0, 0.5, 0.25, 0.125, 0.0625])  # the verdict's fit (4 periods or more; 5 s of CPU cold)
 core.simulate_cycles(0.1, 0.2, periods=1, dx=0.25, body="sphere")
 core.simulate_cycles(0.1, 0.2, periods=1, body="ellipsoid", ratio=2.0)
 core.simulate_cycles(0.1, 0.2, periods=1, body="cone")

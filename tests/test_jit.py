@@ -57,3 +57,20 @@ def test_a_kernel_compiled_in_this_process_is_not_announced():
         assert _jit.announce_compile("core.solvers._pdas.march", "core.solvers._pdas.solve_step") is False
     finally:
         _jit._ANNOUNCED = before
+
+
+def test_a_kernel_cache_index_is_read_once_per_process(monkeypatch):
+    # a kernel called only from other kernels never gets a signature of its own: its on-disk index was read again
+    # at every run (three of them, ~2 ms, at each coupled run)
+    import core  # noqa: F401 - registers the kernels
+    from core.base import _jit
+
+    reads = []
+    monkeypatch.setattr(_jit, "_cached", lambda d: reads.append(d) or True)
+    monkeypatch.setattr(_jit, "_ANNOUNCED", False)
+    monkeypatch.setattr(_jit, "_LOOKED_AT", set())
+    names = sorted(n for n, d in _jit.KERNELS.items() if not d.signatures)[:3]
+    assert len(names) == 3
+    assert _jit.announce_compile(*names) is False and len(reads) == 3
+    assert _jit.announce_compile(*names) is False and len(reads) == 3
+    assert _jit.announce_compile(*names, "no.such.kernel") is False and len(reads) == 3

@@ -310,11 +310,7 @@ def direct_rhs(WT, K, gap0, load, dx, ct, target, q_old, p_old, i0, i1, scratch,
         g = w0 + a
         if i0 <= g < i1:
             b[a] = -gap0[g]
-            t = 0.0
-            row = K[g]
-            for j in range(lo, hi):
-                t += row[j] * q_old[j]
-            b[Lw + a] = t - ct * scratch[g]
+            b[Lw + a] = _dot(K[g], q_old, lo, hi) - ct * scratch[g]
     b[2 * Lw] = load / dx
     b[2 * Lw + 1] = target
     _times(WT, b, ybase)
@@ -383,10 +379,7 @@ def direct_rhs_step(WT, K, gap0, load, dx, cn, target, q_old, p_old, kp_old, i0,
         g = w0 + c
         kp = kp_old[g]
         if p_old[g] == 0.0:  # off the last contact
-            kp = 0.0
-            row = K[g]
-            for j in range(lo, hi):
-                kp += row[j] * p_old[j]
+            kp = _dot(K[g], p_old, lo, hi)
         b[c] = -gap0[g] - kp - cn * scratch[g]
         size = max(size, abs(gap0[g]) + abs(kp) + abs(cn * scratch[g]))
     b[2 * Lw] = load / dx - sp
@@ -525,10 +518,7 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
     if j0 == i0 and j1 == i1:
         for j in (i0 - 1, i1):
             if 0 <= j < n:
-                g = profile[j] - delta
-                row = K[j]
-                for k in range(i0, i1):
-                    g += row[k] * p[k]
+                g = profile[j] - delta + _dot(K[j], p, i0, i1)
                 if g < -1e-12 * hmax:
                     if j < i0:
                         j0 = j
@@ -559,10 +549,7 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
                 moved = True
             bound_res = max(bound_res, excess)
         else:
-            s = lam + ct * dp[i]
-            row = K[i]
-            for k in range(lo, hi):
-                s -= row[k] * scratch[k]
+            s = lam + ct * dp[i] - _dot(K[i], scratch, lo, hi)
             slip[i] = s
             wrong = -s if kind[i] == UPPER else s
             if wrong > tol:
@@ -584,17 +571,11 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
     for i in range(n):
         if kind[i] == OUT:
             continue
-        g = 0.0
-        row = K[i]
         if kind[i] == FREE:
-            s = lam + ct * dp[i]
-            for k in range(lo, hi):  # p vanishes off [i0, i1), inside [lo, hi)
-                s -= row[k] * scratch[k]
-                g += row[k] * p[k]
-            stick_res = max(stick_res, abs(s))
+            moved_by, g = _dot2(K[i], scratch, p, lo, hi)  # p vanishes off [i0, i1), inside [lo, hi)
+            stick_res = max(stick_res, abs(lam + ct * dp[i] - moved_by))
         else:
-            for k in range(i0, i1):
-                g += row[k] * p[k]
+            g = _dot(K[i], p, i0, i1)
         kp[i] = g
     res[0] = stick_res
     res[1] = max(bound_res, 0.0)
@@ -604,9 +585,10 @@ def check(K, gap0, dx, cn, ct, target, tol, q_old, p_old, i0, i1, p, q, lam, del
     for j in range(5):
         if res[j] > tol:
             return REFUSED, i0, i1
+    sq, sdq = st.q, st.dq  # a member of st read in the loop cost 7 of this check's 10 us
     for k in range(n):
-        st.q[k] = q[k]
-        st.dq[k] = scratch[k]
+        sq[k] = q[k]
+        sdq[k] = scratch[k]
     st.counters[ITERATIONS] = 1
     state_codes(kind, slip, tol, st.codes)
     return ACCEPTED, i0, i1
@@ -623,11 +605,12 @@ def joint(WT, K, gap0, load, dx, cn, ct, target, tol, q_old, p_old, kp_old, i0, 
     Returns ``(verdict, solves, lam, delta, i0, i1)``: :data:`ACCEPTED` with the solution in ``p_d``, ``q_d`` and
     ``st`` (:func:`check`), else the last direct solution, if any (``solves > 0``), in ``q_d`` and ``p_d``."""
     n = gap0.size
+    kind = st.kind
     for k in range(n):
         if k < i0 or k >= i1:
-            st.kind[k] = OUT
-        elif st.kind[k] == OUT:
-            st.kind[k] = FREE
+            kind[k] = OUT
+        elif kind[k] == OUT:
+            kind[k] = FREE
     solves = 0
     lam, delta = 0.0, 0.0
     verdict = REFUSED
@@ -774,14 +757,35 @@ def interval_normal(C, CT, K, h, load, dx, i0, i1, p, work, inv, check_all):
 
 
 @jit
+def _dot(row, v, lo, hi):
+    """``sum(row[k] v[k])`` over ``[lo, hi)``. On slices, so that the loop's index starts at 0: an index that
+    could be negative is wrapped by numba, which kept LLVM from vectorising these products (5 times slower)."""
+    a = row[lo:hi]
+    b = v[lo:hi]
+    s = 0.0
+    for k in range(hi - lo):
+        s += a[k] * b[k]
+    return s
+
+
+@jit
+def _dot2(row, u, v, lo, hi):
+    """``(sum(row[k] u[k]), sum(row[k] v[k]))`` over ``[lo, hi)``: :func:`_dot` of two vectors, ``row`` read once."""
+    a = row[lo:hi]
+    b = u[lo:hi]
+    c = v[lo:hi]
+    s, t = 0.0, 0.0
+    for k in range(hi - lo):
+        s += a[k] * b[k]
+        t += a[k] * c[k]
+    return s, t
+
+
+@jit
 def _contact_products(K, p, i0, i1, out):
     """``out = K p`` for a pressure ``p`` that vanishes outside ``[i0, i1)``."""
     for j in range(K.shape[0]):
-        g = 0.0
-        row = K[j]
-        for k in range(i0, i1):
-            g += row[k] * p[k]
-        out[j] = g
+        out[j] = _dot(K[j], p, i0, i1)
 
 
 @jit
@@ -834,10 +838,7 @@ def off_contact(K, p, i0, i1, profile, delta, kp, reach):
             if profile[j] + lower - delta >= margin:
                 kp[j] = lower
                 continue
-        g = 0.0
-        for k in range(i0, i1):
-            g += row[k] * p[k]
-        kp[j] = g
+        kp[j] = _dot(row, p, i0, i1)
         exact += 1
     return exact
 
@@ -965,8 +966,9 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
         if i0 != j0 or i1 != j1:
             settled = False
         # ---- tangential: the pressure's slip carried by a change of the previous tractions on the contact
+        q_prev = st.q_prev  # (st's members read outside the loops: one read a pass, not one an element)
         for k in range(n):
-            st.q_prev[k] = q_true[k]
+            q_prev[k] = q_true[k]
         if ct != 0.0:
             for k in range(n):
                 dp[k] = p[k] - p_prev[k]
@@ -974,8 +976,9 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             for k in range(i1 - i0):
                 shift[k] = ct * shift[i0 + k]
             _apply(inv.A[inverse(inv, C, CT, i1 - i0)], i1 - i0, shift, work[9])
+            moved = work[9]
             for k in range(i1 - i0):
-                st.q_prev[i0 + k] += work[9][k]
+                q_prev[i0 + k] += moved[k]
         # once settled, the sets are kept and only the stick solve is made (fixed_set_stick); a full solve with
         # its checks and residuals follows the pass that meets the tolerance, and ends the step if it meets it too
         full = True
@@ -993,9 +996,10 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             settled = st.counters[MODE] == TOEPLITZ and i0 == j0 and i1 == j1
         # ---- the change of both fields in this pass
         change = 0.0
+        q_out = st.q
         for k in range(n):
-            change = max(change, abs(st.q[k] - q_in[k]))
-            q_in[k] = st.q[k]
+            change = max(change, abs(q_out[k] - q_in[k]))
+            q_in[k] = q_out[k]
         if has_prev or it > 1:
             for k in range(n):
                 change = max(change, abs(p[k] - p_cur[k]))
@@ -1016,9 +1020,10 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
                                                             work[4], DIRECT_TRIES)
             n_direct += solves
             if verdict == ACCEPTED:
+                q_prev = st.q_prev
                 for k in range(n):
                     p[k] = p_d[k]
-                    st.q_prev[k] = q_true[k]
+                    q_prev[k] = q_true[k]
                 return STATUS_DONE, lam_d, it, n_full, n_direct, 0.0, j0, j1, delta_d, True
             if solves > 0:  # the next pass, a full one, starts from the last direct solution
                 for k in range(n):
@@ -1037,8 +1042,9 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
             settled = False
         else:
             before = change
+    q_prev = st.q_prev
     for k in range(n):
-        st.q_prev[k] = q_true[k]
+        q_prev[k] = q_true[k]
     return status, lam, it, n_full, n_direct, change, i0, i1, delta, False
 
 
@@ -1165,11 +1171,12 @@ def march(K, C, CT, gaps, xc, loads, targets, period, kb, k0, k1, detect_periodi
         # ---- record the step and advance
         st.total[0] += lam
         d = 0.0
+        codes, slip = st.codes, st.slip
         for i in range(n):
             bounds[k - kb, i] = p[i]
             traction[k, i] = q[i]
-            state[k, i] = st.codes[i]
-            d += q[i] * st.slip[i]
+            state[k, i] = codes[i]
+            d += q[i] * slip[i]
             dq_last[i] = q[i] - q_prev[i]
             q_prev[i] = q[i]
             p_prev[i] = p[i]

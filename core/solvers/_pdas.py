@@ -672,8 +672,9 @@ def max_span(bounds, rows):
 def _free_set_differences(st):
     """Elements whose membership of the stick-set inverse differs from the active-set guess."""
     diff = 0
-    for i in range(st.kind.size):
-        if (st.pos[i] >= 0) != (st.kind[i] == FREE):
+    pos, kind = st.pos, st.kind  # read once: a member of st read in the loop costs a reference count an element
+    for i in range(kind.size):
+        if (pos[i] >= 0) != (kind[i] == FREE):
             diff += 1
     return diff
 
