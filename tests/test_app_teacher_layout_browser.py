@@ -13,7 +13,7 @@ import pytest
 from app.figures import key_figures
 from app.player import PAUSE, PLAY
 from app.plots import FIGURES
-from app.serving import open_page, scroll_through, wait_until
+from app.serving import FIND_MODEL_JS, open_page, scroll_through, wait_until
 from app.slides import FIGURE_VIEWS_JS
 from app.state import BODIES
 
@@ -71,10 +71,11 @@ _SET = """([title, v, release]) => { for (const d of Bokeh.documents) for (const
 
 #: Moves the player's step slider ``steps`` steps before the end of the period (value and value_throttled, as a
 #: release does); returns the step, null if there is no such slider.
-_NEAR_THE_END = """(steps) => { for (const d of Bokeh.documents) for (const m of d.all_models)
-    if (m.title === 'Step in the period' && 'value_throttled' in m) {
-      const v = Math.max(m.start, m.end - steps); m.value = v; m.value_throttled = v; return v; }
-    return null; }"""
+_NEAR_THE_END = "(steps) => {" + FIND_MODEL_JS + """
+  const m = find((m) => m.title === 'Step in the period' && 'value_throttled' in m);
+  if (m === null) return null;
+  const v = Math.max(m.start, m.end - steps); m.value = v; m.value_throttled = v; return v;
+}"""
 #: Steps the player plays in the Play / Pause check: 1 s at the fast speed (60 ms a step).
 _LAST_STEPS = 16
 
