@@ -44,8 +44,8 @@ from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WO
 
 __all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "SOLVE_TASK", "run_key", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
-           "SolveQueueFull", "freeze", "readiness", "solves_in_flight", "ready", "on_ready", "start_warm_up", "backend", "warming_seconds",
-           "warmed", "on_warm", "LimitCurves", "LIMIT_CURVES", "LIMIT_CURVE_GRID"]
+           "SolveQueueFull", "freeze", "readiness", "solves_in_flight", "ready", "on_ready", "start_warm_up", "backend",
+           "warming_seconds", "warmed", "on_warm", "LimitCurves", "LIMIT_CURVES", "LIMIT_CURVE_GRID"]
 
 log = logging.getLogger(__name__)
 

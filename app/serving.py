@@ -22,8 +22,8 @@ from pathlib import Path
 
 from core.records.verdict import REGIMES
 
-__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "VERDICT_SELECTOR", "VIEWS_JS", "FIND_MODEL_JS", "SLIDER_TITLES_JS", "CURVE_POINTS_JS", "open_page",
-           "wait_until", "free_port", "served_app",
+__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "VERDICT_SELECTOR", "VIEWS_JS", "FIND_MODEL_JS",
+           "SLIDER_TITLES_JS", "CURVE_POINTS_JS", "open_page", "wait_until", "free_port", "served_app",
            "chromium", "dask_cluster", "tasks_done", "scroll_through", "ServerExited"]
 
 ROOT = Path(__file__).resolve().parent.parent
