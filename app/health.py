@@ -14,7 +14,9 @@ server), so it runs once per server process, before the first session:
   :mod:`app.heap`);
 * ``GET /liveness`` answers 503 until that is done and 200 after, with a JSON
   body: ``ready``, the warm-up ``stage`` and ``seconds``, the solver
-  ``backend`` (local, or the Dask scheduler) and, when
+  ``backend`` (local, or the Dask scheduler), ``solves``: the sessions' solves
+  waiting or running now (:func:`app.runs.solves_in_flight`), ``solves_ended``:
+  those ended since the start, and, when
   ``SHAKEDOWN_LOOP_WATCH_MS`` is set, ``loop_max_lag_ms``: the longest the
   server's event loop was busy (blocked) since the last ``?reset=1``, and
   ``loop_max_callback_ms``: the longest single callback it ran meanwhile, and

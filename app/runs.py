@@ -44,8 +44,8 @@ from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WO
 
 __all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "SOLVE_TASK", "run_key", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
-           "SolveQueueFull", "freeze", "readiness", "ready", "on_ready", "start_warm_up", "backend", "warming_seconds",
-           "warmed", "on_warm", "LimitCurves", "LIMIT_CURVES", "LIMIT_CURVE_GRID"]
+           "SolveQueueFull", "freeze", "readiness", "solves_in_flight", "ready", "on_ready", "start_warm_up", "backend",
+           "warming_seconds", "warmed", "on_warm", "LimitCurves", "LIMIT_CURVES", "LIMIT_CURVE_GRID"]
 
 log = logging.getLogger(__name__)
 
@@ -364,11 +364,17 @@ class _Sessions:
     def __init__(self, limit: int):
         self.limit = limit
         self._pending: dict = {}  # owner -> [(future, cancel)], only owners with pending solves
+        self.ended = 0  # solves that ended (a result, an error or cancelled), since the start
         self._lock = threading.Lock()
 
     def pending(self, owner) -> int:
         with self._lock:
             return len(self._pending.get(owner, ()))
+
+    def total(self) -> int:
+        """Solves waiting or running, of every owner."""
+        with self._lock:
+            return sum(map(len, self._pending.values()))
 
     def admit(self, owner, cancel) -> bool:
         """Make room for one more solve of ``owner``: drop its superseded ones; False if still full."""
@@ -390,6 +396,7 @@ class _Sessions:
 
         def forget(f):
             with self._lock:
+                self.ended += 1
                 entries = self._pending.get(owner, [])
                 for item in [e for e in entries if e[0] is f]:
                     entries.remove(item)
@@ -557,8 +564,20 @@ def warming_seconds() -> float | None:
 
 
 def readiness() -> dict:
-    """``ready``, the warm-up ``stage``, its ``error`` if it failed, its ``seconds``, and the ``backend``."""
-    return {"ready": ready(), **_STATE, "backend": _BACKEND.name}
+    """``ready``, the warm-up ``stage``, its ``error`` if it failed, its ``seconds``, the ``backend``, and
+    ``solves``: the sessions' solves waiting or running now (:func:`solves_in_flight`), ``solves_ended``: those
+    ended since the start."""
+    return {"ready": ready(), **_STATE, "backend": _BACKEND.name, "solves": solves_in_flight(),
+            "solves_ended": _SESSIONS.ended}
+
+
+def solves_in_flight() -> int:
+    """The sessions' solves (:func:`submit`) waiting or running on this server now, that their sessions still
+    wait for (a solve a newer one of its session superseded is dropped from the count when the newer one is
+    asked for, and stops at its next check). 0: the server is idle. An operator reads it on ``/liveness``, beside
+    ``solves_ended``, the solves ended since the start (with a result, an error or cancelled; their sessions'
+    callbacks are scheduled as they end); the tests wait on both for solves to end."""
+    return _SESSIONS.total()
 
 
 class Generation:

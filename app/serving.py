@@ -22,8 +22,8 @@ from pathlib import Path
 
 from core.records.verdict import REGIMES
 
-__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "VERDICT_SELECTOR", "SLIDER_TITLES_JS", "CURVE_POINTS_JS", "open_page",
-           "wait_until", "free_port", "served_app",
+__all__ = ["ROOT", "CHROMIUM", "CHROMIUM_ARGS", "SERVE_OPTIONS", "VERDICT_SELECTOR", "VIEWS_JS", "FIND_MODEL_JS",
+           "SLIDER_TITLES_JS", "CURVE_POINTS_JS", "open_page", "wait_until", "free_port", "served_app",
            "chromium", "dask_cluster", "tasks_done", "scroll_through", "ServerExited"]
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -70,10 +70,31 @@ def open_page(browser, url: str, size: tuple[int, int] = (1280, 720), *, ready: 
     return page
 
 
-#: JavaScript for ``page.evaluate``: ``find(pred)``, the first Bokeh model of the page for which ``pred`` holds
-#: (Panel renders in shadow DOM, where ``document.querySelector`` does not reach; ``Bokeh.documents`` does).
-FIND_MODEL_JS = """
+#: JavaScript: ``all_views()``, every Bokeh view of the page (Panel nests them in layouts, in shadow DOM).
+VIEWS_JS = """
+const all_views = () => {
+  const seen = new Set(), found = [];
+  const walk = (v) => {
+    if (!v || seen.has(v)) return;
+    seen.add(v);
+    found.push(v);
+    for (const c of (v.child_views ?? [])) walk(c);
+    try { for (const c of v.children()) walk(c); } catch (e) {}
+  };
+  const idx = Bokeh.index;
+  for (const r of (idx.roots ? [...idx.roots] : (idx.values ? [...idx.values()] : Object.values(idx)))) walk(r);
+  return found;
+};
+"""
+
+#: JavaScript for ``page.evaluate``: ``find(pred)``, the Bokeh model of the page for which ``pred`` holds, the one
+#: drawn in the page first (Panel renders in shadow DOM, where ``document.querySelector`` does not reach; Bokeh's
+#: views and ``Bokeh.documents`` do), else the first in the documents. A figure the explorer replaced (another unit
+#: system: a point contact's first run) stays in ``doc.all_models``, with its old data, until BokehJS collects it,
+#: some 30 s later: the first model of the documents with the title was that one, and the tests waited for it.
+FIND_MODEL_JS = VIEWS_JS + """
 const find = (pred) => {
+  for (const v of all_views()) { if (v.model && v.el && v.el.isConnected && pred(v.model)) return v.model; }
   for (const doc of Bokeh.documents) for (const m of doc.all_models) { if (pred(m)) return m; }
   return null;
 };
@@ -93,7 +114,7 @@ CURVE_POINTS_JS = "(title) => {" + FIND_MODEL_JS + """
   return points;
 }"""
 
-#: JavaScript for ``page.evaluate`` (after app.slides.VIEWS_JS): scrolls the first figure place that is not drawn
+#: JavaScript for ``page.evaluate`` (after :data:`VIEWS_JS`): scrolls the first figure place that is not drawn
 #: yet (an :class:`app.live.WhenShown` still in the page) into view; returns how many such places are left.
 _NEXT_FIGURE_JS = """
   const waiting = all_views().filter((v) => v.model && (v.model.css_classes ?? []).includes('when-shown')
@@ -106,8 +127,6 @@ _NEXT_FIGURE_JS = """
 def scroll_through(page, timeout: float = 60.0) -> None:
     """Scroll a served explorer page, figure by figure, until every figure in it is drawn (what a reader who
     scrolls to the end does: the page draws a figure once it comes near the view), then back to the top."""
-    from app.slides import VIEWS_JS  # (imports Panel: only where a browser is driven)
-
     wait_until(lambda: page.evaluate("() => {" + VIEWS_JS + _NEXT_FIGURE_JS + "}") == 0 or None, timeout,
                interval=0.1, message="every figure of the page drawn")
     page.evaluate("() => { for (const el of document.querySelectorAll('*')) if (el.scrollTop) el.scrollTop = 0;"

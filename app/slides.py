@@ -14,25 +14,9 @@ import re
 import panel as pn
 
 from . import plots
+from .serving import VIEWS_JS  # (the page's views: the browser tests find figures with it too)
 
 __all__ = ["VIEWS_JS", "FIGURE_VIEWS_JS", "FIGURE_BOX_JS", "SVG_JS", "stem", "figure_titles", "save_svg"]
-
-#: JavaScript: ``all_views()``, every Bokeh view of the page (Panel nests them in layouts, in shadow DOM).
-VIEWS_JS = """
-const all_views = () => {
-  const seen = new Set(), found = [];
-  const walk = (v) => {
-    if (!v || seen.has(v)) return;
-    seen.add(v);
-    found.push(v);
-    for (const c of (v.child_views ?? [])) walk(c);
-    try { for (const c of v.children()) walk(c); } catch (e) {}
-  };
-  const idx = Bokeh.index;
-  for (const r of (idx.roots ? [...idx.roots] : (idx.values ? [...idx.values()] : Object.values(idx)))) walk(r);
-  return found;
-};
-"""
 
 #: JavaScript: ``figure_views()``, the view of every Bokeh figure drawn in the page.
 FIGURE_VIEWS_JS = VIEWS_JS + """

@@ -81,7 +81,8 @@ def test_a_session_may_queue_only_so_many_solves(monkeypatch):
     """A session's solves beyond SHAKEDOWN_MAX_QUEUED_PER_SESSION waiting or running are refused; another session's
     are not; a session's superseded solves make room for its newest. Session a's first solves are held in the solver
     until released (they would otherwise finish in milliseconds, and under load one did before the next was sent:
-    the refusal then depended on the machine's speed), so they are provably pending when superseded."""
+    the refusal then depended on the machine's speed), so they are provably pending when superseded. The server's
+    count of solves in flight and ended (``/liveness``) follows them."""
     contact, options = _default()
     limit = runs.MAX_QUEUED_PER_SESSION
     release, superseded = threading.Event(), threading.Event()
@@ -99,11 +100,13 @@ def test_a_session_may_queue_only_so_many_solves(monkeypatch):
     monkeypatch.setattr(runs, "_compute", held)
     current = [0]
     futures = []
+    ended = runs.readiness()["solves_ended"]
     try:
         for w in held_w:
             futures.append(runs.submit(contact.replace(w=w), options, owner="session-a",
                                        cancel=lambda: superseded.is_set()))
         assert runs._SESSIONS.pending("session-a") == limit
+        assert runs.readiness()["solves"] >= limit  # /liveness counts them (the server's and the tests' hook)
         refused = runs.submit(contact.replace(w=0.45), options, owner="session-a")
         with pytest.raises(runs.SolveQueueFull, match="SHAKEDOWN_MAX_QUEUED_PER_SESSION"):
             refused.result(timeout=5)
@@ -131,6 +134,9 @@ def test_a_session_may_queue_only_so_many_solves(monkeypatch):
             except (core.SolveCancelled, Exception):  # noqa: BLE001, S110 - cancelled on purpose
                 pass
     wait_until(lambda: runs._SESSIONS.pending("session-a") == 0, 30, message="session a's queue to empty")
+    # /liveness: nothing in flight, and every solve asked for (the refused one was never run) counted as ended
+    wait_until(lambda: runs.readiness()["solves"] == 0, 30, message="no solve in flight")
+    assert runs.readiness()["solves_ended"] >= ended + limit + 2
 
 
 def test_solves_and_maps_run_on_the_cluster(cluster):

@@ -13,7 +13,7 @@ import pytest
 from app.figures import key_figures
 from app.player import PAUSE, PLAY
 from app.plots import FIGURES
-from app.serving import open_page, scroll_through, wait_until
+from app.serving import FIND_MODEL_JS, open_page, scroll_through, wait_until
 from app.slides import FIGURE_VIEWS_JS
 from app.state import BODIES
 
@@ -67,6 +67,17 @@ _GEOMETRY = "() => {" + FIGURE_VIEWS_JS + """
 _SET = """([title, v, release]) => { for (const d of Bokeh.documents) for (const m of d.all_models)
     if (m.title === title && 'value_throttled' in m) { m.value = v; if (release) m.value_throttled = v; return true; }
     return false; }"""
+
+
+#: Moves the player's step slider ``steps`` steps before the end of the period (value and value_throttled, as a
+#: release does); returns the step, null if there is no such slider.
+_NEAR_THE_END = "(steps) => {" + FIND_MODEL_JS + """
+  const m = find((m) => m.title === 'Step in the period' && 'value_throttled' in m);
+  if (m === null) return null;
+  const v = Math.max(m.start, m.end - steps); m.value = v; m.value_throttled = v; return v;
+}"""
+#: Steps the player plays in the Play / Pause check: 1 s at the fast speed (60 ms a step).
+_LAST_STEPS = 16
 
 
 def _open(browser, url, size, query):
@@ -259,7 +270,8 @@ def test_the_page_stays_where_it_is_scrolled(browser, app_url, size):
 
 def test_units_play_and_the_paper_tab_say_what_they_do(browser, app_url):
     """Items 12, 13, 14, at 1280x720 and 1024x768 (one page, resized): the selected unit is the filled button (its
-    background differs from the other's); Play says Pause while it plays and Play again when the period is over;
+    background differs from the other's); Play says Pause while it plays and Play again when the period is over
+    (played from its last :data:`_LAST_STEPS` steps);
     the Paper's figures tab shows a spinner while it is built, then its figures (once: its build is the same at
     both sizes, and it is the longest part of the test)."""
     page = _open(browser, app_url, SIZES[0], "?ft=0.3&w=0.5&periods=3")
@@ -280,9 +292,11 @@ def test_units_play_and_the_paper_tab_say_what_they_do(browser, app_url):
                 assert colours[unit] != colours[other], (width, colours)
                 assert colours[unit] == "rgb(0, 114, 181)" and \
                     colours[other] in ("rgba(0, 0, 0, 0)", "rgb(255, 255, 255)"), (width, colours)
-            # Play / Pause
+            # Play / Pause, from the last steps of the period (Play goes on from the step shown): what is checked,
+            # Pause while it plays and Play when the period is over, is the same; the whole period took 8-11 s
             assert play.inner_text().strip() == PLAY
             page.locator(".player-speed select").first.select_option(label="fast")
+            assert page.evaluate(_NEAR_THE_END, _LAST_STEPS) is not None
             play.click()
             wait_until(lambda: play.inner_text().strip() == PAUSE, 10, message=f"Pause while it plays ({width})")
             wait_until(lambda: play.inner_text().strip() == PLAY, 60,

@@ -12,8 +12,9 @@ in the served explorer at a projector's 1280x720 and 1024x768 (headless Chromium
 
 from __future__ import annotations
 
+import json
 import re
-import time
+import urllib.request
 
 import pytest
 
@@ -72,9 +73,16 @@ def _open(browser, url, size=(1280, 720)):
 
 
 # ---------------------------------------------------------------- item 17: no traceback when a tab closes
+def _liveness(app_url: str) -> dict:
+    """The served app's ``/liveness`` body (its solves in flight and ended among it)."""
+    with urllib.request.urlopen(app_url.rsplit("/", 1)[0] + "/liveness", timeout=10) as r:  # noqa: S310 - loopback
+        return json.loads(r.read())
+
+
 def test_closing_a_tab_mid_update_leaves_no_traceback_in_the_server_log(browser, app_url, app_log):
     """What the shared server logs while this test's tabs close (its log from the test's start; the other tests
-    of this worker run before or after, never meanwhile)."""
+    of this worker run before or after, never meanwhile). The solves that run when the tabs close are waited for
+    on ``/liveness`` (none in flight, and at least the two asked for ended), not for a fixed time."""
     start = app_log.stat().st_size
     url = app_url
     for _ in range(2):  # the player playing at its fastest when the tab closes
@@ -83,17 +91,23 @@ def test_closing_a_tab_mid_update_leaves_no_traceback_in_the_server_log(browser,
         page.locator(".play-period button").first.click()
         page.wait_for_timeout(700)
         page.close()
+    ended = _liveness(app_url)["solves_ended"]
     for ft in (0.41, 0.43):  # a solve running (a point contact's: seconds) when the tab closes
         page = _open(browser, url + "?body=sphere&periods=6")
         assert page.evaluate(_SET, ["ft = Ft/(μ Fn)", ft])
         page.wait_for_timeout(400)
         page.close()
-    time.sleep(8)  # the solves end and their updates find the sessions gone
+    # the solves end and their updates find the sessions gone
+    wait_until(lambda: (body := _liveness(app_url))["solves"] == 0 and body["solves_ended"] >= ended + 2, 120,
+               interval=0.2, message="the closed tabs' solves to end (/liveness)")
     page = _open(browser, url)  # the server still serves
     page.close()
-    time.sleep(1)  # the server's last lines reach the file
+    # the server's last lines reach the file: the five tabs' closings logged
+    opened, closed = "WebSocket connection opened", "WebSocket connection closed"
+    wait_until(lambda: app_log.read_bytes()[start:].decode(errors="replace").count(closed) >= 5, 30,
+               interval=0.2, message="the five tabs' closings in the server's log")
     text = app_log.read_bytes()[start:].decode(errors="replace")
-    assert text.count("WebSocket connection opened") == 5, text[-3000:]  # this test's five tabs, read from the log
+    assert text.count(opened) == 5, text[-3000:]  # this test's five tabs, read from the log
     assert "Task exception was never retrieved" not in text, text[-3000:]
     assert "WebSocketClosedError" not in text and "Traceback" not in text, text[-3000:]
 
