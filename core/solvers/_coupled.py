@@ -934,9 +934,10 @@ def alternate(K, C, CT, gap0, load, dx, cn, ct, coupled, p_prev, has_prev, targe
     tries = 0  # joint calls after a full pass
     n_direct = 0
     p_d, q_d, scratch, kp_old = work[10], work[11], work[12], work[13]
+    kp_last = work[4]  # a row of work taken in the loop costs a view an element (as a member of st does)
     for k in range(n):  # K p_prev, exact on its contact: the last step's (march leaves it in work[4], which check
         # rewrites; off the contact it may hold off_contact's lower bound)
-        kp_old[k] = work[4][k]
+        kp_old[k] = kp_last[k]
     # ---- first the direct solves from the last step's sets on the predicted contact: most steps end here
     direct_on = coupled and need[0] >= 0  # need[0] = -1: no direct solves (the alternation alone)
     if direct_on and has_prev and W.shape[0] > 0:
