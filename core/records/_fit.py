@@ -26,10 +26,10 @@ XATOL = 1e-12
 
 
 @jit
-def _squares(r, j, yc, b):
+def _squares(r, yc, b):
     """``(S, C, mean of r^j)`` at ``r``: the residual sum of squares of the centred ``yc`` against ``C (r^j - mean)``
-    for ``j = 0, 1, ...`` (``j``: their values; ``b``: scratch of their size)."""
-    k = j.size
+    for ``j = 0, 1, ...`` (``b``: scratch of ``yc``'s size)."""
+    k = yc.size
     power, mean = 1.0, 0.0
     for i in range(k):  # r^j by products: j = 0, 1, ... (a power a point cost more than the whole fit)
         b[i] = power
@@ -50,7 +50,7 @@ def _squares(r, j, yc, b):
 
 
 @jit
-def _bounded(j, yc, b, x1, x2, xatol):
+def _bounded(yc, b, x1, x2, xatol):
     """Brent's bounded minimisation of :func:`_squares` over ``[x1, x2]`` (scipy's ``_minimize_scalar_bounded``,
     500 evaluations at most): ``(r, S(r))``."""
     sqrt_eps = math.sqrt(2.2e-16)
@@ -60,7 +60,7 @@ def _bounded(j, yc, b, x1, x2, xatol):
     nfc, xf = fulc, fulc
     rat, e = 0.0, 0.0
     x = xf
-    fx = _squares(x, j, yc, b)[0]
+    fx = _squares(x, yc, b)[0]
     num = 1
     ffulc, fnfc = fx, fx
     xm = 0.5 * (a + bnd)
@@ -91,7 +91,7 @@ def _bounded(j, yc, b, x1, x2, xatol):
             rat = golden_mean * e
         step = max(abs(rat), tol1)
         x = xf + step if rat >= 0.0 else xf - step
-        fu = _squares(x, j, yc, b)[0]
+        fu = _squares(x, yc, b)[0]
         num += 1
         if fu <= fx:
             if x >= xf:
@@ -123,12 +123,11 @@ def _bounded(j, yc, b, x1, x2, xatol):
 def fit_window(y, lo, hi):
     """Least squares of ``y_j = D + C r^j`` (``j = 0 ... k-1``) for ``r`` in ``[lo, hi]``: ``(D, C, r, S, e)``.
 
-    ``S`` is the residual sum of squares, ``e`` the standard error of ``D`` for a unit scatter of ``y``. The grid of :data:`GRID` points over ``(lo, hi]`` brackets the
-    best ``r``, which Brent's bounded search refines to :data:`XATOL` between the grid's neighbours (kept only
-    if it does at least as well as the grid's point).
+    ``S`` is the residual sum of squares, ``e`` the standard error of ``D`` for a unit scatter of ``y``. The grid
+    of :data:`GRID` points over ``(lo, hi]`` brackets the best ``r``, which Brent's bounded search refines to
+    :data:`XATOL` between the grid's neighbours (kept only if it does at least as well as the grid's point).
     """
     k = y.size
-    j = np.arange(k) * 1.0
     mean_y = 0.0
     for i in range(k):
         mean_y += y[i]
@@ -137,17 +136,17 @@ def fit_window(y, lo, hi):
     b = np.empty(k)
     step = (hi - lo) / GRID
     # no infinity to start from: the kernels are compiled with fastmath, which assumes there is none
-    best, ibest = _squares(lo + step, j, yc, b)[0], 1
+    best, ibest = _squares(lo + step, yc, b)[0], 1
     for i in range(2, GRID + 1):
-        s = _squares(lo + i * step, j, yc, b)[0]
+        s = _squares(lo + i * step, yc, b)[0]
         if s < best:
             best, ibest = s, i
     a = lo + max(ibest - 1, 1) * step
     z = lo + min(ibest + 1, GRID) * step
-    r, s = _bounded(j, yc, b, a, z, XATOL)
+    r, s = _bounded(yc, b, a, z, XATOL)
     if not s <= best:
         r = lo + ibest * step
-    s, C, mean_b = _squares(r, j, yc, b)
+    s, C, mean_b = _squares(r, yc, b)
     # the standard error of D per unit scatter: the first row of the pseudo-inverse of the Jacobian of
     # (D, C, r) (singular values below 1e-13 of the largest left out: C = 0 or r = 0 leaves a column empty)
     J = np.empty((k, 3))

@@ -408,6 +408,11 @@ class EnergyVerdict(NamedTuple):
     trend: Trend | None
 
 
+def _fitted(trend: Trend, unit: str) -> str:
+    """The energy's fitted limit in words: ``E_inf = ... +- ... unit``."""
+    return f"E_inf = {trend.D_inf:.4g} +- {trend.D_inf_error:.2g} {unit}"
+
+
 def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P^2/E*") -> EnergyVerdict:
     """Whether the energy dissipated per period decays to zero or tends to a positive constant.
 
@@ -480,21 +485,18 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
         # the fit has settled on a constant above the floor, and tails twice and half as long give it within
         # their errors (a decay, however slow, drifts by more than its errors from tail to tail). Small beside
         # the first period's energy is not zero (micro-slip of a coupled contact: 7e-4 of it at beta = 0.1)
-        return EnergyVerdict("steady", f"the energy dissipated per period tends to a constant, E_inf = "
-                                       f"{trend.D_inf:.4g} +- {trend.D_inf_error:.2g} {unit}", trend)
-    k = _zero_from(e, tolerance)
+        return EnergyVerdict("steady", f"the energy dissipated per period tends to a constant, {_fitted(trend, unit)}",
+                             trend)
+    k = _zero_from(e, tolerance)  # (a repeating state that dissipates at most the floor is zero here)
     if k is not None:
         return EnergyVerdict("zero", f"the energy dissipated per period fell to <= {rtol:g} of its largest from "
                                      f"period {k}", trend)
-    if periodic_from is not None:
-        return EnergyVerdict("steady", f"the state repeats from period {periodic_from}, dissipating {last:.4g} "
-                                       f"{unit} per period", trend)
     if trend is None:
         return EnergyVerdict("undetermined", f"{e.size} period{'s' if e.size > 1 else ''} are too few to fit the "
                                              f"energy per period ({last:.3g} {unit} in the last)", None)
     E, err, r = trend.D_inf, trend.D_inf_error, trend.ratio
     band = VERDICT_SIGMAS * err
-    fitted = f"E_inf = {E:.4g} +- {err:.2g} {unit}"
+    fitted = _fitted(trend, unit)
     if E - band > tolerance and (abs(trend.transient) <= SETTLED_FRACTION * abs(E) or trend.steady):
         return EnergyVerdict("steady", f"the energy dissipated per period tends to a constant, {fitted}", trend)
     if E + band <= tolerance and math.isfinite(r) and r < 1.0:
