@@ -90,6 +90,7 @@ class Explorer(LayoutMixin, CardsMixin, FiguresMixin, DownloadsMixin, MapMixin, 
         self._player_sync = False
         self.result_token = 0  # the request whose result is shown
         self._doc = pn.state.curdoc  # the session's document (None when headless)
+        self._loop = runs.session_loop()  # its event loop: the only thread that touches the document
         self.param.update(ft_live=self.state.ft, w_live=self.state.w)
         self.ft_slider.param.watch(self._live_changed, "value")
         self.w_slider.param.watch(self._live_changed, "value")

@@ -29,7 +29,7 @@ import panel as pn
 
 from core.maps import paper_figures as pf
 
-from . import slides
+from . import runs, slides
 
 __all__ = ["DATA_PATH", "TITLES", "FIGURES", "shipped_data", "figure", "paper_figures_tab"]
 
@@ -280,9 +280,11 @@ def paper_figures_tab() -> pn.viewable.Viewable:
     doc = pn.state.curdoc
     cancel = threading.Event()
 
-    def in_session(fn):
+    loop = runs.session_loop()
+
+    def in_session(fn):  # from the recompute's threads: through the session's event loop
         if doc is not None and doc.session_context is not None:
-            doc.add_next_tick_callback(fn)
+            runs.call_in_session(doc, loop, fn)
         else:
             fn()
 

@@ -45,7 +45,7 @@ from .limits import (CACHE_ITEMS, CACHE_MB, MAP_BUDGET_S, MAP_MAX_POINTS, MAP_WO
 __all__ = ["ResultCache", "RESULTS", "SOLVE_BUDGET_S", "SOLVE_TASK", "run_key", "solve", "submit", "Generation",
            "MAP_WORKERS", "MAP_BUDGET_S", "MAP_MAX_POINTS", "MAP_SLOT", "submit_map", "map_scheduler",
            "SolveQueueFull", "freeze", "readiness", "solves_in_flight", "ready", "on_ready", "start_warm_up", "backend",
-           "warming_seconds", "warmed", "on_warm", "LimitCurves", "LIMIT_CURVES", "LIMIT_CURVE_GRID"]
+           "warming_seconds", "warmed", "on_warm", "call_in_session", "session_loop", "LimitCurves", "LIMIT_CURVES", "LIMIT_CURVE_GRID"]
 
 log = logging.getLogger(__name__)
 
@@ -407,6 +407,37 @@ class _Sessions:
 
 
 _SESSIONS = _Sessions(MAX_QUEUED_PER_SESSION)
+
+
+def session_loop():
+    """The event loop of the thread this is called in (a served session's, when called as the session is built):
+    the loop :func:`call_in_session` hands that session's callbacks to. None outside a served session."""
+    from tornado import ioloop
+
+    return ioloop.IOLoop.current(instance=False)
+
+
+def call_in_session(doc, loop, fn) -> None:
+    """Run ``fn()`` in a callback of the served session of ``doc`` (its document locked), from any thread.
+
+    Only the session's event loop ``loop`` (:func:`session_loop`) touches the document: from another thread the
+    call is handed to the loop (tornado's ``add_callback``, thread-safe), which adds the document's next-tick
+    callback. A Bokeh document is not thread-safe. ``doc.add_next_tick_callback`` called from a solver or curve
+    thread raced the loop's own holds of the document (Panel's ``hold``/``unlocked`` copy and reset its held
+    events, and patch the current document on a process-wide stack), and now and then a session's callbacks were
+    never run: its coupled limit curve stayed at "computing… 1 of 5 amplitudes" in 1 of 24 pages, and once a CI
+    run's page, 300 s after the curve was done.
+    """
+    def add():
+        try:
+            doc.add_next_tick_callback(fn)
+        except Exception:  # noqa: BLE001 - a session that ended meanwhile: nothing to show it in
+            log.debug("a callback for a session that ended was dropped", exc_info=True)
+
+    if loop is None or session_loop() is loop:
+        add()
+    else:
+        loop.add_callback(add)
 
 
 def _current_session():

@@ -45,13 +45,14 @@ class SolveMixin:
         """Run ``fn`` in a Bokeh callback of this session (document locked), so its changes are sent at once.
 
         Work finished in a thread or a coroutine must come back this way: changes made outside a
-        locked callback wait for the next one before they reach the browser. Thread-safe.
+        locked callback wait for the next one before they reach the browser. Thread-safe: from another thread it
+        goes through the session's event loop (:func:`app.runs.call_in_session`).
         """
         doc = self._doc
         if doc is None or doc.session_context is None:
             fn(*args, **kwargs)
         else:
-            doc.add_next_tick_callback(functools.partial(fn, *args, **kwargs))
+            runs.call_in_session(doc, self._loop, functools.partial(fn, *args, **kwargs))
 
     # ------------------------------------------------------------------ solving
     def _inputs_changed(self, *events):
