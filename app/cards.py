@@ -107,7 +107,9 @@ def coupled_prediction(ft: float, w: float, beta: float, predicted: str, rule: s
         why = (f"the coupled limit is known for w in [{min(ws):.2g}, {max(ws):.2g}]" if ws
                else "computing the coupled limit…")
         return predicted, f"{reference}; {why}"
-    coupled = "shakedown" if ft <= lim else "ratcheting"
+    # the coupled limit parts the runs that ratchet from those that do not: below it a coupled contact shakes down
+    # or slips a little every period (cyclic micro-slip), which the limit does not tell apart
+    coupled = "no ratcheting" if ft <= lim else "ratcheting"
     # short: the note sits under the badge, above the first screen's figures
     return coupled, (f"the coupled limit ft_lim = {lim:.3f} (numerical, β = {beta:.3g}, μ = {curve.mu:.3g}; "
                      f"eq 35, the uncoupled reference: {float(core.ft_limit(w)):.3f}, {predicted})")
