@@ -186,6 +186,29 @@ def test_a_short_coupled_run_below_its_limit_is_cyclic_slip_as_a_long_one(period
     assert core.simulate_cycles(ft, 0.3, periods=periods, dx=1 / 20).regime == "shakedown"
 
 
+def test_energies_falling_toward_a_known_positive_limit_are_undetermined_not_zero():
+    # below 1e-3 of the first period's energy, but falling by a factor 4 a period toward 5.18e-8, a limit the fit
+    # knows to 1e-4 of itself: not zero (the 1e-3 rule called it so), not settled yet; 30 periods settle on it
+    n = np.arange(10)
+    e = classify_energy(5.18e-8 + 0.04 * 0.25 ** n, 1e-3, floor=1e-11)
+    assert e.kind == "undetermined" and "more periods will tell" in e.words, e.words
+    assert e.trend.D_inf == pytest.approx(5.18e-8, rel=1e-3)
+    assert classify_energy(5.18e-8 + 0.04 * 0.25 ** np.arange(30), 1e-3, floor=1e-11).kind == "steady"
+    # the same fall to zero is zero
+    assert classify_energy(0.04 * 0.25 ** n, 1e-3, floor=1e-11).kind == "zero"
+
+
+def test_a_short_coupled_run_still_settling_is_undetermined_where_30_periods_are_cyclic_slip():
+    """beta 0.1, w 0.5, 0.9 eq 35 (a/20): after 8 periods the energy still falls by a factor 4 a period toward
+    5.18e-8 (it read shakedown); 30 periods repeat a state dissipating that much: cyclic slip."""
+    ft = 0.9 * float(core.ft_limit(0.5))
+    short = core.simulate_cycles(ft, 0.5, periods=8, dx=1 / 20, beta=0.1, mu=0.3)
+    long = core.simulate_cycles(ft, 0.5, periods=30, dx=1 / 20, beta=0.1, mu=0.3)
+    assert short.regime == "undetermined" and "more periods will tell" in short.regime_reason
+    assert long.regime == "cyclic slip"
+    assert short.energy_trend.D_inf == pytest.approx(long.dissipation_per_period[-1], rel=0.05)
+
+
 def test_the_combined_verdicts():
     walk_zero = classify_increments([1.0, 1e-5, 1e-6, 1e-7], 1e-3)
     walking = classify_increments([1.0, 0.5, 0.5, 0.5], 1e-3, periodic_from=1)

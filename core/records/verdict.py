@@ -441,6 +441,11 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
       :data:`STEADY_FRACTION` of itself), however
       small a part of the largest: the same dissipation as a repeating state
       before the state repeats to the solver's tolerance;
+    * ``"undetermined"`` when the energies fell below ``tol`` but toward an
+      ``E_inf`` the fit knows to be above ``floor`` (by :data:`VERDICT_SIGMAS`
+      errors, to :data:`STEADY_FRACTION` of itself) and have not settled there:
+      more periods will tell (a coupled contact near its limit after 6-12
+      periods; 30 periods give cyclic slip);
     * ``"zero"``: the state repeats dissipating at most ``floor``; or from some
       period on every energy is at most ``tol``, or the fit's ``E_inf`` is below
       ``tol`` by more than :data:`VERDICT_SIGMAS` standard errors and the
@@ -499,6 +504,13 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
         # the first period's energy is not zero (micro-slip of a coupled contact: 7e-4 of it at beta = 0.1)
         return EnergyVerdict("steady", f"the energy dissipated per period tends to a constant, {_fitted(trend, unit)}",
                              trend)
+    if trend is not None and trend.D_inf - VERDICT_SIGMAS * trend.D_inf_error > floor \
+            and trend.D_inf_error <= STEADY_FRACTION * abs(trend.D_inf) and _zero_from(e, tolerance) is not None:
+        # the energies fell below the 1e-3 rule, but toward a limit the fit knows to be positive (by three errors,
+        # to STEADY_FRACTION of itself) and still some way off: neither zero nor settled yet
+        return EnergyVerdict("undetermined", f"the energy dissipated per period ({last:.3g} {unit} in the last) "
+                                             f"falls toward {_fitted(trend, unit)}, above zero, and has not settled "
+                                             f"there yet: more periods will tell", trend)
     k = _zero_from(e, tolerance)  # (a repeating state that dissipates at most the floor is zero here)
     if k is not None:
         return EnergyVerdict("zero", f"the energy dissipated per period fell to <= {rtol:g} of its largest from "
