@@ -97,10 +97,9 @@ def test_no_app_module_adds_a_next_tick_callback_but_call_in_session():
     found = []
     for path in sorted((ROOT / "app").glob("*.py")):
         tree = ast.parse(path.read_text(), str(path))
-        outer = [n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))
-                 and any(n in getattr(p, "body", ()) for p in [tree, *[c for c in tree.body if isinstance(c, ast.ClassDef)]])]
-        for fn in outer:  # module functions and methods, each with what it nests
-            for node in ast.walk(fn):
-                if isinstance(node, ast.Attribute) and node.attr == "add_next_tick_callback":
-                    found.append((path.name, fn.name))
+        members = [m for node in tree.body for m in (node.body if isinstance(node, ast.ClassDef) else [node])]
+        for fn in members:  # module functions and methods, each with what it nests
+            if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                found += [(path.name, fn.name) for node in ast.walk(fn)
+                          if isinstance(node, ast.Attribute) and node.attr == "add_next_tick_callback"]
     assert found == [("runs.py", "call_in_session")], found

@@ -413,15 +413,6 @@ def _fitted(trend: Trend, unit: str) -> str:
     return f"E_inf = {trend.D_inf:.4g} +- {trend.D_inf_error:.2g} {unit}"
 
 
-def _steady_or_too_short(trend: Trend) -> bool:
-    """Whether a fitted limit counts as steady: tails twice and half as long give it (``trend.steady``), or the run
-    is too short to fit them (``steady`` None, fewer than 12 periods or so) and the limit is known to
-    :data:`STEADY_FRACTION` of itself. A coupled contact's micro-slip after 6 to 10 periods (steel on aluminium,
-    4.1e-5 dissipated a period, known to 2e-4 of it) read shakedown by the 1e-3 rule while 12 and 30 periods give
-    cyclic slip; a decay still falling by a tenth a period fits a limit known to 7-30 % only."""
-    return bool(trend.steady) or (trend.steady is None and trend.D_inf_error <= STEADY_FRACTION * abs(trend.D_inf))
-
-
 def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P^2/E*") -> EnergyVerdict:
     """Whether the energy dissipated per period decays to zero or tends to a positive constant.
 
@@ -495,23 +486,28 @@ def classify_energy(energy, rtol, periodic_from=None, *, floor=0.0, unit="mu^2 P
     if periodic_from is not None and abs(last) > floor:  # the state repeats: so does this dissipation, for ever
         return EnergyVerdict("steady", f"the state repeats from period {periodic_from}, dissipating {last:.4g} "
                                        f"{unit} per period", trend)
-    if trend is not None and _steady_or_too_short(trend) and trend.D_inf - VERDICT_SIGMAS * trend.D_inf_error > floor \
+    # the fit's limit is above the floor by three errors, and known to STEADY_FRACTION of itself (a decay still
+    # falling by a tenth a period fits a limit known to 7-30 % only)
+    above = trend is not None and trend.D_inf - VERDICT_SIGMAS * trend.D_inf_error > floor
+    known = above and trend.D_inf_error <= STEADY_FRACTION * abs(trend.D_inf)
+    if above and (trend.steady or (trend.steady is None and known)) \
             and abs(trend.transient) <= SETTLED_FRACTION * trend.D_inf:
         # the same dissipation as a repeating state, without the state repeating to the solver's tolerance yet:
         # the fit has settled on a constant above the floor, and tails twice and half as long give it within
         # their errors (a decay, however slow, drifts by more than its errors from tail to tail), or the run is
-        # too short to have those tails and the limit is known to STEADY_FRACTION (_steady_or_too_short). Small beside
-        # the first period's energy is not zero (micro-slip of a coupled contact: 7e-4 of it at beta = 0.1)
+        # too short to fit those tails (steady None) and the limit is known: 6 to 10 periods of steel on aluminium
+        # (4.1e-5 dissipated a period, known to 2e-4 of it) read shakedown by the 1e-3 rule while 12 and 30
+        # periods give cyclic slip. Small beside the first period's energy is not zero (micro-slip of a coupled
+        # contact: 7e-4 of it at beta = 0.1)
         return EnergyVerdict("steady", f"the energy dissipated per period tends to a constant, {_fitted(trend, unit)}",
                              trend)
-    if trend is not None and trend.D_inf - VERDICT_SIGMAS * trend.D_inf_error > floor \
-            and trend.D_inf_error <= STEADY_FRACTION * abs(trend.D_inf) and _zero_from(e, tolerance) is not None:
-        # the energies fell below the 1e-3 rule, but toward a limit the fit knows to be positive (by three errors,
-        # to STEADY_FRACTION of itself) and still some way off: neither zero nor settled yet
+    k = _zero_from(e, tolerance)  # (a repeating state that dissipates at most the floor is zero here)
+    if k is not None and known:
+        # the energies fell below the 1e-3 rule, but toward a limit the fit knows to be positive and still some
+        # way off: neither zero nor settled yet
         return EnergyVerdict("undetermined", f"the energy dissipated per period ({last:.3g} {unit} in the last) "
                                              f"falls toward {_fitted(trend, unit)}, above zero, and has not settled "
                                              f"there yet: more periods will tell", trend)
-    k = _zero_from(e, tolerance)  # (a repeating state that dissipates at most the floor is zero here)
     if k is not None:
         return EnergyVerdict("zero", f"the energy dissipated per period fell to <= {rtol:g} of its largest from "
                                      f"period {k}", trend)

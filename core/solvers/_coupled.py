@@ -61,9 +61,8 @@ from ..base._jit import jit
 from ..elastic.coupling import cross_matrix
 from collections import namedtuple
 
-from ._pdas import _dot as _pdas_dot
-from ._pdas import (_axpy, FREE, ITERATIONS, LOWER, MODE, OUT, TOEPLITZ, UPPER, _toeplitz_inverse, block_repeats,
-                    fixed_set_stick, solve_step, state_codes)
+from ._pdas import (_axpy, _dot as _pdas_dot, FREE, ITERATIONS, LOWER, MODE, OUT, TOEPLITZ, UPPER, _toeplitz_inverse,
+                    block_repeats, fixed_set_stick, solve_step, state_codes)
 
 __all__ = ["alternate", "interval_normal", "cross", "gap_residual", "march", "cholesky", "new_inverses",
            "Inverses", "window_inverse", "direct", "direct_rhs", "direct_sets", "check", "joint", "STATUS_DONE",
